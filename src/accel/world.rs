@@ -1,0 +1,241 @@
+//! Everything a ray can hit, and the two-level search for the nearest of it.
+
+use glam::Vec3A;
+
+use super::{Bvh, TriangleMesh};
+use crate::geometry::{Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere};
+
+/// An entry of the top-level tree. `transform` indexes [`World::transforms`], or is
+/// [`Item::WORLD_SPACE`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Item {
+    Sphere {
+        sphere: Sphere,
+        material: u32,
+        transform: u32,
+    },
+    /// A placement of a shared mesh; `material` is [`Item::PER_TRIANGLE`] for the mesh of the
+    /// scene's loose triangles, whose materials are in [`World::loose_materials`].
+    Mesh {
+        mesh: u32,
+        material: u32,
+        transform: u32,
+    },
+}
+
+impl Item {
+    pub const WORLD_SPACE: u32 = u32::MAX;
+    pub const PER_TRIANGLE: u32 = u32::MAX;
+
+    fn transform(&self) -> u32 {
+        match *self {
+            Item::Sphere { transform, .. } | Item::Mesh { transform, .. } => transform,
+        }
+    }
+}
+
+/// The nearest surface along a ray.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    /// The world ray's parameter.
+    pub t: f32,
+    /// The geometric normal in world space, unit length, not flipped toward the ray.
+    pub normal: Vec3A,
+    pub material: u32,
+}
+
+/// Sizes of the world, for `-stats`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WorldStats {
+    pub meshes: usize,
+    pub instances: usize,
+    /// Triangles stored (a mesh placed many times counts once).
+    pub triangles: usize,
+    /// Triangles placed in the scene (a mesh placed many times counts each time).
+    pub triangles_placed: usize,
+    pub spheres: usize,
+    pub planes: usize,
+    pub nodes: usize,
+    pub geometry_bytes: usize,
+    pub acceleration_bytes: usize,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct World {
+    pub(crate) meshes: Vec<TriangleMesh>,
+    pub(crate) loose_materials: Vec<u32>,
+    pub(crate) transforms: Vec<Transform>,
+    pub(crate) items: Vec<Item>,
+    pub(crate) top: Bvh,
+    pub(crate) planes: Vec<(Plane, u32)>,
+}
+
+/// What the search found, before the normal is worked out (only the winner's is).
+#[derive(Clone, Copy)]
+enum Found {
+    Plane(u32),
+    Item { item: u32, triangle: u32 },
+}
+
+impl World {
+    /// `items` in any order; the top-level tree is built over `bounds` (one box per item).
+    pub fn new(
+        meshes: Vec<TriangleMesh>,
+        loose_materials: Vec<u32>,
+        transforms: Vec<Transform>,
+        items: Vec<Item>,
+        bounds: &[Aabb],
+        planes: Vec<(Plane, u32)>,
+    ) -> World {
+        let (top, order) = Bvh::build(bounds);
+        let items = order.iter().map(|&i| items[i as usize]).collect();
+        World {
+            meshes,
+            loose_materials,
+            transforms,
+            items,
+            top,
+            planes,
+        }
+    }
+
+    /// The nearest hit with t >= t_min.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        let mut found = None;
+        let mut t_max = f32::INFINITY;
+        for (i, (plane, _)) in self.planes.iter().enumerate() {
+            if let Some(t) = intersect_plane(ray, plane, t_min, t_max) {
+                t_max = t;
+                found = Some(Found::Plane(i as u32));
+            }
+        }
+        let t_max = self.top.traverse(ray, t_min, t_max, |i, t_max| {
+            let (t, triangle) = self.intersect_item(i, ray, t_min, t_max)?;
+            found = Some(Found::Item { item: i, triangle });
+            Some(t)
+        });
+        found.map(|found| self.hit(ray, t_max, found))
+    }
+
+    /// The same answer as [`World::intersect`] without either tree: the brute-force twin.
+    pub fn intersect_brute_force(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        let mut found = None;
+        let mut t_max = f32::INFINITY;
+        for (i, (plane, _)) in self.planes.iter().enumerate() {
+            if let Some(t) = intersect_plane(ray, plane, t_min, t_max) {
+                t_max = t;
+                found = Some(Found::Plane(i as u32));
+            }
+        }
+        for (i, item) in self.items.iter().enumerate() {
+            let local = self.ray_into(item, ray);
+            let hit = match *item {
+                Item::Sphere { sphere, .. } => {
+                    intersect_sphere(&local, &sphere, t_min, t_max).map(|t| (t, 0))
+                }
+                Item::Mesh { mesh, .. } => {
+                    self.meshes[mesh as usize].intersect_brute_force(&local, t_min, t_max)
+                }
+            };
+            if let Some((t, triangle)) = hit {
+                t_max = t;
+                found = Some(Found::Item {
+                    item: i as u32,
+                    triangle,
+                });
+            }
+        }
+        found.map(|found| self.hit(ray, t_max, found))
+    }
+
+    #[inline(always)]
+    fn intersect_item(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
+        let item = &self.items[i as usize];
+        let local = self.ray_into(item, ray);
+        match *item {
+            Item::Sphere { sphere, .. } => {
+                intersect_sphere(&local, &sphere, t_min, t_max).map(|t| (t, 0))
+            }
+            Item::Mesh { mesh, .. } => self.meshes[mesh as usize].intersect(&local, t_min, t_max),
+        }
+    }
+
+    /// The ray in the item's own space (the same ray for items placed in world space).
+    #[inline(always)]
+    fn ray_into(&self, item: &Item, ray: &Ray) -> Ray {
+        match item.transform() {
+            Item::WORLD_SPACE => *ray,
+            t => self.transforms[t as usize].ray_to_object(ray),
+        }
+    }
+
+    fn hit(&self, ray: &Ray, t: f32, found: Found) -> Hit {
+        let (normal, material) = match found {
+            Found::Plane(i) => {
+                let (plane, material) = self.planes[i as usize];
+                (plane.normal, material)
+            }
+            Found::Item { item, triangle } => {
+                let item = &self.items[item as usize];
+                let (object_normal, material) = match *item {
+                    Item::Sphere {
+                        sphere, material, ..
+                    } => {
+                        let local = self.ray_into(item, ray);
+                        (sphere.normal_at(local.at(t)), material)
+                    }
+                    Item::Mesh { mesh, material, .. } => {
+                        let material = if material == Item::PER_TRIANGLE {
+                            self.loose_materials[triangle as usize]
+                        } else {
+                            material
+                        };
+                        (self.meshes[mesh as usize].normal(triangle), material)
+                    }
+                };
+                let normal = match item.transform() {
+                    Item::WORLD_SPACE => object_normal.normalize(),
+                    i => self.transforms[i as usize].normal_to_world(object_normal),
+                };
+                (normal, material)
+            }
+        };
+        Hit {
+            t,
+            normal,
+            material,
+        }
+    }
+
+    pub fn stats(&self) -> WorldStats {
+        let mut stats = WorldStats {
+            meshes: self.meshes.len(),
+            planes: self.planes.len(),
+            nodes: self.top.node_count(),
+            acceleration_bytes: self.top.size_in_bytes(),
+            geometry_bytes: self.items.len() * std::mem::size_of::<Item>()
+                + self.transforms.len() * std::mem::size_of::<Transform>()
+                + self.loose_materials.len() * 4
+                + self.planes.len() * std::mem::size_of::<(Plane, u32)>(),
+            ..WorldStats::default()
+        };
+        for mesh in &self.meshes {
+            let (geometry, acceleration) = mesh.size_in_bytes();
+            stats.triangles += mesh.triangles().len();
+            stats.nodes += mesh.bvh().node_count();
+            stats.geometry_bytes += geometry;
+            stats.acceleration_bytes += acceleration;
+        }
+        for item in &self.items {
+            match *item {
+                Item::Sphere { .. } => stats.spheres += 1,
+                Item::Mesh { mesh, .. } => {
+                    stats.instances += 1;
+                    stats.triangles_placed += self.meshes[mesh as usize].triangles().len();
+                }
+            }
+        }
+        stats
+    }
+}

@@ -1,0 +1,301 @@
+//! The course's command line: `raycast -input scene.txt -size 200 200 -output out.tga
+//! [-normals n.tga] [-depth 9 11 d.tga] [-shade_back]`, plus `-threads N` and `-stats`.
+//!
+//! Parsed by hand rather than with `clap`: the course's options are single-dash words
+//! (`-input`, `-shade_back`) and `-depth` takes three values of two kinds, which clap can only
+//! imitate with workarounds, and users paste the course's command lines verbatim.
+
+use std::ffi::{OsStr, OsString};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::error::Error;
+use crate::image_io::{self, ImageFormat, PendingOutputs};
+use crate::render::{RenderSettings, render};
+use crate::scene::Scene;
+
+pub const USAGE: &str = "\
+usage: raycast -input SCENE.txt -size WIDTH HEIGHT [-output IMAGE] [-normals IMAGE]
+               [-depth TMIN TMAX IMAGE] [-shade_back] [-threads N] [-stats]
+
+Renders a scene of MIT 6.837's ray casting assignments (1 and 2).
+
+  -input FILE            the scene file
+  -size W H              the image size in pixels
+  -output FILE           the shaded picture
+  -normals FILE          the surface normals as colours (|x|, |y|, |z|)
+  -depth TMIN TMAX FILE  distance as grey: TMIN and nearer white, TMAX and farther black
+  -shade_back            shade back faces like front faces (otherwise they are black)
+  -threads N             render on N threads (default: one per core)
+  -stats                 after the render, print the time of each phase and the scene's size
+  -help                  print this text
+  -version               print the version
+
+Images are written as TGA, PPM or PNG, by their extension (.tga, .ppm, .png).
+At least one of -output, -normals and -depth is needed. Options may come in any order,
+and may also be written with two dashes (--input).";
+
+/// The largest side accepted, and the most pixels (about 270 million: 2 GB of buffers).
+pub const MAX_SIDE: u32 = 32768;
+pub const MAX_PIXELS: u64 = 1 << 28;
+
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Options {
+    pub input: PathBuf,
+    pub width: u32,
+    pub height: u32,
+    pub output: Option<PathBuf>,
+    pub normals: Option<PathBuf>,
+    pub depth: Option<(f32, f32, PathBuf)>,
+    pub shade_back: bool,
+    pub threads: Option<usize>,
+    pub stats: bool,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    Render(Options),
+    Help,
+    Version,
+}
+
+/// Runs the program on its arguments (without the program name); returns the exit status:
+/// 0 done, 1 the scene or a file is at fault, 2 the command line is.
+pub fn run(args: Vec<OsString>) -> ExitCode {
+    match parse_args(args) {
+        Ok(Command::Help) => {
+            println!("{USAGE}");
+            ExitCode::SUCCESS
+        }
+        Ok(Command::Version) => {
+            println!("raycast {}", env!("CARGO_PKG_VERSION"));
+            ExitCode::SUCCESS
+        }
+        Ok(Command::Render(options)) => match execute(&options) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(error) => {
+                eprintln!("{error}");
+                ExitCode::from(1)
+            }
+        },
+        Err(message) => {
+            eprintln!("raycast: {message}\n\n{USAGE}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
+    let mut options = Options::default();
+    let mut input = None;
+    let mut size = None;
+    let mut seen: Vec<String> = Vec::new();
+    let mut args = args.into_iter();
+    while let Some(arg) = args.next() {
+        let Some(text) = arg.to_str() else {
+            return Err(format!("unknown option '{}'", arg.to_string_lossy()));
+        };
+        // `--input` is taken for `-input`, `-h` and `--help` for `-help`.
+        let name = text.strip_prefix('-').unwrap_or(text);
+        let name = name.strip_prefix('-').unwrap_or(name);
+        let name = match name {
+            "h" => "help",
+            "V" => "version",
+            _ => name,
+        };
+        if !text.starts_with('-') {
+            return Err(format!("unexpected argument '{text}' (options start with '-')"));
+        }
+        if seen.iter().any(|s| s == name) {
+            return Err(format!("-{name} is given twice"));
+        }
+        seen.push(name.to_string());
+        let mut value = |what: &str| -> Result<OsString, String> {
+            args.next()
+                .ok_or_else(|| format!("-{name} needs {what}, found the end of the command line"))
+        };
+        match name {
+            "help" => return Ok(Command::Help),
+            "version" => return Ok(Command::Version),
+            "input" => input = Some(PathBuf::from(value("a scene file")?)),
+            "size" => {
+                let what = "a width and a height in pixels";
+                let width = positive(&value(what)?, "-size", "a width in pixels")?;
+                let height = positive(&value(what)?, "-size", "a height in pixels")?;
+                size = Some((width, height));
+            }
+            "output" => options.output = Some(PathBuf::from(value("an image file")?)),
+            "normals" => options.normals = Some(PathBuf::from(value("an image file")?)),
+            "depth" => {
+                let what = "TMIN TMAX and an image file";
+                let near = finite(&value(what)?, "-depth", "TMIN, a number")?;
+                let far = finite(&value(what)?, "-depth", "TMAX, a number")?;
+                if near == far {
+                    return Err(format!("-depth needs TMIN and TMAX to differ, found {near} twice"));
+                }
+                options.depth = Some((near, far, PathBuf::from(value(what)?)));
+            }
+            "shade_back" => options.shade_back = true,
+            "stats" => options.stats = true,
+            "threads" => {
+                options.threads = Some(positive(&value("a number of threads")?, "-threads", "a number of threads")? as usize);
+            }
+            _ => return Err(format!("unknown option '{text}'")),
+        }
+    }
+    options.input = input.ok_or("-input is missing: which scene should be rendered?")?;
+    let (width, height) = size.ok_or("-size is missing: how many pixels wide and high?")?;
+    if width > MAX_SIDE || height > MAX_SIDE || width as u64 * height as u64 > MAX_PIXELS {
+        return Err(format!(
+            "-size {width} {height} is too large: each side may be at most {MAX_SIDE} pixels, \
+             and the image at most {MAX_PIXELS} pixels"
+        ));
+    }
+    (options.width, options.height) = (width, height);
+    let outputs = options.outputs();
+    if outputs.is_empty() {
+        return Err("nothing to write: give -output, -normals or -depth".into());
+    }
+    for (i, &(flag, path)) in outputs.iter().enumerate() {
+        if ImageFormat::from_path(path).is_none() {
+            return Err(format!(
+                "{flag} '{}': unknown image type; name it {}",
+                path.display(),
+                ImageFormat::EXTENSIONS
+            ));
+        }
+        if same_file(path, &options.input) {
+            return Err(format!("{flag} '{}' would overwrite the scene file", path.display()));
+        }
+        if let Some(&(other, _)) = outputs[..i].iter().find(|(_, p)| same_file(p, path)) {
+            return Err(format!("{other} and {flag} name the same file '{}'", path.display()));
+        }
+    }
+    Ok(Command::Render(options))
+}
+
+impl Options {
+    /// The images asked for, each with the option that named it.
+    pub fn outputs(&self) -> Vec<(&'static str, &Path)> {
+        let mut outputs = Vec::new();
+        if let Some(path) = &self.output {
+            outputs.push(("-output", path.as_path()));
+        }
+        if let Some(path) = &self.normals {
+            outputs.push(("-normals", path.as_path()));
+        }
+        if let Some((_, _, path)) = &self.depth {
+            outputs.push(("-depth", path.as_path()));
+        }
+        outputs
+    }
+}
+
+fn positive(arg: &OsStr, flag: &str, what: &str) -> Result<u32, String> {
+    match arg.to_str().and_then(|s| s.parse::<u32>().ok()) {
+        Some(n) if n > 0 => Ok(n),
+        _ => Err(format!("{flag} needs {what} (a whole number above 0), found '{}'", arg.to_string_lossy())),
+    }
+}
+
+fn finite(arg: &OsStr, flag: &str, what: &str) -> Result<f32, String> {
+    match arg.to_str().and_then(|s| s.parse::<f32>().ok()) {
+        Some(x) if x.is_finite() => Ok(x),
+        _ => Err(format!("{flag} needs {what}, found '{}'", arg.to_string_lossy())),
+    }
+}
+
+/// Whether two paths name one file, also when written differently (`./a.txt` and `a.txt`).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let resolve = |p: &Path| -> Option<PathBuf> {
+        let folder = match p.parent() {
+            Some(f) if !f.as_os_str().is_empty() => f,
+            _ => Path::new("."),
+        };
+        Some(folder.canonicalize().ok()?.join(p.file_name()?))
+    };
+    a == b || matches!((resolve(a), resolve(b)), (Some(x), Some(y)) if x == y)
+}
+
+fn execute(options: &Options) -> Result<(), Error> {
+    let outputs = options.outputs();
+    let paths: Vec<&Path> = outputs.iter().map(|&(_, p)| p).collect();
+    // Before any work: a folder that is missing or unwritable fails the run now.
+    let pending = PendingOutputs::reserve(&paths)?;
+
+    let (scene, load) = Scene::load(&options.input)?;
+
+    let settings = RenderSettings {
+        width: options.width,
+        height: options.height,
+        colour: options.output.is_some(),
+        normals: options.normals.is_some(),
+        depth: options.depth.as_ref().map(|&(near, far, _)| (near, far)),
+        shade_back: options.shade_back,
+        progress: std::io::stderr().is_terminal(),
+    };
+    let render_start = Instant::now();
+    let (rendered, threads) = match options.threads {
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| Error::Refused(format!("raycast: cannot start {n} threads: {e}")))?;
+            (pool.install(|| render(&scene, &settings)), n)
+        }
+        None => (render(&scene, &settings), rayon::current_num_threads()),
+    };
+    let render_time = render_start.elapsed();
+
+    let write_start = Instant::now();
+    let images = [&rendered.colour, &rendered.normals, &rendered.depth];
+    let contents = images
+        .into_iter()
+        .flatten()
+        .zip(&paths)
+        .map(|(image, path)| {
+            let format = ImageFormat::from_path(path).expect("checked when parsing the command line");
+            image_io::encode(image, format)
+        })
+        .collect();
+    pending.commit(contents)?;
+    let write_time = write_start.elapsed();
+
+    if options.stats {
+        let w = load.world;
+        let rays = options.width as u64 * options.height as u64;
+        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+        let mb = |bytes: usize| bytes as f64 / (1 << 20) as f64;
+        eprintln!("raycast: parse and load  {:9.2} ms", ms(load.parse));
+        eprintln!("raycast: build BVH       {:9.2} ms", ms(load.build));
+        eprintln!(
+            "raycast: render          {:9.2} ms  ({rays} primary rays on {threads} thread{}, {:.2} M rays/s)",
+            ms(render_time),
+            if threads == 1 { "" } else { "s" },
+            rays as f64 / render_time.as_secs_f64() / 1e6
+        );
+        eprintln!("raycast: write images    {:9.2} ms", ms(write_time));
+        eprintln!(
+            "raycast: scene: {} triangles stored ({} placed) in {} mesh{}, {} instance{}, {} sphere{}, {} plane{}",
+            w.triangles,
+            w.triangles_placed,
+            w.meshes,
+            if w.meshes == 1 { "" } else { "es" },
+            w.instances,
+            if w.instances == 1 { "" } else { "s" },
+            w.spheres,
+            if w.spheres == 1 { "" } else { "s" },
+            w.planes,
+            if w.planes == 1 { "" } else { "s" },
+        );
+        eprintln!(
+            "raycast: memory: geometry {:.2} MiB, acceleration {:.2} MiB ({} BVH nodes)",
+            mb(w.geometry_bytes),
+            mb(w.acceleration_bytes),
+            w.nodes
+        );
+    }
+    Ok(())
+}

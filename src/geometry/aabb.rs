@@ -1,0 +1,84 @@
+use glam::{Affine3A, Vec3A};
+
+use super::Ray;
+
+/// An axis-aligned box; the empty box has min = +inf and max = -inf so that growing it works.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    pub min: Vec3A,
+    pub max: Vec3A,
+}
+
+impl Default for Aabb {
+    fn default() -> Self {
+        Aabb::EMPTY
+    }
+}
+
+impl Aabb {
+    pub const EMPTY: Aabb = Aabb {
+        min: Vec3A::INFINITY,
+        max: Vec3A::NEG_INFINITY,
+    };
+
+    pub fn from_points(points: &[Vec3A]) -> Aabb {
+        points.iter().fold(Aabb::EMPTY, |b, &p| b.grow(p))
+    }
+
+    pub fn grow(self, p: Vec3A) -> Aabb {
+        Aabb {
+            min: self.min.min(p),
+            max: self.max.max(p),
+        }
+    }
+
+    pub fn union(self, other: Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.min.cmpgt(self.max).any()
+    }
+
+    pub fn centroid(&self) -> Vec3A {
+        0.5 * (self.min + self.max)
+    }
+
+    /// Half the surface area, which is all the SAH needs.
+    pub fn half_area(&self) -> f32 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let d = self.max - self.min;
+        d.x * d.y + d.y * d.z + d.z * d.x
+    }
+
+    /// The box around this box after an affine map (its eight corners, mapped).
+    pub fn transformed(&self, m: &Affine3A) -> Aabb {
+        if self.is_empty() {
+            return *self;
+        }
+        (0..8).fold(Aabb::EMPTY, |b, corner| {
+            let pick = |bit: usize, lo: f32, hi: f32| if corner & bit == 0 { lo } else { hi };
+            let p = Vec3A::new(
+                pick(1, self.min.x, self.max.x),
+                pick(2, self.min.y, self.max.y),
+                pick(4, self.min.z, self.max.z),
+            );
+            b.grow(m.transform_point3a(p))
+        })
+    }
+
+    /// Where the ray enters the box within [t_min, t_max], if it meets it there.
+    #[inline(always)]
+    pub fn hit(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let t0 = (self.min - ray.origin) * ray.inv_direction;
+        let t1 = (self.max - ray.origin) * ray.inv_direction;
+        let near = t0.min(t1).max_element().max(t_min);
+        let far = t0.max(t1).min_element().min(t_max);
+        (near <= far).then_some(near)
+    }
+}

@@ -1,0 +1,16 @@
+//! Rays and the shapes they hit, each intersection a small free function over plain data so the
+//! acceleration structures can call them without dynamic dispatch.
+
+mod aabb;
+mod plane;
+mod ray;
+mod sphere;
+mod transform;
+mod triangle;
+
+pub use aabb::Aabb;
+pub use plane::{Plane, intersect_plane};
+pub use ray::Ray;
+pub use sphere::{Sphere, intersect_sphere};
+pub use transform::Transform;
+pub use triangle::{intersect_triangle, triangle_normal};

@@ -1,0 +1,169 @@
+//! Pictures to files: TGA in the course's exact layout, binary PPM, and PNG, by extension.
+//!
+//! TGA and PPM are written here (a header and the bytes: the course's TGA layout, top-left origin
+//! and BGR, is not what a general encoder picks); PNG goes through the `image` crate. Every file
+//! is written to a temporary file beside its target and renamed into place only when all of a
+//! run's files are complete, so a failed run leaves no partial image and touches no existing one.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use crate::error::Error;
+
+/// An 8-bit RGB picture, top row first.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<[u8; 3]>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    Tga,
+    Ppm,
+    Png,
+}
+
+impl ImageFormat {
+    pub const EXTENSIONS: &str = ".tga, .ppm or .png";
+
+    pub fn from_path(path: &Path) -> Option<ImageFormat> {
+        let extension = path.extension()?.to_str()?.to_ascii_lowercase();
+        match extension.as_str() {
+            "tga" => Some(ImageFormat::Tga),
+            "ppm" => Some(ImageFormat::Ppm),
+            "png" => Some(ImageFormat::Png),
+            _ => None,
+        }
+    }
+}
+
+pub fn encode(image: &Image, format: ImageFormat) -> Vec<u8> {
+    let (w, h) = (image.width, image.height);
+    match format {
+        ImageFormat::Tga => {
+            let mut bytes = Vec::with_capacity(18 + image.pixels.len() * 3);
+            // Uncompressed true colour (type 2), 24 bits, descriptor 32: rows top to bottom.
+            bytes.extend_from_slice(&[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+            bytes.extend_from_slice(&(w as u16).to_le_bytes());
+            bytes.extend_from_slice(&(h as u16).to_le_bytes());
+            bytes.extend_from_slice(&[24, 32]);
+            bytes.extend(image.pixels.iter().flat_map(|&[r, g, b]| [b, g, r]));
+            bytes
+        }
+        ImageFormat::Ppm => {
+            let mut bytes = format!("P6\n{w} {h}\n255\n").into_bytes();
+            bytes.extend(image.pixels.iter().flatten());
+            bytes
+        }
+        ImageFormat::Png => {
+            use image::ImageEncoder;
+            use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+            let mut bytes = Vec::new();
+            let encoder =
+                PngEncoder::new_with_quality(&mut bytes, CompressionType::Fast, FilterType::Adaptive);
+            encoder
+                .write_image(image.pixels.as_flattened(), w, h, image::ExtendedColorType::Rgb8)
+                .expect("an in-memory PNG of a valid size cannot fail to encode");
+            bytes
+        }
+    }
+}
+
+/// A TGA can say at most 65535 pixels a side.
+pub const TGA_MAX_SIDE: u32 = u16::MAX as u32;
+
+/// Output files of one run, each reserved as a temporary file in its target's folder before the
+/// render starts (so an unwritable folder is found before any work), and renamed into place
+/// together by [`PendingOutputs::commit`]. Dropped uncommitted, they vanish.
+pub struct PendingOutputs {
+    files: Vec<(PathBuf, tempfile::NamedTempFile)>,
+}
+
+impl PendingOutputs {
+    pub fn reserve(paths: &[&Path]) -> Result<PendingOutputs, Error> {
+        let mut files = Vec::new();
+        for &path in paths {
+            let folder = match path.parent() {
+                Some(p) if !p.as_os_str().is_empty() => p,
+                _ => Path::new("."),
+            };
+            let file = tempfile::Builder::new()
+                .prefix(".raycast-")
+                .suffix(".part")
+                .tempfile_in(folder)
+                .map_err(|e| Error::Write {
+                    path: path.to_path_buf(),
+                    message: match e.kind() {
+                        std::io::ErrorKind::NotFound => {
+                            format!("the folder '{}' does not exist", folder.display())
+                        }
+                        _ => format!("cannot create a file in '{}': {e}", folder.display()),
+                    },
+                })?;
+            files.push((path.to_path_buf(), file));
+        }
+        Ok(PendingOutputs { files })
+    }
+
+    /// Writes each file's bytes (in the order reserved), then renames them all into place.
+    pub fn commit(mut self, contents: Vec<Vec<u8>>) -> Result<(), Error> {
+        for ((path, file), bytes) in self.files.iter_mut().zip(&contents) {
+            file.write_all(bytes)
+                .and_then(|()| file.as_file().sync_all())
+                .map_err(|e| Error::Write {
+                    path: path.clone(),
+                    message: e.to_string(),
+                })?;
+        }
+        for (path, file) in self.files {
+            file.persist(&path).map_err(|e| Error::Write {
+                path,
+                message: e.error.to_string(),
+            })?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_by_one() -> Image {
+        Image {
+            width: 2,
+            height: 1,
+            pixels: vec![[1, 2, 3], [4, 5, 6]],
+        }
+    }
+
+    #[test]
+    fn tga_has_the_course_header_and_bgr_pixels() {
+        let bytes = encode(&two_by_one(), ImageFormat::Tga);
+        assert_eq!(&bytes[..18], &[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 1, 0, 24, 32]);
+        assert_eq!(&bytes[18..], &[3, 2, 1, 6, 5, 4]);
+    }
+
+    #[test]
+    fn ppm_is_binary_p6() {
+        let bytes = encode(&two_by_one(), ImageFormat::Ppm);
+        assert_eq!(bytes, b"P6\n2 1\n255\n\x01\x02\x03\x04\x05\x06");
+    }
+
+    #[test]
+    fn png_decodes_to_the_same_pixels() {
+        let bytes = encode(&two_by_one(), ImageFormat::Png);
+        let decoded = image::load_from_memory(&bytes).unwrap().to_rgb8();
+        assert_eq!(decoded.as_raw(), &[1, 2, 3, 4, 5, 6]);
+    }
+
+    #[test]
+    fn formats_come_from_the_extension() {
+        assert_eq!(ImageFormat::from_path(Path::new("a/b.TGA")), Some(ImageFormat::Tga));
+        assert_eq!(ImageFormat::from_path(Path::new("b.png")), Some(ImageFormat::Png));
+        assert_eq!(ImageFormat::from_path(Path::new("b.jpg")), None);
+        assert_eq!(ImageFormat::from_path(Path::new("ppm")), None);
+    }
+}

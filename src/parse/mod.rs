@@ -1,0 +1,8 @@
+//! Scene text to scene description: the lexer finds the words, the parser checks the grammar of
+//! ../SCENE_FORMAT.md and flattens groups and transforms into a list of placed objects.
+
+mod lexer;
+mod parser;
+
+pub use lexer::{Span, Token, describe};
+pub use parser::{parse_scene, read_scene};

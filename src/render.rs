@@ -1,0 +1,154 @@
+//! The pixel loop: tiles of 16×16 pixels spread over rayon's threads, each pixel one ray
+//! through its centre. Every pixel is computed the same way whichever thread takes it, so any
+//! thread count gives the same image.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use glam::Vec3A;
+use rayon::prelude::*;
+
+use crate::camera::pixel_to_screen;
+use crate::image_io::Image;
+use crate::scene::Scene;
+use crate::shade;
+
+const TILE: u32 = 16;
+
+/// What to render and how.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub colour: bool,
+    pub normals: bool,
+    /// The t that maps to white and the t that maps to black.
+    pub depth: Option<(f32, f32)>,
+    pub shade_back: bool,
+    /// Show a progress bar on stderr if the render outlasts about a second (and stderr is a
+    /// terminal).
+    pub progress: bool,
+}
+
+/// The rendered pictures; those not asked for are `None`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rendered {
+    pub colour: Option<Image>,
+    pub normals: Option<Image>,
+    pub depth: Option<Image>,
+}
+
+#[derive(Clone, Copy, Default)]
+struct Sample {
+    colour: [u8; 3],
+    normal: [u8; 3],
+    depth: u8,
+}
+
+/// Renders on the current rayon pool (wrap in `ThreadPool::install` to choose the threads).
+pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
+    let (width, height) = (settings.width, settings.height);
+    let mut samples = vec![Sample::default(); width as usize * height as usize];
+    let band_len = (width * TILE) as usize;
+    let progress = Progress::new(settings.progress, samples.len().div_ceil(band_len.max(1)));
+    samples
+        .par_chunks_mut(band_len.max(1))
+        .enumerate()
+        .for_each(|(band, pixels)| {
+            let top = band as u32 * TILE;
+            let rows = (pixels.len() / width as usize) as u32;
+            for tile_left in (0..width).step_by(TILE as usize) {
+                for row in top..top + rows {
+                    for column in tile_left..(tile_left + TILE).min(width) {
+                        let index = ((row - top) * width + column) as usize;
+                        // Rows are stored top first; the camera counts them from the bottom.
+                        pixels[index] = sample(scene, settings, column, height - 1 - row);
+                    }
+                }
+            }
+            progress.advance();
+        });
+    progress.finish();
+
+    let picture = |wanted: bool, pick: fn(&Sample) -> [u8; 3]| {
+        wanted.then(|| Image {
+            width,
+            height,
+            pixels: samples.iter().map(pick).collect(),
+        })
+    };
+    Rendered {
+        colour: picture(settings.colour, |s| s.colour),
+        normals: picture(settings.normals, |s| s.normal),
+        depth: picture(settings.depth.is_some(), |s| [s.depth; 3]),
+    }
+}
+
+#[inline]
+fn sample(scene: &Scene, settings: &RenderSettings, i: u32, j: u32) -> Sample {
+    let (u, v) = pixel_to_screen(i, j, settings.width, settings.height);
+    let ray = scene.camera.ray(u, v);
+    let Some(hit) = scene.world.intersect(&ray, scene.camera.t_min()) else {
+        return Sample {
+            colour: shade::to_rgb(scene.background),
+            ..Sample::default()
+        };
+    };
+    let colour = if settings.colour {
+        shade::diffuse(scene, &ray, &hit, settings.shade_back)
+    } else {
+        Vec3A::ZERO
+    };
+    let depth = match settings.depth {
+        Some((near, far)) => shade::to_byte(shade::depth_grey(&hit, near, far)),
+        None => 0,
+    };
+    Sample {
+        colour: shade::to_rgb(colour),
+        normal: shade::to_rgb(shade::normal_colour(&hit)),
+        depth,
+    }
+}
+
+/// A progress bar that appears only once the render has taken a second.
+struct Progress {
+    bar: Option<indicatif::ProgressBar>,
+    start: Instant,
+    shown: AtomicBool,
+}
+
+impl Progress {
+    fn new(enabled: bool, bands: usize) -> Progress {
+        let bar = enabled.then(|| {
+            let bar = indicatif::ProgressBar::with_draw_target(
+                Some(bands as u64),
+                indicatif::ProgressDrawTarget::hidden(),
+            );
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "rendering {bar:40} {percent:>3}%  {elapsed} elapsed, about {eta} left",
+            ) {
+                bar.set_style(style);
+            }
+            bar
+        });
+        Progress {
+            bar,
+            start: Instant::now(),
+            shown: AtomicBool::new(false),
+        }
+    }
+
+    fn advance(&self) {
+        let Some(bar) = &self.bar else { return };
+        bar.inc(1);
+        if self.start.elapsed() > Duration::from_secs(1) && !self.shown.swap(true, Ordering::Relaxed) {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}

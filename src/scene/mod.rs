@@ -1,0 +1,64 @@
+//! The scene: its description as parsed, and the render-ready form built from it.
+
+mod build;
+pub mod model;
+pub mod obj;
+
+use std::path::Path;
+use std::time::Duration;
+
+use glam::Vec3A;
+
+pub use model::{Material, SceneDescription};
+
+use crate::accel::{World, WorldStats};
+use crate::camera::Camera;
+use crate::error::Error;
+
+/// A light as shading uses it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    /// Unit vector toward the light: the opposite of the way its light travels.
+    pub to_light: Vec3A,
+    pub color: Vec3A,
+}
+
+/// A scene ready to render.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    pub camera: Camera,
+    pub background: Vec3A,
+    pub ambient: Vec3A,
+    pub lights: Vec<Light>,
+    pub materials: Vec<MaterialColour>,
+    pub world: World,
+}
+
+/// A material as shading uses it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialColour {
+    pub diffuse: Vec3A,
+}
+
+/// How long loading took and what it made, for `-stats`.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LoadStats {
+    /// Reading and parsing the scene and its mesh files.
+    pub parse: Duration,
+    /// Building the acceleration structures.
+    pub build: Duration,
+    pub world: WorldStats,
+}
+
+impl Scene {
+    /// Reads a scene file and the meshes it names, and builds the acceleration structures.
+    pub fn load(path: &Path) -> Result<(Scene, LoadStats), Error> {
+        build::load(path)
+    }
+
+    /// Builds a scene from a description; relative mesh paths are looked for beside
+    /// `description.path` first, then in the working directory.
+    pub fn from_description(description: &SceneDescription) -> Result<(Scene, LoadStats), Error> {
+        build::build(description, std::time::Instant::now())
+    }
+}

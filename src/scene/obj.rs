@@ -1,0 +1,217 @@
+//! Wavefront .obj reading: positions and faces, the parts a ray caster needs.
+//!
+//! The course's files hold only `v x y z` and `f a b c` lines, but users bring meshes exported by
+//! every tool there is, so this reads real files: comments, `f a/b/c` and `a//c` references,
+//! polygons (split into fans), negative (relative) indices, and statements that carry no geometry
+//! (normals, texture coordinates, groups, materials), which it skips. Hand-written rather than
+//! `tobj`, for two reasons: every error names its line and column, and reading the 69k-triangle
+//! bunny takes a few milliseconds, which matters when the whole render takes a hundred.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::error::Diagnostic;
+use crate::parse::{Span, describe};
+
+/// A triangle soup: vertex positions and, per triangle, three indices into them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ObjMesh {
+    pub positions: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Statements that are valid .obj but say nothing about the surface a ray hits.
+const SKIPPED: &[&[u8]] = &[
+    b"vn", b"vt", b"vp", b"g", b"o", b"s", b"usemtl", b"mtllib", b"l", b"p", b"mg", b"lod",
+    b"usemap", b"maplib", b"shadow_obj", b"trace_obj", b"bevel", b"c_interp", b"d_interp",
+    b"cstype", b"deg", b"bmat", b"step", b"curv", b"curv2", b"surf", b"parm", b"trim", b"hole",
+    b"scrv", b"sp", b"end", b"con", b"ctech", b"stech", b"call", b"csh",
+];
+
+pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
+    let mut mesh = ObjMesh::default();
+    let mut face: Vec<u32> = Vec::new();
+    for (line_index, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let line_number = line_index as u32 + 1;
+        let content = match line.iter().position(|&b| b == b'#') {
+            Some(hash) => &line[..hash],
+            None => line,
+        };
+        let mut words = Words {
+            line: content,
+            pos: 0,
+        };
+        let Some((keyword, keyword_at)) = words.next() else {
+            continue;
+        };
+        let at = |offset: usize| Span::new(line_number, column(line, offset));
+        match keyword {
+            b"v" => {
+                let mut xyz = [0.0f32; 3];
+                for value in &mut xyz {
+                    let Some((word, offset)) = words.next() else {
+                        let end = content.trim_ascii_end().len();
+                        return Err(Diagnostic::expected(path, at(end), "a coordinate", "end of line"));
+                    };
+                    *value = parse_coordinate(word)
+                        .ok_or_else(|| Diagnostic::expected(path, at(offset), "a finite number", &show(word)))?;
+                }
+                // A fourth value (w) or three more (a vertex colour) may follow; they do not
+                // move the vertex, but they must still be numbers.
+                for (word, offset) in words.by_ref() {
+                    if parse_coordinate(word).is_none() {
+                        return Err(Diagnostic::expected(path, at(offset), "a number or end of line", &show(word)));
+                    }
+                }
+                mesh.positions.push(Vec3::from(xyz));
+            }
+            b"f" => {
+                face.clear();
+                for (word, offset) in words.by_ref() {
+                    let index = vertex_index(word, mesh.positions.len()).ok_or_else(|| {
+                        let expected = match mesh.positions.len() {
+                            0 => "a vertex defined before this face".to_string(),
+                            n => format!("a vertex index from 1 to {n} (or -{n} to -1)"),
+                        };
+                        Diagnostic::expected(path, at(offset), &expected, &show(word))
+                    })?;
+                    face.push(index);
+                }
+                if face.len() < 3 {
+                    let end = content.trim_ascii_end().len();
+                    return Err(Diagnostic::expected(
+                        path,
+                        at(end),
+                        "at least three vertices in a face",
+                        &format!("{} and end of line", face.len()),
+                    ));
+                }
+                for i in 1..face.len() - 1 {
+                    mesh.triangles.push([face[0], face[i], face[i + 1]]);
+                }
+            }
+            _ if SKIPPED.contains(&keyword) => {}
+            _ => {
+                return Err(Diagnostic::expected(
+                    path,
+                    at(keyword_at),
+                    "an .obj statement (v, f, vn, vt, g, o, s, usemtl, mtllib, or # for a comment)",
+                    &show(keyword),
+                ));
+            }
+        }
+    }
+    Ok(mesh)
+}
+
+fn parse_coordinate(word: &[u8]) -> Option<f32> {
+    let value: f32 = std::str::from_utf8(word).ok()?.parse().ok()?;
+    value.is_finite().then_some(value)
+}
+
+/// The position index of one face corner (`i`, `i/t`, `i//n` or `i/t/n`), made 0-based.
+fn vertex_index(word: &[u8], vertex_count: usize) -> Option<u32> {
+    let position = word.split(|&b| b == b'/').next()?;
+    let index: i64 = std::str::from_utf8(position).ok()?.parse().ok()?;
+    let count = vertex_count as i64;
+    let zero_based = if (1..=count).contains(&index) {
+        index - 1
+    } else if (-count..=-1).contains(&index) {
+        count + index
+    } else {
+        return None;
+    };
+    Some(zero_based as u32)
+}
+
+fn show(word: &[u8]) -> String {
+    describe(&String::from_utf8_lossy(word))
+}
+
+/// The character column of a byte offset, counted from 1.
+fn column(line: &[u8], offset: usize) -> u32 {
+    line[..offset].iter().filter(|&&b| b & 0xC0 != 0x80).count() as u32 + 1
+}
+
+/// Whitespace-separated words of one line, with their byte offsets.
+struct Words<'a> {
+    line: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Iterator for Words<'a> {
+    type Item = (&'a [u8], usize);
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let line = self.line;
+        while self.pos < line.len() && line[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+        if self.pos == line.len() {
+            return None;
+        }
+        let start = self.pos;
+        while self.pos < line.len() && !line[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+        Some((&line[start..self.pos], start))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<ObjMesh, String> {
+        parse_obj(Path::new("m.obj"), text.as_bytes()).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn reads_the_course_form() {
+        let mesh = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        assert_eq!(mesh.positions.len(), 3);
+        assert_eq!(mesh.triangles, vec![[0, 1, 2]]);
+    }
+
+    #[test]
+    fn reads_real_world_files() {
+        let text = "# exported\r\nmtllib a.mtl\no thing\nv 0 0 0 1\nv 1 0 0\r\nv 1 1 0 0.5 0.5 0.5\nv 0 1 0\n\
+                    vn 0 0 1\nvt 0 0\ng side\nusemtl red\ns off\nf 1/1/1 2/2/1 3//1 4 # a quad\nf -4 -3 -1\n";
+        let mesh = parse(text).unwrap();
+        assert_eq!(mesh.positions[2], Vec3::new(1.0, 1.0, 0.0));
+        assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 1, 3]]);
+    }
+
+    #[test]
+    fn errors_name_line_and_column() {
+        assert_eq!(
+            parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap_err(),
+            "m.obj:4:7: expected a vertex index from 1 to 3 (or -3 to -1), found '7'"
+        );
+        assert_eq!(
+            parse("v 0 zero 0\n").unwrap_err(),
+            "m.obj:1:5: expected a finite number, found 'zero'"
+        );
+        assert_eq!(
+            parse("v 0 0\n").unwrap_err(),
+            "m.obj:1:6: expected a coordinate, found end of line"
+        );
+        assert_eq!(
+            parse("v 0 0 0\nf 1 1\n").unwrap_err(),
+            "m.obj:2:6: expected at least three vertices in a face, found 2 and end of line"
+        );
+        assert_eq!(
+            parse("f 1 2 3\n").unwrap_err(),
+            "m.obj:1:3: expected a vertex defined before this face, found '1'"
+        );
+        assert_eq!(
+            parse("\nPK\u{3}\u{4}\n").unwrap_err(),
+            "m.obj:2:1: expected an .obj statement (v, f, vn, vt, g, o, s, usemtl, mtllib, or # for a comment), found 'PK\\u{3}\\u{4}'"
+        );
+        assert_eq!(
+            parse("v 0 0 1e39\n").unwrap_err(),
+            "m.obj:1:7: expected a finite number, found '1e39'"
+        );
+    }
+}

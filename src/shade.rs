@@ -1,0 +1,76 @@
+//! Turning a hit into the three pictures raycast can make.
+
+use glam::Vec3A;
+
+use crate::accel::Hit;
+use crate::geometry::Ray;
+use crate::scene::Scene;
+
+/// Ambient plus diffuse light. A back face (one the ray reaches from behind its normal) is black,
+/// unless `shade_back` asks for it to be shaded as seen from its other side.
+#[inline]
+pub fn diffuse(scene: &Scene, ray: &Ray, hit: &Hit, shade_back: bool) -> Vec3A {
+    let mut normal = hit.normal;
+    if ray.direction.dot(normal) > 0.0 {
+        if !shade_back {
+            return Vec3A::ZERO;
+        }
+        normal = -normal;
+    }
+    let diffuse = scene.materials[hit.material as usize].diffuse;
+    let mut light = scene.ambient;
+    for l in &scene.lights {
+        light += l.to_light.dot(normal).max(0.0) * l.color;
+    }
+    light * diffuse
+}
+
+/// |n|: the normal's components as a colour.
+#[inline]
+pub fn normal_colour(hit: &Hit) -> Vec3A {
+    hit.normal.abs()
+}
+
+/// Near is white, far is black: t_near and nearer give 1, t_far and farther 0.
+#[inline]
+pub fn depth_grey(hit: &Hit, t_near: f32, t_far: f32) -> f32 {
+    ((t_far - hit.t) / (t_far - t_near)).clamp(0.0, 1.0)
+}
+
+/// The course's float-to-byte rule: truncate, then clamp (0.2 is 51, 0.8165 is 208).
+#[inline]
+pub fn to_byte(value: f32) -> u8 {
+    ((value * 255.0) as i32).clamp(0, 255) as u8
+}
+
+#[inline]
+pub fn to_rgb(colour: Vec3A) -> [u8; 3] {
+    [to_byte(colour.x), to_byte(colour.y), to_byte(colour.z)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bytes_truncate_then_clamp() {
+        assert_eq!(to_byte(0.2), 51);
+        assert_eq!(to_byte(0.6), 153);
+        assert_eq!(to_byte(0.8165), 208);
+        assert_eq!(to_byte(1.7), 255);
+        assert_eq!(to_byte(-0.3), 0);
+        assert_eq!(to_byte(f32::NAN), 0);
+    }
+
+    #[test]
+    fn depth_is_white_near_and_black_far() {
+        let at = |t| Hit {
+            t,
+            normal: Vec3A::Z,
+            material: 0,
+        };
+        assert_eq!(depth_grey(&at(8.0), 9.0, 11.0), 1.0);
+        assert_eq!(depth_grey(&at(10.0), 9.0, 11.0), 0.5);
+        assert_eq!(depth_grey(&at(12.0), 9.0, 11.0), 0.0);
+    }
+}
