@@ -14,6 +14,8 @@ pub struct Camera {
     /// Screen y, up in the image: perpendicular to both others even if the file's up is not.
     up: Vec3A,
     projection: Projection,
+    /// The perspective camera's screen width at distance 1: 2·tan(angle/2).
+    screen: f32,
 }
 
 impl Camera {
@@ -27,6 +29,10 @@ impl Camera {
             horizontal,
             up,
             projection: spec.projection,
+            screen: match spec.projection {
+                Projection::Perspective { angle } => 2.0 * (0.5 * angle).tan(),
+                Projection::Orthographic { .. } => 0.0,
+            },
         }
     }
 
@@ -39,8 +45,8 @@ impl Camera {
                 self.center + (x * size) * self.horizontal + (y * size) * self.up,
                 self.direction,
             ),
-            Projection::Perspective { angle } => {
-                let screen = 2.0 * (0.5 * angle).tan();
+            Projection::Perspective { .. } => {
+                let screen = self.screen;
                 let direction =
                     self.direction + (x * screen) * self.horizontal + (y * screen) * self.up;
                 Ray::new(self.center, direction.normalize())

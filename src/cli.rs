@@ -159,15 +159,17 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         return Err("nothing to write: give -output, -normals or -depth".into());
     }
     for (i, &(flag, path)) in outputs.iter().enumerate() {
+        // Asked before the extension: `-output scene.txt` is a slip of the scene's name, and
+        // "unknown image type" would send the user looking in the wrong place.
+        if same_file(path, &options.input) {
+            return Err(format!("{flag} '{}' would overwrite the scene file", path.display()));
+        }
         if ImageFormat::from_path(path).is_none() {
             return Err(format!(
                 "{flag} '{}': unknown image type; name it {}",
                 path.display(),
                 ImageFormat::EXTENSIONS
             ));
-        }
-        if same_file(path, &options.input) {
-            return Err(format!("{flag} '{}' would overwrite the scene file", path.display()));
         }
         if let Some(&(other, _)) = outputs[..i].iter().find(|(_, p)| same_file(p, path)) {
             return Err(format!("{other} and {flag} name the same file '{}'", path.display()));

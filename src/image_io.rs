@@ -89,19 +89,27 @@ impl PendingOutputs {
                 Some(p) if !p.as_os_str().is_empty() => p,
                 _ => Path::new("."),
             };
-            let file = tempfile::Builder::new()
-                .prefix(".raycast-")
-                .suffix(".part")
-                .tempfile_in(folder)
-                .map_err(|e| Error::Write {
-                    path: path.to_path_buf(),
-                    message: match e.kind() {
-                        std::io::ErrorKind::NotFound => {
-                            format!("the folder '{}' does not exist", folder.display())
-                        }
-                        _ => format!("cannot create a file in '{}': {e}", folder.display()),
-                    },
-                })?;
+            let mut builder = tempfile::Builder::new();
+            builder.prefix(".raycast-").suffix(".part");
+            // Temporary files are made private (0600) and the rename keeps that; an image is an
+            // ordinary file and gets what any new file gets: 0666 less the user's umask.
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::PermissionsExt;
+                builder.permissions(std::fs::Permissions::from_mode(0o666));
+            }
+            let file = builder.tempfile_in(folder).map_err(|e| Error::Write {
+                path: path.to_path_buf(),
+                // "Not found" also comes from folders that exist but take no files (/proc), so
+                // the folder itself is asked before the message blames it.
+                message: if !folder.exists() {
+                    format!("the folder '{}' does not exist", folder.display())
+                } else if !folder.is_dir() {
+                    format!("'{}' is not a folder", folder.display())
+                } else {
+                    format!("cannot create a file in '{}': {e}", folder.display())
+                },
+            })?;
             files.push((path.to_path_buf(), file));
         }
         Ok(PendingOutputs { files })

@@ -1,4 +1,4 @@
-use glam::Vec3A;
+use glam::{Mat3A, Vec3A};
 
 /// A ray, with what every box and triangle test against it would otherwise recompute.
 ///
@@ -10,10 +10,9 @@ pub struct Ray {
     pub direction: Vec3A,
     /// 1/direction, kept finite (a zero component gives ±f32::MAX) so slab tests never make NaN.
     pub inv_direction: Vec3A,
-    /// The watertight triangle test's frame: the axes permuted so that z is the direction's
-    /// largest component, and the shear that maps the direction onto that z axis.
-    pub(crate) axes: [usize; 3],
-    pub(crate) shear: Vec3A,
+    /// The watertight triangle test's frame, as one matrix: the axes permuted so that z is the
+    /// direction's largest component, then sheared so that the direction becomes (0, 0, 1).
+    pub(crate) to_ray_space: Mat3A,
 }
 
 impl Ray {
@@ -31,13 +30,19 @@ impl Ray {
         let kx = (kz + 1) % 3;
         let ky = (kx + 1) % 3;
         let dz = direction[kz];
-        let shear = Vec3A::new(-direction[kx] / dz, -direction[ky] / dz, 1.0 / dz);
+        let unit = |axis: usize| Vec3A::AXES[axis];
+        // Rows: x' = p[kx] - d[kx]/d[kz]·p[kz], y' likewise, z' = p[kz]/d[kz]. Entries of 0 and 1
+        // keep those sums exact, so each vertex maps the same way for every triangle sharing it.
+        let rows = [
+            unit(kx) - (direction[kx] / dz) * unit(kz),
+            unit(ky) - (direction[ky] / dz) * unit(kz),
+            unit(kz) / dz,
+        ];
         Ray {
             origin,
             direction,
             inv_direction,
-            axes: [kx, ky, kz],
-            shear,
+            to_ray_space: Mat3A::from_cols(rows[0], rows[1], rows[2]).transpose(),
         }
     }
 

@@ -10,18 +10,13 @@ use super::Ray;
 /// is hit; a zero-area triangle never is. Returns t with t_min <= t < t_max.
 #[inline(always)]
 pub fn intersect_triangle(ray: &Ray, v: &[Vec3; 3], t_min: f32, t_max: f32) -> Option<f32> {
-    let [kx, ky, kz] = ray.axes;
-    let s = ray.shear;
-    let p0 = Vec3A::from(v[0]) - ray.origin;
-    let p1 = Vec3A::from(v[1]) - ray.origin;
-    let p2 = Vec3A::from(v[2]) - ray.origin;
-    let (p0z, p1z, p2z) = (p0[kz], p1[kz], p2[kz]);
-    let p0x = p0[kx] + s.x * p0z;
-    let p0y = p0[ky] + s.y * p0z;
-    let p1x = p1[kx] + s.x * p1z;
-    let p1y = p1[ky] + s.y * p1z;
-    let p2x = p2[kx] + s.x * p2z;
-    let p2y = p2[ky] + s.y * p2z;
+    let m = ray.to_ray_space;
+    let p0 = m * (Vec3A::from(v[0]) - ray.origin);
+    let p1 = m * (Vec3A::from(v[1]) - ray.origin);
+    let p2 = m * (Vec3A::from(v[2]) - ray.origin);
+    let (p0x, p0y, p0z) = (p0.x, p0.y, p0.z);
+    let (p1x, p1y, p1z) = (p1.x, p1.y, p1.z);
+    let (p2x, p2y, p2z) = (p2.x, p2.y, p2.z);
 
     let mut e0 = p1x * p2y - p1y * p2x;
     let mut e1 = p2x * p0y - p2y * p0x;
@@ -40,7 +35,7 @@ pub fn intersect_triangle(ray: &Ray, v: &[Vec3; 3], t_min: f32, t_max: f32) -> O
     if det == 0.0 {
         return None;
     }
-    let t = s.z * (e0 * p0z + e1 * p1z + e2 * p2z) / det;
+    let t = (e0 * p0z + e1 * p1z + e2 * p2z) / det;
     (t >= t_min && t < t_max).then_some(t)
 }
 

@@ -2,7 +2,7 @@
 //! world-space shapes baked, instances placed, trees built.
 
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 use std::time::Instant;
 
 use glam::{DMat4, DVec3, Vec3, Vec3A};
@@ -184,7 +184,9 @@ impl<'a> MeshLoader<'a> {
     fn load(&mut self, file: &str, span: crate::parse::Span) -> Result<u32, Error> {
         let beside_scene = self.scene.parent().unwrap_or(Path::new("")).join(file);
         let mut tried = vec![beside_scene];
-        if Path::new(file).is_relative() {
+        // A scene in the working directory has both places the same: name it once in messages.
+        let plain = |p: &Path| p.components().filter(|c| *c != Component::CurDir).collect::<PathBuf>();
+        if Path::new(file).is_relative() && plain(&tried[0]) != plain(Path::new(file)) {
             tried.push(PathBuf::from(file));
         }
         let Some(found) = tried.iter().find(|p| p.is_file()) else {

@@ -1,0 +1,175 @@
+//! Property test: the BVHs (top level and per mesh, through nested transforms and shared mesh
+//! instances) find exactly the hit that testing every primitive finds.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use glam::Vec3A;
+use proptest::prelude::*;
+use raycast::Scene;
+use raycast::geometry::Ray;
+use raycast::parse::parse_scene;
+
+/// An object of the generated scene: the tree the file spells out.
+#[derive(Debug, Clone)]
+enum Node {
+    Sphere([f32; 3], f32),
+    Triangle([[f32; 3]; 3]),
+    /// One of the two mesh files, placed.
+    Mesh(usize),
+    /// A tilted floor below everything else.
+    Plane,
+    Transform(Vec<Op>, Box<Node>),
+    Group(Vec<(u32, Node)>),
+}
+
+#[derive(Debug, Clone)]
+enum Op {
+    Translate([f32; 3]),
+    Scale([f32; 3]),
+    Rotate(usize, f32),
+}
+
+fn coordinate() -> impl Strategy<Value = f32> {
+    -4.0f32..4.0
+}
+
+fn point() -> impl Strategy<Value = [f32; 3]> {
+    [coordinate(), coordinate(), coordinate()]
+}
+
+fn op() -> impl Strategy<Value = Op> {
+    let scale = prop_oneof![0.2f32..3.0, -3.0f32..-0.2];
+    prop_oneof![
+        point().prop_map(Op::Translate),
+        [scale.clone(), scale.clone(), scale].prop_map(Op::Scale),
+        (0usize..3, -180.0f32..180.0).prop_map(|(axis, degrees)| Op::Rotate(axis, degrees)),
+    ]
+}
+
+fn node() -> impl Strategy<Value = Node> {
+    let leaf = prop_oneof![
+        (point(), 0.1f32..1.5).prop_map(|(c, r)| Node::Sphere(c, r)),
+        [point(), point(), point()].prop_map(Node::Triangle),
+        (0usize..2).prop_map(Node::Mesh),
+    ];
+    leaf.prop_recursive(4, 40, 5, |inner| {
+        prop_oneof![
+            (prop::collection::vec(op(), 0..4), inner.clone())
+                .prop_map(|(ops, child)| Node::Transform(ops, Box::new(child))),
+            prop::collection::vec((0u32..3, inner), 1..5).prop_map(Node::Group),
+        ]
+    })
+}
+
+fn write_node(node: &Node, meshes: &[String; 2], out: &mut String) {
+    let v = |p: &[f32; 3]| format!("{} {} {}", p[0], p[1], p[2]);
+    match node {
+        Node::Sphere(c, r) => writeln!(out, "Sphere {{ center {} radius {r} }}", v(c)).unwrap(),
+        Node::Triangle(t) => writeln!(
+            out,
+            "Triangle {{ vertex0 {} vertex1 {} vertex2 {} }}",
+            v(&t[0]),
+            v(&t[1]),
+            v(&t[2])
+        )
+        .unwrap(),
+        Node::Mesh(i) => writeln!(out, "TriangleMesh {{ obj_file {} }}", meshes[*i]).unwrap(),
+        Node::Plane => out.push_str("Plane { normal 0.3 1 0.1 offset -6 }\n"),
+        Node::Transform(ops, child) => {
+            out.push_str("Transform {\n");
+            for op in ops {
+                match op {
+                    Op::Translate(t) => writeln!(out, "Translate {}", v(t)).unwrap(),
+                    Op::Scale(s) => writeln!(out, "Scale {}", v(s)).unwrap(),
+                    Op::Rotate(axis, d) => {
+                        writeln!(out, "{}Rotate {d}", ["X", "Y", "Z"][*axis]).unwrap()
+                    }
+                }
+            }
+            write_node(child, meshes, out);
+            out.push_str("}\n");
+        }
+        Node::Group(children) => {
+            writeln!(out, "Group {{ numObjects {}", children.len()).unwrap();
+            for (material, child) in children {
+                writeln!(out, "MaterialIndex {material}").unwrap();
+                write_node(child, meshes, out);
+            }
+            out.push_str("}\n");
+        }
+    }
+}
+
+/// A closed, bumpy mesh: a subdivided octahedron pushed out by a wobble, 128 triangles.
+fn bumpy_mesh_obj(seed: u32) -> String {
+    let mut vertices: Vec<Vec3A> = vec![Vec3A::X, -Vec3A::X, Vec3A::Y, -Vec3A::Y, Vec3A::Z, -Vec3A::Z];
+    let mut faces: Vec<[usize; 3]> = vec![
+        [0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5],
+    ];
+    for _ in 0..2 {
+        let mut next = Vec::new();
+        for [a, b, c] in faces {
+            let mut mid = |i: usize, j: usize| {
+                vertices.push(((vertices[i] + vertices[j]) * 0.5).normalize());
+                vertices.len() - 1
+            };
+            let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+            next.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        faces = next;
+    }
+    let mut text = String::from("# test mesh\n");
+    for (i, v) in vertices.iter().enumerate() {
+        let wobble = 1.0 + 0.3 * ((i as u32 * 7919 + seed * 104729) % 97) as f32 / 97.0;
+        let p = *v * wobble;
+        writeln!(text, "v {} {} {}", p.x, p.y, p.z).unwrap();
+    }
+    for [a, b, c] in faces {
+        writeln!(text, "f {} {} {}", a + 1, b + 1, c + 1).unwrap();
+    }
+    text
+}
+
+fn ray() -> impl Strategy<Value = (bool, [f32; 3], [f32; 3])> {
+    let direction = [-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0]
+        .prop_filter("a direction", |d| d.iter().map(|x| x * x).sum::<f32>() > 1e-3);
+    (any::<bool>(), [-8.0f32..8.0, -8.0f32..8.0, -8.0f32..8.0], direction)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn bvh_closest_hit_equals_brute_force(
+        root in prop::collection::vec((0u32..3, node()), 1..8),
+        rays in prop::collection::vec(ray(), 64),
+        with_plane in any::<bool>(),
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let meshes = [0, 1].map(|i| {
+            let path = dir.path().join(format!("m{i}.obj"));
+            std::fs::write(&path, bumpy_mesh_obj(i)).unwrap();
+            path.to_str().unwrap().to_string()
+        });
+        let mut text = String::from(
+            "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }\n\
+             Materials { numMaterials 3 Material { } Material { } Material { } }\n",
+        );
+        let mut objects = root.clone();
+        if with_plane {
+            objects.push((2, Node::Plane));
+        }
+        write_node(&Node::Group(objects), &meshes, &mut text);
+        let description = parse_scene(Path::new("generated.txt"), &text)
+            .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
+        let (scene, _) = Scene::from_description(&description).unwrap();
+        for (from_infinity, origin, direction) in rays {
+            let ray = Ray::new(Vec3A::from(origin), Vec3A::from(direction).normalize());
+            let t_min = if from_infinity { f32::NEG_INFINITY } else { 0.0 };
+            let fast = scene.world.intersect(&ray, t_min);
+            let slow = scene.world.intersect_brute_force(&ray, t_min);
+            prop_assert_eq!(fast, slow, "ray {:?} in scene\n{}", ray, text);
+        }
+    }
+}
