@@ -113,10 +113,16 @@ mod tests {
         assert!(close(camera.ray(0.5, 0.5).direction, -Vec3A::Z));
         // At the left edge the ray is 45° off the axis: tan(45°) = 1.
         let left = camera.ray(0.0, 0.5);
-        assert!(close(left.direction, Vec3A::new(-1.0, 0.0, -1.0).normalize()));
+        assert!(close(
+            left.direction,
+            Vec3A::new(-1.0, 0.0, -1.0).normalize()
+        ));
         assert!(close(left.origin, Vec3A::new(0.0, 0.0, 10.0)));
         let bottom = camera.ray(0.5, 0.0);
-        assert!(close(bottom.direction, Vec3A::new(0.0, -1.0, -1.0).normalize()));
+        assert!(close(
+            bottom.direction,
+            Vec3A::new(0.0, -1.0, -1.0).normalize()
+        ));
         assert_eq!(camera.t_min(), 0.0);
     }
 
@@ -124,7 +130,10 @@ mod tests {
     fn pixels_are_sampled_at_their_centres_from_the_bottom_left() {
         let check = |(i, j, w, h): (u32, u32, u32, u32), (u, v): (f32, f32)| {
             let got = pixel_to_screen(i, j, w, h);
-            assert!((got.0 - u).abs() < 1e-6 && (got.1 - v).abs() < 1e-6, "{got:?} vs {u}, {v}");
+            assert!(
+                (got.0 - u).abs() < 1e-6 && (got.1 - v).abs() < 1e-6,
+                "{got:?} vs {u}, {v}"
+            );
         };
         check((0, 0, 200, 200), (0.0025, 0.0025));
         check((199, 199, 200, 200), (0.9975, 0.9975));

@@ -106,7 +106,9 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
             _ => name,
         };
         if !text.starts_with('-') {
-            return Err(format!("unexpected argument '{text}' (options start with '-')"));
+            return Err(format!(
+                "unexpected argument '{text}' (options start with '-')"
+            ));
         }
         if seen.iter().any(|s| s == name) {
             return Err(format!("-{name} is given twice"));
@@ -133,14 +135,20 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
                 let near = finite(&value(what)?, "-depth", "TMIN, a number")?;
                 let far = finite(&value(what)?, "-depth", "TMAX, a number")?;
                 if near == far {
-                    return Err(format!("-depth needs TMIN and TMAX to differ, found {near} twice"));
+                    return Err(format!(
+                        "-depth needs TMIN and TMAX to differ, found {near} twice"
+                    ));
                 }
                 options.depth = Some((near, far, PathBuf::from(value(what)?)));
             }
             "shade_back" => options.shade_back = true,
             "stats" => options.stats = true,
             "threads" => {
-                options.threads = Some(positive(&value("a number of threads")?, "-threads", "a number of threads")? as usize);
+                options.threads = Some(positive(
+                    &value("a number of threads")?,
+                    "-threads",
+                    "a number of threads",
+                )? as usize);
             }
             _ => return Err(format!("unknown option '{text}'")),
         }
@@ -162,7 +170,10 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         // Asked before the extension: `-output scene.txt` is a slip of the scene's name, and
         // "unknown image type" would send the user looking in the wrong place.
         if same_file(path, &options.input) {
-            return Err(format!("{flag} '{}' would overwrite the scene file", path.display()));
+            return Err(format!(
+                "{flag} '{}' would overwrite the scene file",
+                path.display()
+            ));
         }
         if ImageFormat::from_path(path).is_none() {
             return Err(format!(
@@ -172,7 +183,10 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
             ));
         }
         if let Some(&(other, _)) = outputs[..i].iter().find(|(_, p)| same_file(p, path)) {
-            return Err(format!("{other} and {flag} name the same file '{}'", path.display()));
+            return Err(format!(
+                "{other} and {flag} name the same file '{}'",
+                path.display()
+            ));
         }
     }
     Ok(Command::Render(options))
@@ -198,14 +212,20 @@ impl Options {
 fn positive(arg: &OsStr, flag: &str, what: &str) -> Result<u32, String> {
     match arg.to_str().and_then(|s| s.parse::<u32>().ok()) {
         Some(n) if n > 0 => Ok(n),
-        _ => Err(format!("{flag} needs {what} (a whole number above 0), found '{}'", arg.to_string_lossy())),
+        _ => Err(format!(
+            "{flag} needs {what} (a whole number above 0), found '{}'",
+            arg.to_string_lossy()
+        )),
     }
 }
 
 fn finite(arg: &OsStr, flag: &str, what: &str) -> Result<f32, String> {
     match arg.to_str().and_then(|s| s.parse::<f32>().ok()) {
         Some(x) if x.is_finite() => Ok(x),
-        _ => Err(format!("{flag} needs {what}, found '{}'", arg.to_string_lossy())),
+        _ => Err(format!(
+            "{flag} needs {what}, found '{}'",
+            arg.to_string_lossy()
+        )),
     }
 }
 
@@ -258,7 +278,8 @@ fn execute(options: &Options) -> Result<(), Error> {
         .flatten()
         .zip(&paths)
         .map(|(image, path)| {
-            let format = ImageFormat::from_path(path).expect("checked when parsing the command line");
+            let format =
+                ImageFormat::from_path(path).expect("checked when parsing the command line");
             image_io::encode(image, format)
         })
         .collect();

@@ -61,10 +61,18 @@ pub fn encode(image: &Image, format: ImageFormat) -> Vec<u8> {
             use image::ImageEncoder;
             use image::codecs::png::{CompressionType, FilterType, PngEncoder};
             let mut bytes = Vec::new();
-            let encoder =
-                PngEncoder::new_with_quality(&mut bytes, CompressionType::Fast, FilterType::Adaptive);
+            let encoder = PngEncoder::new_with_quality(
+                &mut bytes,
+                CompressionType::Fast,
+                FilterType::Adaptive,
+            );
             encoder
-                .write_image(image.pixels.as_flattened(), w, h, image::ExtendedColorType::Rgb8)
+                .write_image(
+                    image.pixels.as_flattened(),
+                    w,
+                    h,
+                    image::ExtendedColorType::Rgb8,
+                )
                 .expect("an in-memory PNG of a valid size cannot fail to encode");
             bytes
         }
@@ -150,7 +158,10 @@ mod tests {
     #[test]
     fn tga_has_the_course_header_and_bgr_pixels() {
         let bytes = encode(&two_by_one(), ImageFormat::Tga);
-        assert_eq!(&bytes[..18], &[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 1, 0, 24, 32]);
+        assert_eq!(
+            &bytes[..18],
+            &[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 2, 0, 1, 0, 24, 32]
+        );
         assert_eq!(&bytes[18..], &[3, 2, 1, 6, 5, 4]);
     }
 
@@ -169,8 +180,14 @@ mod tests {
 
     #[test]
     fn formats_come_from_the_extension() {
-        assert_eq!(ImageFormat::from_path(Path::new("a/b.TGA")), Some(ImageFormat::Tga));
-        assert_eq!(ImageFormat::from_path(Path::new("b.png")), Some(ImageFormat::Png));
+        assert_eq!(
+            ImageFormat::from_path(Path::new("a/b.TGA")),
+            Some(ImageFormat::Tga)
+        );
+        assert_eq!(
+            ImageFormat::from_path(Path::new("b.png")),
+            Some(ImageFormat::Png)
+        );
         assert_eq!(ImageFormat::from_path(Path::new("b.jpg")), None);
         assert_eq!(ImageFormat::from_path(Path::new("ppm")), None);
     }

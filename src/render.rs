@@ -105,7 +105,11 @@ fn sample(scene: &Scene, settings: &RenderSettings, i: u32, j: u32) -> Sample {
     };
     Sample {
         colour: shade::to_rgb(colour),
-        normal: shade::to_rgb(shade::normal_colour(&hit)),
+        normal: if settings.normals {
+            shade::to_rgb(shade::normal_colour(&hit))
+        } else {
+            [0; 3]
+        },
         depth,
     }
 }
@@ -141,7 +145,9 @@ impl Progress {
     fn advance(&self) {
         let Some(bar) = &self.bar else { return };
         bar.inc(1);
-        if self.start.elapsed() > Duration::from_secs(1) && !self.shown.swap(true, Ordering::Relaxed) {
+        if self.start.elapsed() > Duration::from_secs(1)
+            && !self.shown.swap(true, Ordering::Relaxed)
+        {
             bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
         }
     }

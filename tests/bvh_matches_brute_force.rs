@@ -103,9 +103,23 @@ fn write_node(node: &Node, meshes: &[String; 2], out: &mut String) {
 
 /// A closed, bumpy mesh: a subdivided octahedron pushed out by a wobble, 128 triangles.
 fn bumpy_mesh_obj(seed: u32) -> String {
-    let mut vertices: Vec<Vec3A> = vec![Vec3A::X, -Vec3A::X, Vec3A::Y, -Vec3A::Y, Vec3A::Z, -Vec3A::Z];
+    let mut vertices: Vec<Vec3A> = vec![
+        Vec3A::X,
+        -Vec3A::X,
+        Vec3A::Y,
+        -Vec3A::Y,
+        Vec3A::Z,
+        -Vec3A::Z,
+    ];
     let mut faces: Vec<[usize; 3]> = vec![
-        [0, 2, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5],
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
     ];
     for _ in 0..2 {
         let mut next = Vec::new();
@@ -132,9 +146,14 @@ fn bumpy_mesh_obj(seed: u32) -> String {
 }
 
 fn ray() -> impl Strategy<Value = (bool, [f32; 3], [f32; 3])> {
-    let direction = [-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0]
-        .prop_filter("a direction", |d| d.iter().map(|x| x * x).sum::<f32>() > 1e-3);
-    (any::<bool>(), [-8.0f32..8.0, -8.0f32..8.0, -8.0f32..8.0], direction)
+    let direction = [-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0].prop_filter("a direction", |d| {
+        d.iter().map(|x| x * x).sum::<f32>() > 1e-3
+    });
+    (
+        any::<bool>(),
+        [-8.0f32..8.0, -8.0f32..8.0, -8.0f32..8.0],
+        direction,
+    )
 }
 
 proptest! {

@@ -52,8 +52,15 @@ fn compare(actual: &image::RgbImage, reference: &image::RgbImage) -> Option<Comp
     }
     let mut diff = image::RgbImage::new(actual.width(), actual.height());
     let mut differing = 0;
-    for ((a, r), d) in actual.pixels().zip(reference.pixels()).zip(diff.pixels_mut()) {
-        let worst = (0..3).map(|c| (a[c] as i16 - r[c] as i16).abs()).max().unwrap_or(0);
+    for ((a, r), d) in actual
+        .pixels()
+        .zip(reference.pixels())
+        .zip(diff.pixels_mut())
+    {
+        let worst = (0..3)
+            .map(|c| (a[c] as i16 - r[c] as i16).abs())
+            .max()
+            .unwrap_or(0);
         if worst > LEVELS {
             differing += 1;
             *d = image::Rgb([255, 0, 0]);
@@ -120,10 +127,7 @@ fn course_reference_images_are_reproduced() {
                     std::fs::create_dir_all(&failures_dir).unwrap();
                     let actual_path = failures_dir.join(format!("{stem}-actual.png"));
                     actual.save(&actual_path).unwrap();
-                    let mut message = format!(
-                        "{stem}: actual image {}",
-                        actual_path.display()
-                    );
+                    let mut message = format!("{stem}: actual image {}", actual_path.display());
                     match comparison {
                         Some(c) => {
                             let diff_path = failures_dir.join(format!("{stem}-diff.png"));
@@ -144,6 +148,10 @@ fn course_reference_images_are_reproduced() {
     }
     println!("conformance: {passed} of {checked} course images match their references");
     eprintln!("conformance: {passed} of {checked} course images match their references");
-    assert!(failures.is_empty(), "images that differ:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "images that differ:\n{}",
+        failures.join("\n")
+    );
     assert_eq!(checked, 44, "COMMANDS.txt should name 44 images");
 }

@@ -46,10 +46,19 @@ impl Node {
         self.lanes |= 1 << lane;
     }
 
+    #[cfg(test)]
     fn lane_bounds(&self, lane: usize) -> Aabb {
         Aabb {
-            min: Vec3A::new(self.bounds[0][0][lane], self.bounds[0][1][lane], self.bounds[0][2][lane]),
-            max: Vec3A::new(self.bounds[1][0][lane], self.bounds[1][1][lane], self.bounds[1][2][lane]),
+            min: Vec3A::new(
+                self.bounds[0][0][lane],
+                self.bounds[0][1][lane],
+                self.bounds[0][2][lane],
+            ),
+            max: Vec3A::new(
+                self.bounds[1][0][lane],
+                self.bounds[1][1][lane],
+                self.bounds[1][2][lane],
+            ),
         }
     }
 }
@@ -123,6 +132,21 @@ impl Bvh {
             bounds: Some(binary[0].bounds),
         };
         (bvh, order)
+    }
+
+    /// Replaces each leaf's range `(first, count)` with the range `f` gives, so that a caller
+    /// can store a leaf's primitives in its own blocks. Counts must stay at most 255.
+    pub fn map_leaves(&mut self, mut f: impl FnMut(u32, u32) -> (u32, u32)) {
+        for node in &mut self.nodes {
+            for lane in 0..4 {
+                if node.lanes & (1 << lane) != 0 && node.count[lane] > 0 {
+                    let (first, count) = f(node.child[lane], node.count[lane] as u32);
+                    assert!((1..=255).contains(&count), "a leaf of {count} blocks");
+                    node.child[lane] = first;
+                    node.count[lane] = count as u8;
+                }
+            }
+        }
     }
 
     pub fn node_count(&self) -> usize {
@@ -229,28 +253,56 @@ fn hit_lanes(node: &Node, ray: &RayLanes, t_min: f32, t_max: f32) -> ([f32; 4], 
     (entry.to_array(), mask)
 }
 
+/// Centroids are kept doubled (min + max): the same order, one multiplication fewer.
+fn centre(b: &Aabb) -> Vec3A {
+    b.min + b.max
+}
+
+/// The boxes of a range of primitives and of their (doubled) centroids.
+#[derive(Debug, Clone, Copy)]
+struct Extent {
+    bounds: Aabb,
+    centres: Aabb,
+}
+
+impl Extent {
+    fn of(prims: &[(Aabb, u32)]) -> Extent {
+        prims.iter().fold(
+            Extent {
+                bounds: Aabb::EMPTY,
+                centres: Aabb::EMPTY,
+            },
+            |e, p| Extent {
+                bounds: e.bounds.union(p.0),
+                centres: e.centres.grow(centre(&p.0)),
+            },
+        )
+    }
+}
+
 /// Binary binned-SAH build; `prims` ends in leaf order. Node 0 is the root; an inner node's
 /// children are `first` and `first + 1`.
 fn build_binary(prims: &mut [(Aabb, u32)]) -> Vec<BinaryNode> {
-    let root_bounds = prims.iter().fold(Aabb::EMPTY, |b, p| b.union(p.0));
+    let root = Extent::of(prims);
     let mut nodes = Vec::with_capacity(prims.len() / 2 + 1);
     nodes.push(BinaryNode {
-        bounds: root_bounds,
+        bounds: root.bounds,
         first: 0,
         count: prims.len() as u32,
     });
-    let mut pending = vec![(0usize, 0usize, prims.len(), 0usize)];
-    while let Some((index, start, end, depth)) = pending.pop() {
+    let mut pending = vec![(0usize, 0usize, prims.len(), 0usize, root.centres)];
+    while let Some((index, start, end, depth, centres)) = pending.pop() {
         let items = &mut prims[start..end];
         let bounds = nodes[index].bounds;
         let count = items.len() as u32;
-        let split = if depth < MAX_SAH_DEPTH && count > 2 {
-            sah_split(items, bounds)
+        // One four-wide block of triangles costs about what a node visit does: never split it.
+        let split = if depth < MAX_SAH_DEPTH && count > 4 {
+            sah_split(items, bounds, centres)
         } else {
             None
         };
-        let mid = match split {
-            Some(mid) => mid,
+        let (mid, left, right) = match split {
+            Some(split) => split,
             None if count <= MAX_LEAF => {
                 nodes[index].first = start as u32;
                 nodes[index].count = count;
@@ -258,68 +310,79 @@ fn build_binary(prims: &mut [(Aabb, u32)]) -> Vec<BinaryNode> {
             }
             None => {
                 // All centroids in one spot, or too deep: halve by count along the widest axis.
-                let axis = (bounds.max - bounds.min).max_position();
+                let axis = (centres.max - centres.min).max_position();
                 let half = items.len() / 2;
                 items.select_nth_unstable_by(half, |a, b| {
-                    a.0.centroid()[axis].total_cmp(&b.0.centroid()[axis])
+                    centre(&a.0)[axis].total_cmp(&centre(&b.0)[axis])
                 });
-                half
+                (half, Extent::of(&items[..half]), Extent::of(&items[half..]))
             }
         };
-        let left = nodes.len();
-        nodes[index].first = left as u32;
+        let first = nodes.len();
+        nodes[index].first = first as u32;
         nodes[index].count = 0;
-        for (from, to) in [(start, start + mid), (start + mid, end)] {
-            let bounds = prims[from..to].iter().fold(Aabb::EMPTY, |b, p| b.union(p.0));
+        for side in [left, right] {
             nodes.push(BinaryNode {
-                bounds,
+                bounds: side.bounds,
                 first: 0,
                 count: 0,
             });
         }
-        pending.push((left + 1, start + mid, end, depth + 1));
-        pending.push((left, start, start + mid, depth + 1));
+        pending.push((first + 1, start + mid, end, depth + 1, right.centres));
+        pending.push((first, start, start + mid, depth + 1, left.centres));
     }
     nodes
 }
 
-/// The best binned-SAH split of `items`, partitioned in place; returns the size of the left
-/// part, or `None` when keeping a leaf is cheaper (or no split separates anything).
-fn sah_split(items: &mut [(Aabb, u32)], bounds: Aabb) -> Option<usize> {
+/// The best binned-SAH split of `items`, partitioned in place: the size of the left part and
+/// the extents of both parts; or `None` when keeping a leaf is cheaper (or no split separates
+/// anything).
+fn sah_split(
+    items: &mut [(Aabb, u32)],
+    bounds: Aabb,
+    centres: Aabb,
+) -> Option<(usize, Extent, Extent)> {
     let count = items.len();
-    // Centroids doubled (min + max): the same order, one multiplication fewer.
-    let centre = |b: &Aabb| b.min + b.max;
-    let (lo, hi) = items.iter().fold((Vec3A::INFINITY, Vec3A::NEG_INFINITY), |(lo, hi), p| {
-        let c = centre(&p.0);
-        (lo.min(c), hi.max(c))
-    });
-    let extent = hi - lo;
+    let (lo, extent) = (centres.min, centres.max - centres.min);
     let scale = Vec3A::splat(BINS as f32) / extent;
-    let bin_of = |c: Vec3A| -> [usize; 3] {
-        let b = ((c - lo) * scale).to_array();
-        b.map(|x| (x as usize).min(BINS - 1))
+    // Bin k takes the centroids that round to k. The rounding is done by adding 2^23, which
+    // leaves the integer in the low bits of the float: a saturating `as` cast, three per
+    // primitive and level, was a fifth of the whole build.
+    let top = Vec3A::splat((BINS - 1) as f32);
+    const ROUND: f32 = (1 << 23) as f32;
+    let bins_of = |c: Vec3A| -> [usize; 3] {
+        let b = ((c - lo) * scale).clamp(Vec3A::ZERO, top) + ROUND;
+        [b.x, b.y, b.z].map(|x| (x.to_bits() & 0xFF) as usize)
+    };
+    let bin_on = |c: Vec3A, axis: usize| -> usize {
+        let b = ((c[axis] - lo[axis]) * scale[axis]).clamp(0.0, top.x) + ROUND;
+        (b.to_bits() & 0xFF) as usize
     };
     let mut bins = [[(Aabb::EMPTY, 0u32); BINS]; 3];
     for p in items.iter() {
-        let bin = bin_of(centre(&p.0));
+        let bin = bins_of(centre(&p.0));
         for axis in 0..3 {
             let slot = &mut bins[axis][bin[axis]];
             slot.0 = slot.0.union(p.0);
             slot.1 += 1;
         }
     }
-    let mut best: Option<(f32, usize, usize)> = None;
+    // (cost, axis, boundary, left box, right box)
+    let mut best: Option<(f32, usize, usize, Aabb, Aabb)> = None;
     for (axis, axis_bins) in bins.iter().enumerate() {
-        if !(extent[axis] > 0.0) {
+        // A flat (or NaN) extent has nothing to bin along.
+        if extent[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             continue;
         }
-        // Cost of the right side of each boundary, swept from the right.
-        let mut right_cost = [0.0f32; BINS];
+        // The right side of each boundary, swept from the right.
+        let mut right = [(Aabb::EMPTY, 0.0f32); BINS];
         let (mut b, mut n) = (Aabb::EMPTY, 0u32);
         for k in (1..BINS).rev() {
             b = b.union(axis_bins[k].0);
             n += axis_bins[k].1;
-            right_cost[k] = b.half_area() * n as f32;
+            if n > 0 {
+                right[k] = (b, b.half_area_unchecked() * n as f32);
+            }
         }
         let (mut b, mut n) = (Aabb::EMPTY, 0u32);
         for k in 1..BINS {
@@ -328,25 +391,35 @@ fn sah_split(items: &mut [(Aabb, u32)], bounds: Aabb) -> Option<usize> {
             if n == 0 || n as usize == count {
                 continue;
             }
-            let cost = b.half_area() * n as f32 + right_cost[k];
-            if best.is_none_or(|(c, _, _)| cost < c) {
-                best = Some((cost, axis, k));
+            let cost = b.half_area_unchecked() * n as f32 + right[k].1;
+            if best.is_none_or(|best| cost < best.0) {
+                best = Some((cost, axis, k, b, right[k].0));
             }
         }
     }
-    let (cost, axis, boundary) = best?;
+    let (cost, axis, boundary, left_bounds, right_bounds) = best?;
     let split_cost = TRAVERSAL_COST + cost / bounds.half_area().max(f32::MIN_POSITIVE);
     if split_cost >= count as f32 && count as u32 <= MAX_LEAF {
         return None;
     }
+    let (mut left_centres, mut right_centres) = (Aabb::EMPTY, Aabb::EMPTY);
     let mut left = 0;
     for i in 0..count {
-        if bin_of(centre(&items[i].0))[axis] < boundary {
+        let c = centre(&items[i].0);
+        if bin_on(c, axis) < boundary {
+            left_centres = left_centres.grow(c);
             items.swap(i, left);
             left += 1;
+        } else {
+            right_centres = right_centres.grow(c);
         }
     }
-    Some(left)
+    let side = |bounds, centres| Extent { bounds, centres };
+    Some((
+        left,
+        side(left_bounds, left_centres),
+        side(right_bounds, right_centres),
+    ))
 }
 
 /// Four-wide nodes from the binary tree: each takes its binary node's children and keeps
@@ -367,7 +440,12 @@ fn collapse(binary: &[BinaryNode]) -> Vec<Node> {
                 .iter()
                 .enumerate()
                 .filter(|&(_, &c)| binary[c].count == 0)
-                .max_by(|a, b| binary[*a.1].bounds.half_area().total_cmp(&binary[*b.1].bounds.half_area()));
+                .max_by(|a, b| {
+                    binary[*a.1]
+                        .bounds
+                        .half_area()
+                        .total_cmp(&binary[*b.1].bounds.half_area())
+                });
             let Some((slot, &open)) = widest else { break };
             let first = binary[open].first as usize;
             children[slot] = first;
@@ -391,7 +469,8 @@ fn collapse(binary: &[BinaryNode]) -> Vec<Node> {
 /// A box grown by a few ulps of its coordinates, so that rounding in the slab test never loses
 /// a hit on its surface (a ray through a triangle's edge on the box's face, say).
 fn padded(b: Aabb) -> Aabb {
-    let pad = (b.min.abs().max(b.max.abs()) * (4.0 * f32::EPSILON)).max(Vec3A::splat(f32::MIN_POSITIVE));
+    let pad =
+        (b.min.abs().max(b.max.abs()) * (4.0 * f32::EPSILON)).max(Vec3A::splat(f32::MIN_POSITIVE));
     Aabb {
         min: b.min - pad,
         max: b.max + pad,
@@ -476,7 +555,12 @@ mod tests {
     fn an_empty_tree_is_never_entered() {
         let (bvh, _) = Bvh::build(&[]);
         let ray = Ray::new(Vec3A::ZERO, Vec3A::Z);
-        let t = bvh.traverse(&ray, f32::NEG_INFINITY, f32::INFINITY, |_, _| unreachable!());
+        let t = bvh.traverse(
+            &ray,
+            f32::NEG_INFINITY,
+            f32::INFINITY,
+            |_, _| unreachable!(),
+        );
         assert_eq!(t, f32::INFINITY);
     }
 }

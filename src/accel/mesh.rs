@@ -1,12 +1,14 @@
 use glam::{Vec3, Vec3A};
 
 use super::Bvh;
-use crate::geometry::{Aabb, Ray, intersect_triangle};
+use crate::geometry::{Aabb, Ray, Triangle4, intersect_triangle, triangle_normal};
 
-/// Triangles stored in the order of their BVH's leaves, so a leaf's triangles sit side by side.
+/// A triangle mesh and its BVH. The triangles are stored in the order of the BVH's leaves, and
+/// again packed four to a block per leaf, for the SIMD test the traversal uses.
 #[derive(Debug, Clone, Default)]
 pub struct TriangleMesh {
     triangles: Vec<[Vec3; 3]>,
+    blocks: Vec<Triangle4>,
     bvh: Bvh,
 }
 
@@ -18,9 +20,29 @@ impl TriangleMesh {
             .iter()
             .map(|t| Aabb::from_points(&[t[0].into(), t[1].into(), t[2].into()]))
             .collect();
-        let (bvh, order) = Bvh::build(&boxes);
-        let triangles = order.iter().map(|&i| triangles[i as usize]).collect();
-        (TriangleMesh { triangles, bvh }, order)
+        let (mut bvh, order) = Bvh::build(&boxes);
+        let triangles: Vec<[Vec3; 3]> = order.iter().map(|&i| triangles[i as usize]).collect();
+        let mut blocks = Vec::with_capacity(triangles.len() / 2);
+        bvh.map_leaves(|first, count| {
+            let start = blocks.len() as u32;
+            for chunk_start in (first..first + count).step_by(4) {
+                let end = (chunk_start + 4).min(first + count);
+                let indices: Vec<u32> = (chunk_start..end).collect();
+                blocks.push(Triangle4::new(
+                    &triangles[chunk_start as usize..end as usize],
+                    &indices,
+                ));
+            }
+            (start, blocks.len() as u32 - start)
+        });
+        (
+            TriangleMesh {
+                triangles,
+                blocks,
+                bvh,
+            },
+            order,
+        )
     }
 
     pub fn triangles(&self) -> &[[Vec3; 3]] {
@@ -39,15 +61,16 @@ impl TriangleMesh {
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
         let mut found = None;
-        self.bvh.traverse(ray, t_min, t_max, |i, t_max| {
-            let t = intersect_triangle(ray, &self.triangles[i as usize], t_min, t_max)?;
-            found = Some((t, i));
+        self.bvh.traverse(ray, t_min, t_max, |block, t_max| {
+            let block = &self.blocks[block as usize];
+            let (t, lane) = block.intersect(ray, t_min, t_max)?;
+            found = Some((t, block.index[lane]));
             Some(t)
         });
         found
     }
 
-    /// Every triangle, no tree: the brute-force twin the BVH is tested against.
+    /// Every triangle, one at a time, no tree: the brute-force twin the BVH is tested against.
     pub fn intersect_brute_force(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
         let mut best: Option<(f32, u32)> = None;
         for (i, triangle) in self.triangles.iter().enumerate() {
@@ -59,14 +82,15 @@ impl TriangleMesh {
         best
     }
 
+    /// Bytes of geometry (triangles and their blocks) and of the tree.
     pub fn size_in_bytes(&self) -> (usize, usize) {
         (
-            self.triangles.len() * std::mem::size_of::<[Vec3; 3]>(),
+            std::mem::size_of_val(&self.triangles[..]) + std::mem::size_of_val(&self.blocks[..]),
             self.bvh.size_in_bytes(),
         )
     }
 
     pub fn normal(&self, i: u32) -> Vec3A {
-        crate::geometry::triangle_normal(&self.triangles[i as usize])
+        triangle_normal(&self.triangles[i as usize])
     }
 }

@@ -110,11 +110,16 @@ impl World {
                 found = Some(Found::Plane(i as u32));
             }
         }
-        let t_max = self.top.traverse(ray, t_min, t_max, |i, t_max| {
+        let mut test = |i, t_max| {
             let (t, triangle) = self.intersect_item(i, ray, t_min, t_max)?;
             found = Some(Found::Item { item: i, triangle });
             Some(t)
-        });
+        };
+        // A scene of one mesh (the common case for big meshes) needs no top-level tree.
+        let t_max = match self.items.len() {
+            1 => test(0, t_max).unwrap_or(t_max),
+            _ => self.top.traverse(ray, t_min, t_max, test),
+        };
         found.map(|found| self.hit(ray, t_max, found))
     }
 
@@ -152,17 +157,33 @@ impl World {
     #[inline(always)]
     fn intersect_item(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
         let item = &self.items[i as usize];
-        let local = self.ray_into(item, ray);
+        match item.transform() {
+            // The world ray as it is: no copy of it on the way to the triangles.
+            Item::WORLD_SPACE => self.intersect_local(item, ray, t_min, t_max),
+            t => {
+                let local = self.transforms[t as usize].ray_to_object(ray);
+                self.intersect_local(item, &local, t_min, t_max)
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn intersect_local(
+        &self,
+        item: &Item,
+        local: &Ray,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(f32, u32)> {
         match *item {
             Item::Sphere { sphere, .. } => {
-                intersect_sphere(&local, &sphere, t_min, t_max).map(|t| (t, 0))
+                intersect_sphere(local, &sphere, t_min, t_max).map(|t| (t, 0))
             }
-            Item::Mesh { mesh, .. } => self.meshes[mesh as usize].intersect(&local, t_min, t_max),
+            Item::Mesh { mesh, .. } => self.meshes[mesh as usize].intersect(local, t_min, t_max),
         }
     }
 
     /// The ray in the item's own space (the same ray for items placed in world space).
-    #[inline(always)]
     fn ray_into(&self, item: &Item, ray: &Ray) -> Ray {
         match item.transform() {
             Item::WORLD_SPACE => *ray,

@@ -47,11 +47,17 @@ impl Aabb {
         0.5 * (self.min + self.max)
     }
 
-    /// Half the surface area, which is all the SAH needs.
+    /// Half the surface area, which is all the SAH needs; 0 for the empty box.
     pub fn half_area(&self) -> f32 {
         if self.is_empty() {
             return 0.0;
         }
+        self.half_area_unchecked()
+    }
+
+    /// [`Aabb::half_area`] for a box known not to be empty (the empty box gives NaN).
+    #[inline]
+    pub fn half_area_unchecked(&self) -> f32 {
         let d = self.max - self.min;
         d.x * d.y + d.y * d.z + d.z * d.x
     }

@@ -7,6 +7,7 @@ mod ray;
 mod sphere;
 mod transform;
 mod triangle;
+mod triangle4;
 
 pub use aabb::Aabb;
 pub use plane::{Plane, intersect_plane};
@@ -14,3 +15,4 @@ pub use ray::Ray;
 pub use sphere::{Sphere, intersect_sphere};
 pub use transform::Transform;
 pub use triangle::{intersect_triangle, triangle_normal};
+pub use triangle4::Triangle4;

@@ -27,10 +27,16 @@ mod tests {
             offset: -2.0,
         };
         let down = Ray::new(Vec3A::new(0.0, 3.0, 0.0), Vec3A::new(0.0, -0.5, 0.0));
-        assert_eq!(intersect_plane(&down, &floor, 0.0, f32::INFINITY), Some(10.0));
+        assert_eq!(
+            intersect_plane(&down, &floor, 0.0, f32::INFINITY),
+            Some(10.0)
+        );
         let up = Ray::new(Vec3A::new(0.0, -4.0, 0.0), Vec3A::Y);
         assert_eq!(intersect_plane(&up, &floor, 0.0, f32::INFINITY), Some(2.0));
         let parallel = Ray::new(Vec3A::ZERO, Vec3A::X);
-        assert_eq!(intersect_plane(&parallel, &floor, f32::NEG_INFINITY, f32::INFINITY), None);
+        assert_eq!(
+            intersect_plane(&parallel, &floor, f32::NEG_INFINITY, f32::INFINITY),
+            None
+        );
     }
 }

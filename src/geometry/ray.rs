@@ -17,27 +17,36 @@ pub struct Ray {
 
 impl Ray {
     pub fn new(origin: Vec3A, direction: Vec3A) -> Self {
-        let inv = |d: f32| {
-            let inv = 1.0 / d;
-            if inv.is_finite() {
-                inv
-            } else {
-                f32::MAX.copysign(d)
-            }
+        let inv = Vec3A::ONE / direction;
+        let inv_direction = Vec3A::select(
+            inv.is_finite_mask(),
+            inv,
+            Vec3A::splat(f32::MAX).copysign(direction),
+        );
+        let a = direction.abs();
+        // Rows: x' = p[kx] - d[kx]/d[kz]·p[kz], y' likewise, z' = p[kz]/d[kz], with kz the
+        // direction's largest axis. Entries of 0 and 1 keep those sums exact, so each vertex maps
+        // the same way for every triangle sharing it.
+        let (x, y, z) = (direction.x, direction.y, direction.z);
+        let rows = if a.z >= a.x && a.z >= a.y {
+            [
+                Vec3A::new(1.0, 0.0, -x / z),
+                Vec3A::new(0.0, 1.0, -y / z),
+                Vec3A::new(0.0, 0.0, 1.0 / z),
+            ]
+        } else if a.y >= a.x {
+            [
+                Vec3A::new(0.0, -z / y, 1.0),
+                Vec3A::new(1.0, -x / y, 0.0),
+                Vec3A::new(0.0, 1.0 / y, 0.0),
+            ]
+        } else {
+            [
+                Vec3A::new(-y / x, 1.0, 0.0),
+                Vec3A::new(-z / x, 0.0, 1.0),
+                Vec3A::new(1.0 / x, 0.0, 0.0),
+            ]
         };
-        let inv_direction = Vec3A::new(inv(direction.x), inv(direction.y), inv(direction.z));
-        let kz = direction.abs().max_position();
-        let kx = (kz + 1) % 3;
-        let ky = (kx + 1) % 3;
-        let dz = direction[kz];
-        let unit = |axis: usize| Vec3A::AXES[axis];
-        // Rows: x' = p[kx] - d[kx]/d[kz]·p[kz], y' likewise, z' = p[kz]/d[kz]. Entries of 0 and 1
-        // keep those sums exact, so each vertex maps the same way for every triangle sharing it.
-        let rows = [
-            unit(kx) - (direction[kx] / dz) * unit(kz),
-            unit(ky) - (direction[ky] / dz) * unit(kz),
-            unit(kz) / dz,
-        ];
         Ray {
             origin,
             direction,

@@ -65,13 +65,19 @@ mod tests {
     #[test]
     fn hits_the_near_side_from_outside() {
         let ray = Ray::new(Vec3A::ZERO, Vec3A::Z);
-        assert_eq!(intersect_sphere(&ray, &unit_at(10.0), 0.0, f32::INFINITY), Some(9.0));
+        assert_eq!(
+            intersect_sphere(&ray, &unit_at(10.0), 0.0, f32::INFINITY),
+            Some(9.0)
+        );
     }
 
     #[test]
     fn hits_the_far_side_from_inside() {
         let ray = Ray::new(Vec3A::ZERO, Vec3A::Z);
-        assert_eq!(intersect_sphere(&ray, &unit_at(0.5), 0.0, f32::INFINITY), Some(1.5));
+        assert_eq!(
+            intersect_sphere(&ray, &unit_at(0.5), 0.0, f32::INFINITY),
+            Some(1.5)
+        );
         // With t_min = -inf (orthographic camera), the side behind the origin counts.
         assert_eq!(
             intersect_sphere(&ray, &unit_at(0.5), f32::NEG_INFINITY, f32::INFINITY),
@@ -82,15 +88,24 @@ mod tests {
     #[test]
     fn keeps_t_for_non_unit_directions() {
         let ray = Ray::new(Vec3A::ZERO, Vec3A::Z * 0.25);
-        assert_eq!(intersect_sphere(&ray, &unit_at(10.0), 0.0, f32::INFINITY), Some(36.0));
+        assert_eq!(
+            intersect_sphere(&ray, &unit_at(10.0), 0.0, f32::INFINITY),
+            Some(36.0)
+        );
     }
 
     #[test]
     fn misses_beside_and_behind() {
         let beside = Ray::new(Vec3A::new(1.5, 0.0, 0.0), Vec3A::Z);
-        assert_eq!(intersect_sphere(&beside, &unit_at(10.0), 0.0, f32::INFINITY), None);
+        assert_eq!(
+            intersect_sphere(&beside, &unit_at(10.0), 0.0, f32::INFINITY),
+            None
+        );
         let behind = Ray::new(Vec3A::ZERO, -Vec3A::Z);
-        assert_eq!(intersect_sphere(&behind, &unit_at(10.0), 0.0, f32::INFINITY), None);
+        assert_eq!(
+            intersect_sphere(&behind, &unit_at(10.0), 0.0, f32::INFINITY),
+            None
+        );
     }
 
     #[test]

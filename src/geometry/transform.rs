@@ -51,7 +51,8 @@ mod tests {
     fn t_stays_in_world_units_through_a_scale() {
         // A unit sphere scaled by 5 and moved to z = 20: a ray from the origin along +z (unit
         // direction) enters at world z = 15, so t = 15, though the object-space ray is shorter.
-        let m = DMat4::from_translation(DVec3::new(0.0, 0.0, 20.0)) * DMat4::from_scale(DVec3::splat(5.0));
+        let m = DMat4::from_translation(DVec3::new(0.0, 0.0, 20.0))
+            * DMat4::from_scale(DVec3::splat(5.0));
         let transform = Transform::new(m);
         let world = Ray::new(Vec3A::ZERO, Vec3A::Z);
         let object = transform.ray_to_object(&world);

@@ -63,9 +63,15 @@ mod tests {
     #[test]
     fn hits_from_both_sides_at_the_right_distance() {
         let front = ray([0.25, 0.25, 5.0], [0.0, 0.0, -1.0]);
-        assert_eq!(intersect_triangle(&front, &TRI, 0.0, f32::INFINITY), Some(5.0));
+        assert_eq!(
+            intersect_triangle(&front, &TRI, 0.0, f32::INFINITY),
+            Some(5.0)
+        );
         let back = ray([0.25, 0.25, -2.0], [0.0, 0.0, 2.0]);
-        assert_eq!(intersect_triangle(&back, &TRI, 0.0, f32::INFINITY), Some(1.0));
+        assert_eq!(
+            intersect_triangle(&back, &TRI, 0.0, f32::INFINITY),
+            Some(1.0)
+        );
     }
 
     #[test]
@@ -78,14 +84,20 @@ mod tests {
         // Behind the origin counts only when t_min allows it, as for the orthographic camera.
         let away = ray([0.25, 0.25, 5.0], [0.0, 0.0, 1.0]);
         assert_eq!(intersect_triangle(&away, &TRI, 0.0, f32::INFINITY), None);
-        assert_eq!(intersect_triangle(&away, &TRI, f32::NEG_INFINITY, f32::INFINITY), Some(-5.0));
+        assert_eq!(
+            intersect_triangle(&away, &TRI, f32::NEG_INFINITY, f32::INFINITY),
+            Some(-5.0)
+        );
     }
 
     #[test]
     fn zero_area_triangles_are_never_hit() {
         let flat = [Vec3::ZERO, Vec3::X, Vec3::X * 2.0];
         let r = ray([1.0, 0.0, 1.0], [0.0, 0.0, -1.0]);
-        assert_eq!(intersect_triangle(&r, &flat, f32::NEG_INFINITY, f32::INFINITY), None);
+        assert_eq!(
+            intersect_triangle(&r, &flat, f32::NEG_INFINITY, f32::INFINITY),
+            None
+        );
     }
 
     #[test]

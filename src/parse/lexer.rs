@@ -149,9 +149,13 @@ mod tests {
 
     #[test]
     fn invalid_utf8_is_located() {
-        let bytes = b"ab\ncd\xffe";
-        let err = std::str::from_utf8(bytes).unwrap_err();
-        assert_eq!(invalid_utf8_span(bytes, err.valid_up_to()), Span::new(2, 3));
+        // Owned bytes: rustc refuses from_utf8 on a literal it can see is invalid.
+        let bytes = b"ab\ncd\xffe".to_vec();
+        let err = std::str::from_utf8(&bytes).unwrap_err();
+        assert_eq!(
+            invalid_utf8_span(&bytes, err.valid_up_to()),
+            Span::new(2, 3)
+        );
     }
 
     #[test]

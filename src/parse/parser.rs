@@ -117,7 +117,11 @@ impl<'a> Parser<'a> {
             if index as usize >= materials.len() {
                 let expected = match materials.len() {
                     0 => "no MaterialIndex (the scene has no materials)".to_string(),
-                    n => format!("a material index from 0 to {}", n - 1),
+                    1 => "material index 0 (the scene has 1 material)".to_string(),
+                    n => format!(
+                        "a material index from 0 to {} (the scene has {n} materials)",
+                        n - 1
+                    ),
                 };
                 return Err(Diagnostic::expected(
                     self.path,
@@ -156,21 +160,21 @@ impl<'a> Parser<'a> {
                 self.path,
                 up_span,
                 "an up vector that is not parallel to the direction",
-                &show_vector(up.as_dvec3()),
+                &show_vector(up),
             ));
         }
         let projection = if keyword.text == "OrthographicCamera" {
             self.keyword("size")?;
-            let (size, span) = self.number()?;
-            if size <= 0.0 {
-                return Err(self.bad_value(span, "a positive size", size));
+            let (size, token) = self.number_token()?;
+            if size as f32 <= 0.0 {
+                return Err(self.not_positive(token, "a positive size", size));
             }
             Projection::Orthographic { size: size as f32 }
         } else {
             self.keyword("angle")?;
-            let (angle, span) = self.number()?;
+            let (angle, token) = self.number_token()?;
             if !(angle > 0.0 && angle < 180.0) {
-                return Err(self.bad_value(span, "an angle between 0 and 180 degrees", angle));
+                return Err(self.unexpected(token, "an angle between 0 and 180 degrees"));
             }
             Projection::Perspective {
                 angle: angle.to_radians() as f32,
@@ -202,8 +206,12 @@ impl<'a> Parser<'a> {
         self.keyword("{")?;
         let (count, _) = self.count("numLights")?;
         let mut lights = Vec::new();
-        for _ in 0..count {
+        for read in 0..count {
             let token = self.next("DirectionalLight")?;
+            if token.text == "}" {
+                let expected = more(count - read, "light", "numLights", count);
+                return Err(self.unexpected(token, &expected));
+            }
             if token.text != "DirectionalLight" {
                 return Err(self.unexpected(token, "DirectionalLight"));
             }
@@ -215,7 +223,7 @@ impl<'a> Parser<'a> {
             self.keyword("}")?;
             lights.push(DirectionalLight { direction, color });
         }
-        self.keyword("}")?;
+        self.end_of_list("numLights", count)?;
         Ok(lights)
     }
 
@@ -223,9 +231,13 @@ impl<'a> Parser<'a> {
         self.keyword("{")?;
         let (count, _) = self.count("numMaterials")?;
         let mut materials = Vec::new();
-        for _ in 0..count {
+        for read in 0..count {
             // Assignment 1's files say PhongMaterial, assignment 2's say Material.
             let token = self.next("Material or PhongMaterial")?;
+            if token.text == "}" {
+                let expected = more(count - read, "material", "numMaterials", count);
+                return Err(self.unexpected(token, &expected));
+            }
             if !matches!(token.text, "Material" | "PhongMaterial") {
                 return Err(self.unexpected(token, "Material or PhongMaterial"));
             }
@@ -241,7 +253,7 @@ impl<'a> Parser<'a> {
             }
             materials.push(Material { diffuse });
         }
-        self.keyword("}")?;
+        self.end_of_list("numMaterials", count)?;
         Ok(materials)
     }
 
@@ -284,7 +296,9 @@ impl<'a> Parser<'a> {
                     }
                     "Sphere" | "Plane" | "Triangle" | "TriangleMesh" => {
                         let Some(material) = out.current_material else {
-                            return Err(self.unexpected(token, "MaterialIndex before the first object"));
+                            return Err(
+                                self.unexpected(token, "MaterialIndex before the first object")
+                            );
                         };
                         let shape = self.shape(token)?;
                         out.objects.push(PlacedObject {
@@ -306,7 +320,10 @@ impl<'a> Parser<'a> {
                         open.pop();
                         self.keyword("}")?;
                     }
-                    Some(Open::Group { remaining: 0, total }) => {
+                    Some(Open::Group {
+                        remaining: 0,
+                        total,
+                    }) => {
                         let expected = format!("'}}' (the Group's numObjects is {total})");
                         let token = self.next(&expected)?;
                         if token.text != "}" {
@@ -325,10 +342,8 @@ impl<'a> Parser<'a> {
                             out.material_indices.push((index, span));
                         };
                         if token.text == "}" {
-                            let expected = format!(
-                                "{remaining} more object{} (the Group's numObjects is {total})",
-                                if *remaining == 1 { "" } else { "s" }
-                            );
+                            let expected =
+                                more(*remaining, "object", "the Group's numObjects", *total);
                             return Err(self.unexpected(token, &expected));
                         }
                         *remaining -= 1;
@@ -381,7 +396,7 @@ impl<'a> Parser<'a> {
                             self.path,
                             span,
                             "a rotation axis of non-zero length",
-                            &show_vector(axis),
+                            &show_vector(axis.as_vec3()),
                         ));
                     }
                     DMat4::from_axis_angle(unit, degrees.to_radians())
@@ -416,9 +431,9 @@ impl<'a> Parser<'a> {
                 self.keyword("center")?;
                 let center = self.vec3()?;
                 self.keyword("radius")?;
-                let (radius, span) = self.number()?;
-                if radius <= 0.0 {
-                    return Err(self.bad_value(span, "a positive radius", radius));
+                let (radius, token) = self.number_token()?;
+                if radius as f32 <= 0.0 {
+                    return Err(self.not_positive(token, "a positive radius", radius));
                 }
                 Shape::Sphere {
                     center,
@@ -437,7 +452,7 @@ impl<'a> Parser<'a> {
                         self.path,
                         span,
                         "a plane normal of non-zero length",
-                        &show_vector(normal.as_dvec3()),
+                        &show_vector(normal),
                     ));
                 }
                 // Dividing both sides of P·n = d by |n| keeps the plane where the file put it.
@@ -469,12 +484,27 @@ impl<'a> Parser<'a> {
         Ok(shape)
     }
 
+    /// The `}` after the last item of a counted list, which says the count when it is missing.
+    fn end_of_list(&mut self, name: &str, count: u32) -> Result<()> {
+        let expected = format!("'}}' ({name} is {count})");
+        let token = self.next(&expected)?;
+        if token.text != "}" {
+            return Err(self.unexpected(token, &expected));
+        }
+        Ok(())
+    }
+
     fn next(&mut self, expected: &str) -> Result<Token<'a>> {
         match self.lexer.next_token() {
             Some(token) => Ok(token),
             None => {
                 let end = self.lexer.end();
-                Err(Diagnostic::expected(self.path, end, expected, "end of file"))
+                Err(Diagnostic::expected(
+                    self.path,
+                    end,
+                    expected,
+                    "end of file",
+                ))
             }
         }
     }
@@ -499,12 +529,16 @@ impl<'a> Parser<'a> {
     }
 
     fn number(&mut self) -> Result<(f64, Span)> {
+        let (value, token) = self.number_token()?;
+        Ok((value, token.span))
+    }
+
+    /// A number and the word it was written as, for messages that quote the file.
+    fn number_token(&mut self) -> Result<(f64, Token<'a>)> {
         let token = self.next("a number")?;
         match token.text.parse::<f64>() {
             // Values are stored as f32, so anything beyond its range would become infinite.
-            Ok(value) if value.is_finite() && value.abs() <= f32::MAX as f64 => {
-                Ok((value, token.span))
-            }
+            Ok(value) if value.is_finite() && value.abs() <= f32::MAX as f64 => Ok((value, token)),
             Ok(_) => Err(self.unexpected(token, "a finite number")),
             Err(_) => Err(self.unexpected(token, "a number")),
         }
@@ -527,7 +561,7 @@ impl<'a> Parser<'a> {
                 self.path,
                 span,
                 "a direction of non-zero length",
-                &show_vector(v.as_dvec3()),
+                &show_vector(v),
             ));
         }
         Ok(unit)
@@ -566,8 +600,14 @@ impl<'a> Parser<'a> {
         Diagnostic::expected(self.path, token.span, expected, &found)
     }
 
-    fn bad_value(&self, span: Span, expected: &str, value: f64) -> Diagnostic {
-        Diagnostic::expected(self.path, span, expected, &format!("'{value}'"))
+    /// A size or radius that is not above zero, or is so small that single precision, in which
+    /// it is stored, rounds it to zero (a sphere of radius 1e-46 would be no sphere at all).
+    fn not_positive(&self, token: Token, expected: &str, value: f64) -> Diagnostic {
+        let mut found = describe(token.text);
+        if value > 0.0 {
+            found.push_str(" (so small that single precision rounds it to zero)");
+        }
+        Diagnostic::expected(self.path, token.span, expected, &found)
     }
 
     fn singular(&self, span: Span) -> Diagnostic {
@@ -580,6 +620,21 @@ impl<'a> Parser<'a> {
     }
 }
 
-fn show_vector(v: DVec3) -> String {
-    format!("'{} {} {}'", v.x, v.y, v.z)
+/// What a `}` that comes too early should have been: "2 more objects (numObjects is 3)".
+fn more(missing: u32, item: &str, count_name: &str, count: u32) -> String {
+    let plural = if missing == 1 { "" } else { "s" };
+    format!("{missing} more {item}{plural} ({count_name} is {count})")
+}
+
+/// A vector as the file could have written it: its values are single precision, shown in the
+/// shortest form that reads back the same, with an exponent where plain digits would run long.
+fn show_vector(v: Vec3) -> String {
+    let show = |x: f32| {
+        if x == 0.0 || (1e-4..1e16).contains(&x.abs()) {
+            format!("{x}")
+        } else {
+            format!("{x:e}")
+        }
+    };
+    format!("'{} {} {}'", show(v.x), show(v.y), show(v.z))
 }

@@ -22,7 +22,11 @@ pub fn load(path: &Path) -> Result<(Scene, LoadStats), Error> {
 }
 
 pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, LoadStats), Error> {
-    let transforms: Vec<Transform> = description.transforms.iter().map(|&m| Transform::new(m)).collect();
+    let transforms: Vec<Transform> = description
+        .transforms
+        .iter()
+        .map(|&m| Transform::new(m))
+        .collect();
     let mut meshes = MeshLoader::new(&description.path);
     let mut loose_triangles = Vec::new();
     let mut loose_materials = Vec::new();
@@ -30,7 +34,9 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
     let mut items = Vec::new();
     let mut bounds = Vec::new();
     for object in &description.objects {
-        let placement = object.transform.map(|i| (&transforms[i as usize], description.transforms[i as usize]));
+        let placement = object
+            .transform
+            .map(|i| (&transforms[i as usize], description.transforms[i as usize]));
         let transform = object.transform.unwrap_or(Item::WORLD_SPACE);
         match &object.shape {
             Shape::Sphere { center, radius } => {
@@ -57,7 +63,8 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
                     None => plane,
                     Some((t, matrix)) => {
                         // Carry one point of the plane and its normal into the world.
-                        let point = matrix.transform_point3(plane.normal.as_dvec3() * plane.offset as f64);
+                        let point =
+                            matrix.transform_point3(plane.normal.as_dvec3() * plane.offset as f64);
                         let normal = t.normal_to_world(plane.normal);
                         Plane {
                             normal,
@@ -71,7 +78,8 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
                 let world = match placement {
                     None => *vertices,
                     Some((_, matrix)) => {
-                        let mut v = vertices.map(|v| matrix.transform_point3(v.as_dvec3()).as_vec3());
+                        let mut v =
+                            vertices.map(|v| matrix.transform_point3(v.as_dvec3()).as_vec3());
                         // A mirroring transform turns the winding around; swap to keep the
                         // front side the one the inverse transpose of the normal points to.
                         if matrix.determinant() < 0.0 {
@@ -185,7 +193,11 @@ impl<'a> MeshLoader<'a> {
         let beside_scene = self.scene.parent().unwrap_or(Path::new("")).join(file);
         let mut tried = vec![beside_scene];
         // A scene in the working directory has both places the same: name it once in messages.
-        let plain = |p: &Path| p.components().filter(|c| *c != Component::CurDir).collect::<PathBuf>();
+        let plain = |p: &Path| {
+            p.components()
+                .filter(|c| *c != Component::CurDir)
+                .collect::<PathBuf>()
+        };
         if Path::new(file).is_relative() && plain(&tried[0]) != plain(Path::new(file)) {
             tried.push(PathBuf::from(file));
         }

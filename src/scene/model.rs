@@ -53,12 +53,22 @@ pub struct Material {
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
-    Sphere { center: Vec3, radius: f32 },
+    Sphere {
+        center: Vec3,
+        radius: f32,
+    },
     /// The points P with P · normal = offset.
-    Plane { normal: Vec3, offset: f32 },
-    Triangle { vertices: [Vec3; 3] },
+    Plane {
+        normal: Vec3,
+        offset: f32,
+    },
+    Triangle {
+        vertices: [Vec3; 3],
+    },
     /// An .obj file, named as the scene wrote it.
-    Mesh { file: String },
+    Mesh {
+        file: String,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]

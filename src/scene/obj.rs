@@ -22,6 +22,7 @@ pub struct ObjMesh {
 }
 
 /// Statements that are valid .obj but say nothing about the surface a ray hits.
+#[rustfmt::skip]
 const SKIPPED: &[&[u8]] = &[
     b"vn", b"vt", b"vp", b"g", b"o", b"s", b"usemtl", b"mtllib", b"l", b"p", b"mg", b"lod",
     b"usemap", b"maplib", b"shadow_obj", b"trace_obj", b"bevel", b"c_interp", b"d_interp",
@@ -52,16 +53,27 @@ pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
                 for value in &mut xyz {
                     let Some((word, offset)) = words.next() else {
                         let end = content.trim_ascii_end().len();
-                        return Err(Diagnostic::expected(path, at(end), "a coordinate", "end of line"));
+                        return Err(Diagnostic::expected(
+                            path,
+                            at(end),
+                            "a coordinate",
+                            "end of line",
+                        ));
                     };
-                    *value = parse_coordinate(word)
-                        .ok_or_else(|| Diagnostic::expected(path, at(offset), "a finite number", &show(word)))?;
+                    *value = parse_coordinate(word).ok_or_else(|| {
+                        Diagnostic::expected(path, at(offset), "a finite number", &show(word))
+                    })?;
                 }
                 // A fourth value (w) or three more (a vertex colour) may follow; they do not
                 // move the vertex, but they must still be numbers.
                 for (word, offset) in words.by_ref() {
                     if parse_coordinate(word).is_none() {
-                        return Err(Diagnostic::expected(path, at(offset), "a number or end of line", &show(word)));
+                        return Err(Diagnostic::expected(
+                            path,
+                            at(offset),
+                            "a number or end of line",
+                            &show(word),
+                        ));
                     }
                 }
                 mesh.positions.push(Vec3::from(xyz));
@@ -125,8 +137,17 @@ fn vertex_index(word: &[u8], vertex_count: usize) -> Option<u32> {
     Some(zero_based as u32)
 }
 
+/// A word as a message quotes it; bytes that are not UTF-8 are shown as `\xff` escapes, since a
+/// replacement character would hide which byte is at fault.
 fn show(word: &[u8]) -> String {
-    describe(&String::from_utf8_lossy(word))
+    match std::str::from_utf8(word) {
+        Ok(text) => describe(text),
+        Err(_) => {
+            const LIMIT: usize = 40;
+            let more = if word.len() > LIMIT { "…" } else { "" };
+            format!("'{}{more}'", word[..word.len().min(LIMIT)].escape_ascii())
+        }
+    }
 }
 
 /// The character column of a byte offset, counted from 1.

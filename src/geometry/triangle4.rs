@@ -1,0 +1,159 @@
+//! Four triangles tested against one ray at once: the watertight test of `triangle.rs`, lane by
+//! lane, with the same operations in the same order, so that it gives bit for bit the same t.
+
+use glam::{Vec3, Vec4};
+
+use super::{Ray, intersect_triangle};
+
+/// Four triangles' vertices in structure-of-arrays form; unused lanes hold a zero-area triangle,
+/// which is never hit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
+pub struct Triangle4 {
+    /// `vertices[k][axis]`: coordinate `axis` of vertex k of each lane's triangle.
+    vertices: [[Vec4; 3]; 3],
+    /// Each lane's triangle, as its index in the mesh.
+    pub index: [u32; 4],
+}
+
+impl Triangle4 {
+    /// Packs up to four triangles; `index` names each one.
+    pub fn new(triangles: &[[Vec3; 3]], index: &[u32]) -> Triangle4 {
+        debug_assert!(triangles.len() <= 4 && triangles.len() == index.len());
+        let mut packed = Triangle4 {
+            vertices: [[Vec4::ZERO; 3]; 3],
+            index: [u32::MAX; 4],
+        };
+        for (lane, (triangle, &i)) in triangles.iter().zip(index).enumerate() {
+            for (k, vertex) in triangle.iter().enumerate() {
+                for axis in 0..3 {
+                    packed.vertices[k][axis][lane] = vertex[axis];
+                }
+            }
+            packed.index[lane] = i;
+        }
+        packed
+    }
+
+    /// The nearest of the four hits with t_min <= t < t_max: its t and lane.
+    #[inline(always)]
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, usize)> {
+        let m = ray.to_ray_space;
+        let o = ray.origin;
+        let (ox, oy, oz) = (Vec4::splat(o.x), Vec4::splat(o.y), Vec4::splat(o.z));
+        // Row i of the matrix, one entry per lane-wide multiplication, as Mat3A * Vec3A does.
+        let transform = |v: &[Vec4; 3]| {
+            let (dx, dy, dz) = (v[0] - ox, v[1] - oy, v[2] - oz);
+            let row = |i: usize| {
+                Vec4::splat(m.x_axis[i]) * dx
+                    + Vec4::splat(m.y_axis[i]) * dy
+                    + Vec4::splat(m.z_axis[i]) * dz
+            };
+            (row(0), row(1), row(2))
+        };
+        let (p0x, p0y, p0z) = transform(&self.vertices[0]);
+        let (p1x, p1y, p1z) = transform(&self.vertices[1]);
+        let (p2x, p2y, p2z) = transform(&self.vertices[2]);
+        let e0 = p1x * p2y - p1y * p2x;
+        let e1 = p2x * p0y - p2y * p0x;
+        let e2 = p0x * p1y - p0y * p1x;
+        let zero = Vec4::ZERO;
+        if (e0.cmpeq(zero) | e1.cmpeq(zero) | e2.cmpeq(zero)).any() {
+            // A ray through an edge or vertex: the scalar test settles it in f64, lane by lane.
+            return self.intersect_each(ray, t_min, t_max);
+        }
+        let negative = e0.cmplt(zero) | e1.cmplt(zero) | e2.cmplt(zero);
+        let positive = e0.cmpgt(zero) | e1.cmpgt(zero) | e2.cmpgt(zero);
+        let det = e0 + e1 + e2;
+        let t = (e0 * p0z + e1 * p1z + e2 * p2z) / det;
+        let inside = !(negative & positive) & det.cmpne(zero);
+        let in_range = t.cmpge(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
+        let mut mask = (inside & in_range).bitmask();
+        let mut best: Option<(f32, usize)> = None;
+        while mask != 0 {
+            let lane = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            if best.is_none_or(|(b, _)| t[lane] < b) {
+                best = Some((t[lane], lane));
+            }
+        }
+        best
+    }
+
+    fn intersect_each(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, usize)> {
+        let mut best: Option<(f32, usize)> = None;
+        for lane in 0..4 {
+            let limit = best.map_or(t_max, |(t, _)| t);
+            if let Some(t) = intersect_triangle(ray, &self.triangle(lane), t_min, limit) {
+                best = Some((t, lane));
+            }
+        }
+        best
+    }
+
+    pub fn triangle(&self, lane: usize) -> [Vec3; 3] {
+        self.vertices
+            .map(|v| Vec3::new(v[0][lane], v[1][lane], v[2][lane]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3A;
+
+    #[test]
+    fn agrees_with_the_scalar_test_bit_for_bit() {
+        let triangles = [
+            [
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.1),
+                Vec3::new(0.0, 1.0, 0.2),
+            ],
+            [
+                Vec3::new(0.3, 0.1, -1.0),
+                Vec3::new(1.0, 0.7, -1.3),
+                Vec3::new(0.1, 0.9, -0.4),
+            ],
+            [
+                Vec3::new(-0.5, -0.5, 2.0),
+                Vec3::new(0.9, -0.2, 2.5),
+                Vec3::new(0.2, 0.8, 1.5),
+            ],
+        ];
+        let packed = Triangle4::new(&triangles, &[7, 8, 9]);
+        let mut hits = 0;
+        for i in 0..400 {
+            let x = (i % 20) as f32 / 13.0 - 0.4;
+            let y = (i / 20) as f32 / 13.0 - 0.4;
+            let ray = Ray::new(
+                Vec3A::new(x, y, 5.0),
+                Vec3A::new(0.1 * x, -0.05, -1.0).normalize(),
+            );
+            let scalar = triangles
+                .iter()
+                .enumerate()
+                .filter_map(|(lane, t)| {
+                    Some((intersect_triangle(&ray, t, 0.0, f32::INFINITY)?, lane))
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            assert_eq!(packed.intersect(&ray, 0.0, f32::INFINITY), scalar);
+            hits += scalar.is_some() as usize;
+        }
+        assert!(
+            hits > 50,
+            "only {hits} hits: the test rays miss too often to mean much"
+        );
+    }
+
+    #[test]
+    fn empty_lanes_are_never_hit() {
+        let packed = Triangle4::new(&[], &[]);
+        let ray = Ray::new(Vec3A::new(0.0, 0.0, 1.0), -Vec3A::Z);
+        assert_eq!(
+            packed.intersect(&ray, f32::NEG_INFINITY, f32::INFINITY),
+            None
+        );
+        assert_eq!(packed.index, [u32::MAX; 4]);
+    }
+}

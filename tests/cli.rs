@@ -1,0 +1,644 @@
+//! The program as a user meets it: exit statuses, what goes to stdout and stderr, and which
+//! files exist afterwards. Every test runs the built binary in a fresh temporary folder.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use raycast::cli::USAGE;
+
+const SCENE: &str = "\
+OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }
+Background { color 0 0 0.2 }
+Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
+Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }
+";
+
+/// A scene with a mistake on line 4, column 47 (`centre` for `center`).
+const BAD_SCENE: &str = "\
+OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }
+Background { color 0 0 0.2 }
+Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
+Group { numObjects 1 MaterialIndex 0 Sphere { centre 0 0 0 radius 1 } }
+";
+
+/// A temporary folder holding `scene.txt` (a red sphere) and `bad.txt` (a scene error).
+fn workspace() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("scene.txt"), SCENE).unwrap();
+    std::fs::write(dir.path().join("bad.txt"), BAD_SCENE).unwrap();
+    dir
+}
+
+fn raycast(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raycast"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary should start")
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8(output.stderr.clone()).expect("stderr should be UTF-8")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8(output.stdout.clone()).expect("stdout should be UTF-8")
+}
+
+/// Runs a command line that must be refused: exit status 2, nothing on stdout, and on stderr
+/// `raycast: MESSAGE`, a blank line and the usage. Returns MESSAGE.
+fn refused(line: &str) -> String {
+    let args: Vec<&str> = line.split_whitespace().collect();
+    let dir = workspace();
+    let output = raycast(dir.path(), &args);
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(2), "{args:?}: {err}");
+    assert!(
+        output.stdout.is_empty(),
+        "{args:?}: stdout: {}",
+        stdout(&output)
+    );
+    let message = err
+        .strip_prefix("raycast: ")
+        .unwrap_or_else(|| panic!("{args:?}: stderr does not start with 'raycast: ': {err}"));
+    let (message, rest) = message.split_once('\n').expect("a message line");
+    assert_eq!(
+        rest,
+        format!("\n{USAGE}\n"),
+        "{args:?}: the usage should follow"
+    );
+    assert_dir_holds(dir.path(), "bad.txt scene.txt");
+    message.to_string()
+}
+
+/// Runs a command line that must fail on a file or scene: exit status 1 and exactly one line on
+/// stderr, which is returned (without its newline).
+fn fails(dir: &Path, line: &str) -> String {
+    let args: Vec<&str> = line.split_whitespace().collect();
+    let output = raycast(dir, &args);
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{args:?}: {err}");
+    assert!(
+        output.stdout.is_empty(),
+        "{args:?}: stdout: {}",
+        stdout(&output)
+    );
+    let line = err
+        .strip_suffix('\n')
+        .unwrap_or_else(|| panic!("{args:?}: no final newline: {err:?}"));
+    assert!(!line.contains('\n'), "{args:?}: more than one line: {err}");
+    line.to_string()
+}
+
+fn succeeds(dir: &Path, line: &str) {
+    let args: Vec<&str> = line.split_whitespace().collect();
+    let output = raycast(dir, &args);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        stderr(&output)
+    );
+    assert!(output.stderr.is_empty(), "{args:?}: {}", stderr(&output));
+    assert!(output.stdout.is_empty(), "{args:?}: {}", stdout(&output));
+}
+
+/// The folder holds exactly these names (separated by spaces): no stray temporary file
+/// (`.raycast-…`) is left.
+fn assert_dir_holds(dir: &Path, names: &str) {
+    let mut found: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    found.sort();
+    let mut names: Vec<&str> = names.split_whitespace().collect();
+    names.sort();
+    assert_eq!(found, names, "files in {}", dir.display());
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command line
+
+#[test]
+fn no_arguments() {
+    assert_eq!(
+        refused(""),
+        "-input is missing: which scene should be rendered?"
+    );
+}
+
+#[test]
+fn unknown_option() {
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -bogus"),
+        "unknown option '-bogus'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -"),
+        "unknown option '-'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga stray"),
+        "unexpected argument 'stray' (options start with '-')"
+    );
+}
+
+#[test]
+fn size_must_be_two_whole_numbers_above_zero() {
+    let with = |size: &str| refused(&format!("-input scene.txt -output a.tga {size}"));
+    assert_eq!(
+        with("-size x 8"),
+        "-size needs a width in pixels (a whole number above 0), found 'x'"
+    );
+    assert_eq!(
+        with("-size 8 1.5"),
+        "-size needs a height in pixels (a whole number above 0), found '1.5'"
+    );
+    assert_eq!(
+        with("-size 0 8"),
+        "-size needs a width in pixels (a whole number above 0), found '0'"
+    );
+    assert_eq!(
+        with("-size -8 8"),
+        "-size needs a width in pixels (a whole number above 0), found '-8'"
+    );
+    assert_eq!(
+        with("-size 8"),
+        "-size needs a width and a height in pixels, found the end of the command line"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 -output a.tga"),
+        "-size needs a height in pixels (a whole number above 0), found '-output'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -output a.tga"),
+        "-size is missing: how many pixels wide and high?"
+    );
+}
+
+#[test]
+fn size_too_large() {
+    assert_eq!(
+        refused("-input scene.txt -size 40000 40000 -output a.tga"),
+        "-size 40000 40000 is too large: each side may be at most 32768 pixels, \
+         and the image at most 268435456 pixels"
+    );
+    // Each side allowed, but too many pixels together.
+    assert_eq!(
+        refused("-input scene.txt -size 32768 32768 -output a.tga"),
+        "-size 32768 32768 is too large: each side may be at most 32768 pixels, \
+         and the image at most 268435456 pixels"
+    );
+}
+
+#[test]
+fn missing_input() {
+    assert_eq!(
+        refused("-size 8 8 -output a.tga"),
+        "-input is missing: which scene should be rendered?"
+    );
+    assert_eq!(
+        refused("-size 8 8 -output a.tga -input"),
+        "-input needs a scene file, found the end of the command line"
+    );
+}
+
+#[test]
+fn no_output_named() {
+    assert_eq!(
+        refused("-input scene.txt -size 8 8"),
+        "nothing to write: give -output, -normals or -depth"
+    );
+}
+
+#[test]
+fn unknown_output_extension() {
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.jpg"),
+        "-output 'a.jpg': unknown image type; name it .tga, .ppm or .png"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -normals n"),
+        "-normals 'n': unknown image type; name it .tga, .ppm or .png"
+    );
+}
+
+#[test]
+fn output_over_the_scene_file() {
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output scene.txt"),
+        "-output 'scene.txt' would overwrite the scene file"
+    );
+    // Also when the two are written differently.
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -depth 1 2 ./scene.txt"),
+        "-depth './scene.txt' would overwrite the scene file"
+    );
+}
+
+#[test]
+fn one_file_named_twice() {
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -normals a.tga"),
+        "-output and -normals name the same file 'a.tga'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -normals a.tga -depth 1 2 ./a.tga"),
+        "-normals and -depth name the same file './a.tga'"
+    );
+}
+
+#[test]
+fn an_option_given_twice() {
+    assert_eq!(
+        refused("-input scene.txt -input scene.txt -size 8 8 -output a.tga"),
+        "-input is given twice"
+    );
+    // `--input` is the same option as `-input`.
+    assert_eq!(
+        refused("-input scene.txt --input scene.txt -size 8 8 -output a.tga"),
+        "-input is given twice"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -shade_back -shade_back"),
+        "-shade_back is given twice"
+    );
+}
+
+#[test]
+fn depth_range_must_not_be_empty() {
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -depth 5 5 d.tga"),
+        "-depth needs TMIN and TMAX to differ, found 5 twice"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -depth 1 nan d.tga"),
+        "-depth needs TMAX, a number, found 'nan'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -depth near 2 d.tga"),
+        "-depth needs TMIN, a number, found 'near'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -depth 1 2"),
+        "-depth needs TMIN TMAX and an image file, found the end of the command line"
+    );
+}
+
+#[test]
+fn threads_must_be_above_zero() {
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -threads 0"),
+        "-threads needs a number of threads (a whole number above 0), found '0'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -threads"),
+        "-threads needs a number of threads, found the end of the command line"
+    );
+}
+
+#[test]
+fn help_and_version_go_to_stdout_and_succeed() {
+    let dir = workspace();
+    for flag in ["-help", "--help", "-h"] {
+        let output = raycast(dir.path(), &[flag]);
+        assert_eq!(output.status.code(), Some(0), "{flag}");
+        assert_eq!(stdout(&output), format!("{USAGE}\n"), "{flag}");
+        assert!(output.stderr.is_empty(), "{flag}");
+    }
+    for flag in ["-version", "--version", "-V"] {
+        let output = raycast(dir.path(), &[flag]);
+        assert_eq!(output.status.code(), Some(0), "{flag}");
+        assert_eq!(
+            stdout(&output),
+            format!("raycast {}\n", env!("CARGO_PKG_VERSION")),
+            "{flag}"
+        );
+        assert!(output.stderr.is_empty(), "{flag}");
+    }
+    assert_dir_holds(dir.path(), "bad.txt scene.txt");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene errors, as the program reports them
+
+#[test]
+fn a_scene_error_is_one_line_with_exit_status_1() {
+    let dir = workspace();
+    assert_eq!(
+        fails(dir.path(), "-input bad.txt -size 8 8 -output a.tga"),
+        "bad.txt:4:47: expected 'center', found 'centre'"
+    );
+    std::fs::write(
+        dir.path().join("later.txt"),
+        "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }\n\
+         Lights { numLights 1\n  PointLight { position 0 0 0 color 1 1 1 } }\n",
+    )
+    .unwrap();
+    assert_eq!(
+        fails(dir.path(), "-input later.txt -size 8 8 -output a.tga"),
+        "later.txt:3:3: 'PointLight' is not supported yet: it belongs to a later assignment of the course"
+    );
+}
+
+#[test]
+fn a_scene_that_does_not_exist() {
+    let dir = workspace();
+    let message = fails(dir.path(), "-input nope.txt -size 8 8 -output a.tga");
+    // The rest is the system's own wording.
+    assert!(message.starts_with("nope.txt: cannot read: "), "{message}");
+    assert_dir_holds(dir.path(), "bad.txt scene.txt");
+}
+
+#[test]
+fn invalid_utf8_in_the_scene() {
+    let dir = workspace();
+    let mut bytes = SCENE.as_bytes().to_vec();
+    bytes.splice(0..0, *b"\n  \xc3\x28");
+    std::fs::write(dir.path().join("latin.txt"), bytes).unwrap();
+    assert_eq!(
+        fails(dir.path(), "-input latin.txt -size 8 8 -output a.tga"),
+        "latin.txt:2:3: expected UTF-8 text, found byte 0xc3"
+    );
+}
+
+#[test]
+fn mesh_errors_name_their_place() {
+    let dir = workspace();
+    let scene = SCENE.replace(
+        "Sphere { center 0 0 0 radius 1 }",
+        "TriangleMesh { obj_file meshes/m.obj }",
+    );
+    std::fs::create_dir(dir.path().join("scenes")).unwrap();
+    std::fs::write(dir.path().join("scenes/mesh.txt"), scene).unwrap();
+    let args = "-input scenes/mesh.txt -size 8 8 -output a.tga";
+    assert_eq!(
+        fails(dir.path(), args),
+        "scenes/mesh.txt:4:38: cannot open mesh file 'meshes/m.obj': \
+         looked for 'scenes/meshes/m.obj' and 'meshes/m.obj'"
+    );
+    // Found in the working directory, but malformed: the .obj file is named.
+    std::fs::create_dir(dir.path().join("meshes")).unwrap();
+    std::fs::write(
+        dir.path().join("meshes/m.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",
+    )
+    .unwrap();
+    assert_eq!(
+        fails(dir.path(), args),
+        "meshes/m.obj:4:6: expected at least three vertices in a face, found 2 and end of line"
+    );
+    // Beside the scene comes first.
+    std::fs::create_dir(dir.path().join("scenes/meshes")).unwrap();
+    std::fs::write(
+        dir.path().join("scenes/meshes/m.obj"),
+        "v 0 0 0\nvx 1 0 0\n",
+    )
+    .unwrap();
+    assert_eq!(
+        fails(dir.path(), args),
+        "scenes/meshes/m.obj:2:1: expected an .obj statement (v, f, vn, vt, g, o, s, usemtl, \
+         mtllib, or # for a comment), found 'vx'"
+    );
+    assert_dir_holds(dir.path(), "bad.txt meshes scene.txt scenes");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files
+
+#[test]
+fn a_failed_run_writes_nothing_and_keeps_old_files() {
+    let dir = workspace();
+    let old = b"not an image, but the user's file";
+    std::fs::write(dir.path().join("old.tga"), old).unwrap();
+    fails(
+        dir.path(),
+        "-input bad.txt -size 8 8 -output old.tga -normals n.png -depth 1 2 d.ppm",
+    );
+    assert_eq!(std::fs::read(dir.path().join("old.tga")).unwrap(), old);
+    assert_dir_holds(dir.path(), "bad.txt old.tga scene.txt");
+}
+
+#[test]
+fn a_missing_output_folder_fails_before_the_scene_is_read() {
+    let dir = workspace();
+    // The scene is faulty too: the folder's error coming first shows that nothing was loaded or
+    // rendered before the outputs were checked.
+    assert_eq!(
+        fails(dir.path(), "-input bad.txt -size 8 8 -output no/such/a.tga"),
+        "no/such/a.tga: cannot write image: the folder 'no/such' does not exist"
+    );
+    // The first output is fine, the second is not: the first leaves no temporary file behind.
+    assert_eq!(
+        fails(
+            dir.path(),
+            "-input scene.txt -size 8 8 -output a.tga -normals gone/n.tga"
+        ),
+        "gone/n.tga: cannot write image: the folder 'gone' does not exist"
+    );
+    assert_eq!(
+        fails(
+            dir.path(),
+            "-input scene.txt -size 8 8 -output scene.txt/a.tga"
+        ),
+        "scene.txt/a.tga: cannot write image: 'scene.txt' is not a folder"
+    );
+    assert_dir_holds(dir.path(), "bad.txt scene.txt");
+}
+
+/// Reads an image file of any of the three formats into RGB pixels.
+fn decode(path: &Path) -> image::RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8()
+}
+
+#[test]
+fn a_successful_run_writes_tga_ppm_and_png() {
+    let dir = workspace();
+    succeeds(
+        dir.path(),
+        "-input scene.txt -size 24 16 -output c.tga -normals n.ppm -depth 9 11 d.png",
+    );
+    assert_dir_holds(dir.path(), "bad.txt c.tga d.png n.ppm scene.txt");
+
+    let tga = std::fs::read(dir.path().join("c.tga")).unwrap();
+    let mut header = [0u8; 18];
+    header[2] = 2; // uncompressed true colour
+    header[12..14].copy_from_slice(&24u16.to_le_bytes());
+    header[14..16].copy_from_slice(&16u16.to_le_bytes());
+    header[16] = 24; // bits per pixel
+    header[17] = 32; // rows top to bottom
+    assert_eq!(tga[..18], header);
+    assert_eq!(tga.len(), 18 + 24 * 16 * 3);
+    // BGR: the background (0, 0, 0.2) in the corner, the red sphere in the middle.
+    assert_eq!(tga[18..21], [51, 0, 0]);
+    let middle = 18 + (8 * 24 + 12) * 3;
+    assert_eq!(tga[middle..middle + 3], [0, 0, 255]);
+
+    let ppm = std::fs::read(dir.path().join("n.ppm")).unwrap();
+    assert!(ppm.starts_with(b"P6\n24 16\n255\n"));
+    assert_eq!(ppm.len(), b"P6\n24 16\n255\n".len() + 24 * 16 * 3);
+
+    // Each format decodes to the pixels the others hold for the same render.
+    let colour = decode(&dir.path().join("c.tga"));
+    assert_eq!(colour.dimensions(), (24, 16));
+    assert_eq!(colour.get_pixel(12, 8).0, [255, 0, 0]);
+    let normals = decode(&dir.path().join("n.ppm"));
+    // Near the middle the sphere faces the camera: mostly z, a little x and y, alike.
+    let [x, y, z] = normals.get_pixel(12, 8).0;
+    assert!(x == y && x < 40 && z > 240, "{:?}", [x, y, z]);
+    assert_eq!(normals.get_pixel(0, 0).0, [0, 0, 0]);
+    let depth = decode(&dir.path().join("d.png"));
+    assert_eq!(depth.dimensions(), (24, 16));
+    assert_eq!(depth.get_pixel(0, 0).0, [0, 0, 0]);
+
+    succeeds(
+        dir.path(),
+        "-input scene.txt -size 24 16 -output c.png -depth 9 11 d.tga",
+    );
+    assert_eq!(decode(&dir.path().join("c.png")), colour);
+    assert_eq!(decode(&dir.path().join("d.tga")), depth);
+}
+
+#[test]
+fn a_successful_run_replaces_an_old_image() {
+    let dir = workspace();
+    std::fs::write(dir.path().join("a.tga"), b"old").unwrap();
+    succeeds(dir.path(), "-input scene.txt -size 8 8 -output a.tga");
+    assert_eq!(decode(&dir.path().join("a.tga")).dimensions(), (8, 8));
+    assert_dir_holds(dir.path(), "a.tga bad.txt scene.txt");
+}
+
+#[cfg(unix)]
+#[test]
+fn images_get_the_permissions_of_any_new_file() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = workspace();
+    succeeds(dir.path(), "-input scene.txt -size 8 8 -output a.tga");
+    // A file made the ordinary way in the same folder, under the same umask.
+    let ordinary = std::fs::File::create(dir.path().join("ordinary")).unwrap();
+    let mode = |m: std::fs::Metadata| m.permissions().mode() & 0o777;
+    assert_eq!(
+        mode(std::fs::metadata(dir.path().join("a.tga")).unwrap()),
+        mode(ordinary.metadata().unwrap())
+    );
+}
+
+#[test]
+fn non_square_images() {
+    let dir = workspace();
+    succeeds(dir.path(), "-input scene.txt -size 40 20 -output wide.tga");
+    succeeds(dir.path(), "-input scene.txt -size 20 40 -output tall.tga");
+    let wide = decode(&dir.path().join("wide.tga"));
+    let tall = decode(&dir.path().join("tall.tga"));
+    assert_eq!(wide.dimensions(), (40, 20));
+    assert_eq!(tall.dimensions(), (20, 40));
+    // The square view spans the longer side, so the sphere is round: the tall image is the wide
+    // one turned a quarter.
+    for y in 0..20 {
+        for x in 0..40 {
+            assert_eq!(wide.get_pixel(x, y), tall.get_pixel(y, x), "({x}, {y})");
+        }
+    }
+    assert_eq!(wide.get_pixel(20, 10).0, [255, 0, 0]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Deep nesting and threads
+
+const DEPTH: usize = 100_000;
+
+/// SCENE with its sphere inside `DEPTH` levels of `open … }`.
+fn nested(open: &str) -> String {
+    let sphere = "Sphere { center 0 0 0 radius 1 }";
+    let mut inner = String::with_capacity(DEPTH * (open.len() + 3) + sphere.len());
+    for _ in 0..DEPTH {
+        inner.push_str(open);
+        inner.push('\n');
+    }
+    inner.push_str(sphere);
+    for _ in 0..DEPTH {
+        inner.push_str(" }");
+    }
+    SCENE.replace(sphere, &inner)
+}
+
+#[test]
+fn deeply_nested_scenes_render() {
+    let dir = workspace();
+    std::fs::write(
+        dir.path().join("transforms.txt"),
+        nested("Transform { Translate 0 0 0"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("groups.txt"),
+        nested("Group { numObjects 1"),
+    )
+    .unwrap();
+    for (scene, image) in [
+        ("scene.txt", "flat.tga"),
+        ("transforms.txt", "t.tga"),
+        ("groups.txt", "g.tga"),
+    ] {
+        succeeds(
+            dir.path(),
+            &format!("-input {scene} -size 16 16 -output {image}"),
+        );
+    }
+    // The nesting does nothing, so the pictures are the flat scene's.
+    let flat = std::fs::read(dir.path().join("flat.tga")).unwrap();
+    assert_eq!(std::fs::read(dir.path().join("t.tga")).unwrap(), flat);
+    assert_eq!(std::fs::read(dir.path().join("g.tga")).unwrap(), flat);
+}
+
+/// The course's scenes: RAYCAST_CONFORMANCE_DIR, or ../shared/conformance beside the project.
+fn course_scenes() -> Option<PathBuf> {
+    let root = match std::env::var_os("RAYCAST_CONFORMANCE_DIR") {
+        Some(dir) => PathBuf::from(dir),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/conformance"),
+    };
+    let scenes = root.join("scenes");
+    if scenes.join("scene2_10_bunny_1k.txt").is_file() {
+        Some(scenes)
+    } else {
+        eprintln!(
+            "\n*** SKIPPED: no course scenes at {} ***\n",
+            scenes.display()
+        );
+        None
+    }
+}
+
+#[test]
+fn one_thread_and_two_threads_give_identical_images() {
+    let Some(scenes) = course_scenes() else {
+        return;
+    };
+    let out = tempfile::tempdir().unwrap();
+    let render = |threads: &str| -> Vec<Vec<u8>> {
+        let names = ["c.tga", "n.tga", "d.tga"].map(|n| out.path().join(format!("{threads}-{n}")));
+        let [c, n, d] = names.each_ref().map(|p| p.display().to_string());
+        succeeds(
+            &scenes,
+            &format!(
+                "-input scene2_10_bunny_1k.txt -size 100 60 -output {c} -normals {n} \
+                 -depth 8 11 {d} -threads {threads}"
+            ),
+        );
+        names.iter().map(|p| std::fs::read(p).unwrap()).collect()
+    };
+    let one = render("1");
+    let two = render("2");
+    assert!(
+        one == two,
+        "-threads 1 and -threads 2 rendered different images"
+    );
+    // Not a blank picture: the bunny is there.
+    let colour = image::load_from_memory_with_format(&one[0], image::ImageFormat::Tga)
+        .unwrap()
+        .to_rgb8();
+    let background = *colour.get_pixel(0, 0);
+    assert!(colour.pixels().filter(|&&p| p != background).count() > 500);
+}

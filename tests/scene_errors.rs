@@ -1,0 +1,660 @@
+//! What raycast says about scene and mesh files it cannot render: every message exactly, with
+//! the line and column it points at. The library is called directly (`parse_scene`,
+//! `Scene::from_description`, `Scene::load`); tests/cli.rs checks how the program reports them.
+
+use std::path::Path;
+
+use raycast::Scene;
+use raycast::parse::parse_scene;
+
+const CAMERA: &str = "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }";
+const MATERIAL: &str = "Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }";
+
+/// The message `parse_scene` gives for `text`, read as the file `s.txt`.
+fn parse_error(text: &str) -> String {
+    match parse_scene(Path::new("s.txt"), text) {
+        Ok(_) => panic!("the scene parsed, but an error was expected:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+/// A scene of a camera and one material (lines 1 and 2) whose root Group, on line 3, is `group`.
+fn with_group(group: &str) -> String {
+    format!("{CAMERA}\n{MATERIAL}\n{group}\n")
+}
+
+/// The message for a scene that parses but cannot be built into a render-ready scene.
+fn build_error(text: &str) -> String {
+    let description = parse_scene(Path::new("s.txt"), text).expect("the scene should parse");
+    match Scene::from_description(&description) {
+        Ok(_) => panic!("the scene was built, but an error was expected:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Words that do not belong where they stand
+
+#[test]
+fn an_unknown_top_level_word() {
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\nFoo {{ }}\n")),
+        "s.txt:2:1: expected a scene block (OrthographicCamera, PerspectiveCamera, Background, \
+         Lights, Materials or Group), found 'Foo'"
+    );
+}
+
+#[test]
+fn a_misspelt_field() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere { centre 0 0 0 radius 1 } }"
+        )),
+        "s.txt:3:47: expected 'center', found 'centre'"
+    );
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\nBackground {{ colour 1 1 1 }}\n")),
+        "s.txt:2:14: expected color, ambientLight or '}', found 'colour'"
+    );
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 angle 5 }"),
+        "s.txt:1:62: expected 'size', found 'angle'"
+    );
+}
+
+#[test]
+fn a_word_where_a_number_belongs() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere { center 0 x 0 radius 1 } }"
+        )),
+        "s.txt:3:56: expected a number, found 'x'"
+    );
+    // A brace where the third coordinate should be: the vector is cut short.
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\nBackground {{ color 1 1 }}\n")),
+        "s.txt:2:24: expected a number, found '}'"
+    );
+    assert_eq!(
+        parse_error(&with_group("Group { numObjects -1 }")),
+        "s.txt:3:20: expected a whole number from 0 to 4294967295 for numObjects, found '-1'"
+    );
+    assert_eq!(
+        parse_error(&with_group("Group { numObjects 1 MaterialIndex 0.5 }")),
+        "s.txt:3:36: expected a whole number from 0 to 4294967295 for MaterialIndex, found '0.5'"
+    );
+}
+
+#[test]
+fn numbers_beyond_single_precision_and_non_numbers_are_refused() {
+    for (word, column) in [
+        ("1e39", 56),
+        ("-1e39", 56),
+        ("nan", 56),
+        ("inf", 56),
+        ("-inf", 56),
+    ] {
+        let scene = with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Sphere {{ center 0 {word} 0 radius 1 }} }}"
+        ));
+        assert_eq!(
+            parse_error(&scene),
+            format!("s.txt:3:{column}: expected a finite number, found '{word}'")
+        );
+    }
+    // The largest single-precision value itself is fine.
+    let scene =
+        with_group("Group { numObjects 1 MaterialIndex 0 Sphere { center 0 3.4e38 0 radius 1 } }");
+    parse_scene(Path::new("s.txt"), &scene).unwrap();
+}
+
+#[test]
+fn end_of_file_inside_a_block() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0"
+        )),
+        "s.txt:4:1: expected 'radius', found end of file"
+    );
+    // Without a final newline the end is just past the last character.
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0"),
+        "s.txt:1:32: expected a number, found end of file"
+    );
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0\n  Transform { Translate 1 0 0\n    Sphere { center 0 0 0 radius 1 }"
+        )),
+        "s.txt:6:1: expected '}', found end of file"
+    );
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 }"
+        )),
+        "s.txt:4:1: expected '}' (the Group's numObjects is 1), found end of file"
+    );
+}
+
+#[test]
+fn a_brace_glued_to_a_word_gets_a_hint() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere{ center 0 0 0 radius 1 } }"
+        )),
+        "s.txt:3:38: expected an object (Group, Transform, Sphere, Plane, Triangle or \
+         TriangleMesh), found 'Sphere{' (braces must stand apart, with spaces around them)"
+    );
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1} }"
+        )),
+        "s.txt:3:67: expected a number, found '1}' (braces must stand apart, with spaces around them)"
+    );
+    assert_eq!(
+        parse_error("Group{ numObjects 0 }"),
+        "s.txt:1:1: expected a scene block (OrthographicCamera, PerspectiveCamera, Background, \
+         Lights, Materials or Group), found 'Group{' (braces must stand apart, with spaces around them)"
+    );
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Transform { Translate 0 0 0 Sphere { center 0 0 0 radius 1 } }}"
+        )),
+        "s.txt:3:99: expected '}', found '}}' (braces must stand apart, with spaces around them)"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Counted lists
+
+#[test]
+fn fewer_objects_than_num_objects() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 2 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }"
+        )),
+        "s.txt:3:71: expected 1 more object (the Group's numObjects is 2), found '}'"
+    );
+    assert_eq!(
+        parse_error(&with_group("Group { numObjects 3 MaterialIndex 0 }")),
+        "s.txt:3:38: expected 3 more objects (the Group's numObjects is 3), found '}'"
+    );
+}
+
+#[test]
+fn more_objects_than_num_objects() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } Sphere { center 0 0 0 radius 1 } }"
+        )),
+        "s.txt:3:71: expected '}' (the Group's numObjects is 1), found 'Sphere'"
+    );
+}
+
+#[test]
+fn material_and_light_counts_that_do_not_match() {
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nMaterials {{ numMaterials 2 Material {{ diffuseColor 1 0 0 }} }}\n"
+        )),
+        "s.txt:2:60: expected 1 more material (numMaterials is 2), found '}'"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nMaterials {{ numMaterials 1 Material {{ diffuseColor 1 0 0 }} Material {{ }} }}\n"
+        )),
+        "s.txt:2:60: expected '}' (numMaterials is 1), found 'Material'"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nLights {{ numLights 2 DirectionalLight {{ direction 0 0 1 color 1 1 1 }} }}\n"
+        )),
+        "s.txt:2:71: expected 1 more light (numLights is 2), found '}'"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nLights {{ numLights 0 DirectionalLight {{ direction 0 0 1 color 1 1 1 }} }}\n"
+        )),
+        "s.txt:2:22: expected '}' (numLights is 0), found 'DirectionalLight'"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nLights {{ numLights 1 SpotLight {{ direction 0 0 1 color 1 1 1 }} }}\n"
+        )),
+        "s.txt:2:22: expected DirectionalLight, found 'SpotLight'"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Materials
+
+#[test]
+fn material_index_out_of_range() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 1 Sphere { center 0 0 0 radius 1 } }"
+        )),
+        "s.txt:3:36: expected material index 0 (the scene has 1 material), found '1'"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nMaterials {{ numMaterials 3 Material {{ }} Material {{ }} Material {{ }} }}\n\
+             Group {{ numObjects 1 MaterialIndex 3 Sphere {{ center 0 0 0 radius 1 }} }}\n"
+        )),
+        "s.txt:3:36: expected a material index from 0 to 2 (the scene has 3 materials), found '3'"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nGroup {{ numObjects 1 MaterialIndex 0 Sphere {{ center 0 0 0 radius 1 }} }}\n"
+        )),
+        "s.txt:2:36: expected no MaterialIndex (the scene has no materials), found '0'"
+    );
+}
+
+#[test]
+fn material_index_is_checked_against_materials_that_come_after_the_group() {
+    let group = "Group { numObjects 1 MaterialIndex 1 Sphere { center 0 0 0 radius 1 } }";
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\n{group}\n{MATERIAL}\n")),
+        "s.txt:2:36: expected material index 0 (the scene has 1 material), found '1'"
+    );
+    // ...and an index that the later Materials block does provide is fine.
+    let two = "Materials { numMaterials 2 Material { } Material { } }";
+    let description =
+        parse_scene(Path::new("s.txt"), &format!("{CAMERA}\n{group}\n{two}\n")).unwrap();
+    assert_eq!(description.objects[0].material, 1);
+}
+
+#[test]
+fn an_object_before_any_material_index() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 Sphere { center 0 0 0 radius 1 } }"
+        )),
+        "s.txt:3:22: expected MaterialIndex before the first object, found 'Sphere'"
+    );
+    // MaterialIndex may not stand directly inside a Transform.
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 Transform { MaterialIndex 0 Sphere { center 0 0 0 radius 1 } } }"
+        )),
+        "s.txt:3:34: expected an object (Group, Transform, Sphere, Plane, Triangle or \
+         TriangleMesh), found 'MaterialIndex'"
+    );
+}
+
+#[test]
+fn keywords_of_later_assignments_are_named() {
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nMaterials {{ numMaterials 1 Material {{ diffuseColor 1 0 0 specularColor 1 1 1 }} }}\n"
+        )),
+        "s.txt:2:58: 'specularColor' is not supported yet: it belongs to a later assignment of the course"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nLights {{ numLights 1 PointLight {{ position 0 0 0 color 1 1 1 }} }}\n"
+        )),
+        "s.txt:2:22: 'PointLight' is not supported yet: it belongs to a later assignment of the course"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nMaterials {{ numMaterials 2 Material {{ }} Checkerboard {{ }} }}\n"
+        )),
+        "s.txt:2:41: 'Checkerboard' is not supported yet: it belongs to a later assignment of the course"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Values a shape or camera cannot have
+
+#[test]
+fn sphere_radius_must_be_positive() {
+    for (radius, found) in [
+        ("-1", "'-1'"),
+        ("0", "'0'"),
+        ("-0", "'-0'"),
+        (
+            "1e-46",
+            "'1e-46' (so small that single precision rounds it to zero)",
+        ),
+    ] {
+        let scene = with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Sphere {{ center 0 0 0 radius {radius} }} }}"
+        ));
+        assert_eq!(
+            parse_error(&scene),
+            format!("s.txt:3:67: expected a positive radius, found {found}")
+        );
+    }
+}
+
+#[test]
+fn plane_normal_must_have_length() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Plane { normal 0 0 0 offset 1 } }"
+        )),
+        "s.txt:3:53: expected a plane normal of non-zero length, found '0 0 0'"
+    );
+}
+
+#[test]
+fn camera_direction_must_have_length() {
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 0 0 0 up 0 1 0 size 5 }"),
+        "s.txt:1:46: expected a direction of non-zero length, found '0 0 0'"
+    );
+    // Tiny values are shown with an exponent, not as thirty zeros.
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 0 0 -1e-30 up 0 1 0 size 5 }"),
+        "s.txt:1:46: expected a direction of non-zero length, found '0 0 -1e-30'"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nLights {{ numLights 1 DirectionalLight {{ direction 0 0 0 color 1 1 1 }} }}\n"
+        )),
+        "s.txt:2:51: expected a direction of non-zero length, found '0 0 0'"
+    );
+}
+
+#[test]
+fn camera_up_must_not_be_parallel_to_direction() {
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 0 1 0 up 0 2 0 size 5 }"),
+        "s.txt:1:55: expected an up vector that is not parallel to the direction, found '0 2 0'"
+    );
+    assert_eq!(
+        parse_error("PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 0 3.5 angle 30 }"),
+        "s.txt:1:55: expected an up vector that is not parallel to the direction, found '0 0 3.5'"
+    );
+}
+
+#[test]
+fn perspective_angle_must_be_between_0_and_180() {
+    for angle in ["0", "180", "-30", "180.0", "360"] {
+        let scene = format!(
+            "PerspectiveCamera {{ center 0 0 10 direction 0 0 -1 up 0 1 0 angle {angle} }}"
+        );
+        assert_eq!(
+            parse_error(&scene),
+            format!("s.txt:1:67: expected an angle between 0 and 180 degrees, found '{angle}'")
+        );
+    }
+}
+
+#[test]
+fn orthographic_size_must_be_positive() {
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 0 }"),
+        "s.txt:1:67: expected a positive size, found '0'"
+    );
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 1e-50 }"),
+        "s.txt:1:67: expected a positive size, found '1e-50' (so small that single precision rounds it to zero)"
+    );
+}
+
+#[test]
+fn singular_transforms_are_refused() {
+    let sphere = "Sphere { center 0 0 0 radius 1 }";
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Transform {{ Scale 1 0 1 {sphere} }} }}"
+        ))),
+        "s.txt:3:56: expected an invertible transformation, found one that flattens space (a scale of zero)"
+    );
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Transform {{ UniformScale 0 {sphere} }} }}"
+        ))),
+        "s.txt:3:63: expected an invertible transformation, found one that flattens space (a scale of zero)"
+    );
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Transform {{ Matrix {{ 1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1 }} {sphere} }} }}"
+        ))),
+        "s.txt:3:59: expected an invertible transformation, found one that flattens space (a scale of zero)"
+    );
+    // Each scale alone is fine; together, through nesting, they vanish: the error points at the
+    // Transform whose world matrix is singular.
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0\n\
+             Transform {{ UniformScale 1e-100\n\
+             Transform {{ UniformScale 1e-100 {sphere} }} }} }}"
+        ))),
+        "s.txt:5:1: expected an invertible transformation, found one that flattens space (its scales multiply to zero)"
+    );
+}
+
+#[test]
+fn rotation_about_no_axis_is_refused() {
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Transform { Rotate { 0 0 0 45 } Sphere { center 0 0 0 radius 1 } } }"
+        )),
+        "s.txt:3:59: expected a rotation axis of non-zero length, found '0 0 0'"
+    );
+}
+
+#[test]
+fn a_scene_without_a_camera() {
+    assert_eq!(
+        parse_error(&format!(
+            "{MATERIAL}\nGroup {{ numObjects 1 MaterialIndex 0 Sphere {{ center 0 0 0 radius 1 }} }}\n"
+        )),
+        "s.txt:3:1: expected a camera (OrthographicCamera or PerspectiveCamera), found end of file"
+    );
+    assert_eq!(
+        parse_error(""),
+        "s.txt:1:1: expected a camera (OrthographicCamera or PerspectiveCamera), found end of file"
+    );
+    assert_eq!(
+        parse_error("\n\n   "),
+        "s.txt:3:4: expected a camera (OrthographicCamera or PerspectiveCamera), found end of file"
+    );
+}
+
+#[test]
+fn columns_count_characters_and_tabs_as_one() {
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\n\tBackground {{ color é 0 0 }}\n")),
+        "s.txt:2:21: expected a number, found 'é'"
+    );
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\nBackground {{ color 0 0 0 }} Ñoño\n")),
+        "s.txt:2:28: expected a scene block (OrthographicCamera, PerspectiveCamera, Background, \
+         Lights, Materials or Group), found 'Ñoño'"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files: scene bytes and meshes
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> std::path::PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+fn load_error(path: &Path) -> String {
+    match Scene::load(path) {
+        Ok(_) => panic!("{} loaded, but an error was expected", path.display()),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn a_scene_that_is_not_utf8() {
+    let dir = tempfile::tempdir().unwrap();
+    // Valid "éé", then two bytes that are not UTF-8: the column counts characters, not bytes.
+    let mut bytes = format!("{CAMERA}\nBackground {{ color 0 \u{e9}\u{e9}").into_bytes();
+    bytes.extend_from_slice(b"\xff\xfe 0 }\n");
+    let path = write(dir.path(), "s.txt", &bytes);
+    assert_eq!(
+        load_error(&path),
+        format!(
+            "{}:2:24: expected UTF-8 text, found byte 0xff",
+            path.display()
+        )
+    );
+}
+
+#[test]
+fn a_scene_file_that_does_not_exist() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("missing.txt");
+    let message = load_error(&path);
+    assert!(
+        message.starts_with(&format!("{}: cannot read: ", path.display())),
+        "{message}"
+    );
+}
+
+const MESH_GROUP: &str = "Group { numObjects 1 MaterialIndex 0 TriangleMesh { obj_file FILE } }";
+
+#[test]
+fn a_mesh_file_that_does_not_exist() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(
+        dir.path(),
+        "s.txt",
+        with_group(&MESH_GROUP.replace("FILE", "nothere.obj")).as_bytes(),
+    );
+    // Both places are named: beside the scene, then the working directory.
+    assert_eq!(
+        load_error(&scene),
+        format!(
+            "{}:3:38: cannot open mesh file 'nothere.obj': looked for '{}' and 'nothere.obj'",
+            scene.display(),
+            dir.path().join("nothere.obj").display()
+        )
+    );
+    // An absolute name is looked for in one place only.
+    let absolute = dir.path().join("gone.obj");
+    let scene = write(
+        dir.path(),
+        "s.txt",
+        with_group(&MESH_GROUP.replace("FILE", &absolute.display().to_string())).as_bytes(),
+    );
+    assert_eq!(
+        load_error(&scene),
+        format!(
+            "{}:3:38: cannot open mesh file '{}': looked for '{}'",
+            scene.display(),
+            absolute.display(),
+            absolute.display()
+        )
+    );
+}
+
+#[test]
+fn a_missing_mesh_of_a_scene_in_the_working_directory_names_one_place() {
+    // `s.txt` lies in the working directory, so beside it and the working directory are one.
+    assert_eq!(
+        build_error(&with_group(&MESH_GROUP.replace("FILE", "nothere.obj"))),
+        "s.txt:3:38: cannot open mesh file 'nothere.obj': looked for 'nothere.obj'"
+    );
+}
+
+#[test]
+fn a_malformed_mesh_names_the_obj_file_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(
+        dir.path(),
+        "s.txt",
+        with_group(&MESH_GROUP.replace("FILE", "bad.obj")).as_bytes(),
+    );
+    let obj = write(
+        dir.path(),
+        "bad.obj",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
+    );
+    assert_eq!(
+        load_error(&scene),
+        format!(
+            "{}:4:7: expected a vertex index from 1 to 3 (or -3 to -1), found '4'",
+            obj.display()
+        )
+    );
+    write(dir.path(), "bad.obj", b"v 0 0 0\nv 1 0 nope\n");
+    assert_eq!(
+        load_error(&scene),
+        format!(
+            "{}:2:7: expected a finite number, found 'nope'",
+            obj.display()
+        )
+    );
+    // Bytes that are not UTF-8 are shown as escapes, not as replacement characters.
+    write(dir.path(), "bad.obj", b"v 0 0 0\nv 1 0 \xff\n");
+    assert_eq!(
+        load_error(&scene),
+        format!(
+            "{}:2:7: expected a finite number, found '\\xff'",
+            obj.display()
+        )
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Deep nesting: the parser keeps its own stack
+
+const DEPTH: usize = 100_000;
+
+fn nested(open: &str) -> String {
+    let mut text = format!("{CAMERA}\n{MATERIAL}\nGroup {{ numObjects 1 MaterialIndex 0\n");
+    text.reserve(DEPTH * (open.len() + 2) + 64);
+    for _ in 0..DEPTH {
+        text.push_str(open);
+        text.push('\n');
+    }
+    text.push_str("Sphere { center 0 0 0 radius 1 }\n");
+    for _ in 0..DEPTH {
+        text.push_str("}\n");
+    }
+    text.push_str("}\n");
+    text
+}
+
+/// Runs `f` on a thread with a 256 KiB stack: far too little for one native frame per level.
+fn on_small_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> T {
+    std::thread::Builder::new()
+        .stack_size(256 * 1024)
+        .spawn(f)
+        .unwrap()
+        .join()
+        .expect("the parser overflowed a small stack")
+}
+
+#[test]
+fn deeply_nested_transforms_parse_on_a_small_stack() {
+    let description = on_small_stack(|| {
+        parse_scene(Path::new("s.txt"), &nested("Transform { Translate 0 0 0")).unwrap()
+    });
+    assert_eq!(description.transforms.len(), DEPTH);
+    assert_eq!(description.objects.len(), 1);
+    assert_eq!(description.objects[0].transform, Some(DEPTH as u32 - 1));
+}
+
+#[test]
+fn deeply_nested_groups_parse_on_a_small_stack() {
+    let description = on_small_stack(|| {
+        parse_scene(Path::new("s.txt"), &nested("Group { numObjects 1")).unwrap()
+    });
+    assert!(description.transforms.is_empty());
+    assert_eq!(description.objects.len(), 1);
+}
+
+#[test]
+fn an_error_deep_inside_nesting_is_reported_on_a_small_stack() {
+    let mut text = nested("Transform { Translate 0 0 0");
+    text.truncate(text.len() - 4); // the root Group's brace and the last Transform's
+    let message = on_small_stack(move || parse_error(&text));
+    assert_eq!(
+        message,
+        format!(
+            "s.txt:{}:1: expected '}}', found end of file",
+            4 + 2 * DEPTH
+        )
+    );
+}
