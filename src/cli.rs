@@ -241,7 +241,19 @@ fn same_file(a: &Path, b: &Path) -> bool {
     a == b || matches!((resolve(a), resolve(b)), (Some(x), Some(y)) if x == y)
 }
 
+/// Runs the whole job (loading and tree building too, not only the render) on `-threads` threads.
 fn execute(options: &Options) -> Result<(), Error> {
+    match options.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| Error::Refused(format!("raycast: cannot start {n} threads: {e}")))?
+            .install(|| execute_on_current_pool(options)),
+        None => execute_on_current_pool(options),
+    }
+}
+
+fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     let outputs = options.outputs();
     let paths: Vec<&Path> = outputs.iter().map(|&(_, p)| p).collect();
     // Before any work: a folder that is missing or unwritable fails the run now.
@@ -259,16 +271,8 @@ fn execute(options: &Options) -> Result<(), Error> {
         progress: std::io::stderr().is_terminal(),
     };
     let render_start = Instant::now();
-    let (rendered, threads) = match options.threads {
-        Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(n)
-                .build()
-                .map_err(|e| Error::Refused(format!("raycast: cannot start {n} threads: {e}")))?;
-            (pool.install(|| render(&scene, &settings)), n)
-        }
-        None => (render(&scene, &settings), rayon::current_num_threads()),
-    };
+    let rendered = render(&scene, &settings);
+    let threads = rayon::current_num_threads();
     let render_time = render_start.elapsed();
 
     let write_start = Instant::now();

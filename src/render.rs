@@ -50,6 +50,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
     let (width, height) = (settings.width, settings.height);
     let mut samples = vec![Sample::default(); width as usize * height as usize];
     let band_len = (width * TILE) as usize;
+    let background = shade::to_rgb(scene.background);
     let progress = Progress::new(settings.progress, samples.len().div_ceil(band_len.max(1)));
     samples
         .par_chunks_mut(band_len.max(1))
@@ -62,7 +63,8 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
                     for column in tile_left..(tile_left + TILE).min(width) {
                         let index = ((row - top) * width + column) as usize;
                         // Rows are stored top first; the camera counts them from the bottom.
-                        pixels[index] = sample(scene, settings, column, height - 1 - row);
+                        pixels[index] =
+                            sample(scene, settings, background, column, height - 1 - row);
                     }
                 }
             }
@@ -85,12 +87,12 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
 }
 
 #[inline]
-fn sample(scene: &Scene, settings: &RenderSettings, i: u32, j: u32) -> Sample {
+fn sample(scene: &Scene, settings: &RenderSettings, background: [u8; 3], i: u32, j: u32) -> Sample {
     let (u, v) = pixel_to_screen(i, j, settings.width, settings.height);
     let ray = scene.camera.ray(u, v);
     let Some(hit) = scene.world.intersect(&ray, scene.camera.t_min()) else {
         return Sample {
-            colour: shade::to_rgb(scene.background),
+            colour: background,
             ..Sample::default()
         };
     };

@@ -186,17 +186,23 @@ impl Bvh {
             if current.count == 0 {
                 let node = &self.nodes[current.child as usize];
                 let (entry, mut mask) = hit_lanes(node, &lanes, t_min, t_max);
+                let lane_child = |lane: usize| Pending {
+                    child: node.child[lane],
+                    count: node.count[lane] as u32,
+                    t: entry[lane],
+                };
+                // One child hit is the common case deep in the tree: straight down, no sorting.
+                if mask.count_ones() == 1 {
+                    current = lane_child(mask.trailing_zeros() as usize);
+                    continue;
+                }
                 // The hit children, nearest first (insertion into at most four).
                 let mut hits = [current; 4];
                 let mut n = 0;
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    let next = Pending {
-                        child: node.child[lane],
-                        count: node.count[lane] as u32,
-                        t: entry[lane],
-                    };
+                    let next = lane_child(lane);
                     let mut k = n;
                     while k > 0 && hits[k - 1].t > next.t {
                         hits[k] = hits[k - 1];
@@ -281,46 +287,123 @@ impl Extent {
 }
 
 /// Binary binned-SAH build; `prims` ends in leaf order. Node 0 is the root; an inner node's
-/// children are `first` and `first + 1`.
+/// children are `first` and `first + 1`. The top of the tree is built in parallel on rayon's
+/// threads; the tree is the same whatever the number of threads.
 fn build_binary(prims: &mut [(Aabb, u32)]) -> Vec<BinaryNode> {
     let root = Extent::of(prims);
+    build_subtree(prims, root, 0, 0)
+}
+
+/// Subtrees at least this large are split off to be built in parallel.
+const PARALLEL_MIN: usize = 8192;
+
+/// The subtree over `prims` (which start at `offset` in the whole build order).
+fn build_subtree(
+    prims: &mut [(Aabb, u32)],
+    extent: Extent,
+    depth: usize,
+    offset: usize,
+) -> Vec<BinaryNode> {
+    if prims.len() < PARALLEL_MIN || depth >= MAX_SAH_DEPTH {
+        return build_sequential(prims, extent, depth, offset);
+    }
+    let Some((mid, left, right)) = split(prims, extent, depth) else {
+        return build_sequential(prims, extent, depth, offset);
+    };
+    let (left_prims, right_prims) = prims.split_at_mut(mid);
+    let (left_nodes, right_nodes) = rayon::join(
+        || build_subtree(left_prims, left, depth + 1, offset),
+        || build_subtree(right_prims, right, depth + 1, offset + mid),
+    );
+    // This node, both subtree roots side by side, then the rest of each subtree.
+    let left_rest = left_nodes.len() - 1;
+    let place = |node: usize, rest_start: usize, root: usize| {
+        if node == 0 {
+            root
+        } else {
+            rest_start + node - 1
+        }
+    };
+    let mut nodes = Vec::with_capacity(left_nodes.len() + right_nodes.len() + 1);
+    nodes.push(BinaryNode {
+        bounds: extent.bounds,
+        first: 1,
+        count: 0,
+    });
+    let subtrees = [(&left_nodes, 3, 1), (&right_nodes, 3 + left_rest, 2)];
+    let relocated = |sub: &Vec<BinaryNode>, rest_start: usize, root: usize, i: usize| {
+        let mut node = sub[i];
+        if node.count == 0 {
+            node.first = place(node.first as usize, rest_start, root) as u32;
+        }
+        node
+    };
+    for &(sub, rest_start, root) in &subtrees {
+        nodes.push(relocated(sub, rest_start, root, 0));
+    }
+    for &(sub, rest_start, root) in &subtrees {
+        for i in 1..sub.len() {
+            nodes.push(relocated(sub, rest_start, root, i));
+        }
+    }
+    nodes
+}
+
+/// How a node is divided: the size of the left part and the extents of both parts, with `items`
+/// partitioned in place; `None` for a leaf.
+fn split(
+    items: &mut [(Aabb, u32)],
+    extent: Extent,
+    depth: usize,
+) -> Option<(usize, Extent, Extent)> {
+    let count = items.len() as u32;
+    // One four-wide block of triangles costs about what a node visit does: never split it.
+    let sah = if depth < MAX_SAH_DEPTH && count > 4 {
+        sah_split(items, extent.bounds, extent.centres)
+    } else {
+        None
+    };
+    match sah {
+        Some(split) => Some(split),
+        None if count <= MAX_LEAF => None,
+        None => {
+            // All centroids in one spot, or too deep: halve by count along the widest axis.
+            let centres = extent.centres;
+            let axis = (centres.max - centres.min).max_position();
+            let half = items.len() / 2;
+            items.select_nth_unstable_by(half, |a, b| {
+                centre(&a.0)[axis].total_cmp(&centre(&b.0)[axis])
+            });
+            Some((half, Extent::of(&items[..half]), Extent::of(&items[half..])))
+        }
+    }
+}
+
+fn build_sequential(
+    prims: &mut [(Aabb, u32)],
+    extent: Extent,
+    depth: usize,
+    offset: usize,
+) -> Vec<BinaryNode> {
     let mut nodes = Vec::with_capacity(prims.len() / 2 + 1);
     nodes.push(BinaryNode {
-        bounds: root.bounds,
+        bounds: extent.bounds,
         first: 0,
-        count: prims.len() as u32,
+        count: 0,
     });
-    let mut pending = vec![(0usize, 0usize, prims.len(), 0usize, root.centres)];
+    let mut pending = vec![(0usize, 0usize, prims.len(), depth, extent.centres)];
     while let Some((index, start, end, depth, centres)) = pending.pop() {
-        let items = &mut prims[start..end];
-        let bounds = nodes[index].bounds;
-        let count = items.len() as u32;
-        // One four-wide block of triangles costs about what a node visit does: never split it.
-        let split = if depth < MAX_SAH_DEPTH && count > 4 {
-            sah_split(items, bounds, centres)
-        } else {
-            None
+        let extent = Extent {
+            bounds: nodes[index].bounds,
+            centres,
         };
-        let (mid, left, right) = match split {
-            Some(split) => split,
-            None if count <= MAX_LEAF => {
-                nodes[index].first = start as u32;
-                nodes[index].count = count;
-                continue;
-            }
-            None => {
-                // All centroids in one spot, or too deep: halve by count along the widest axis.
-                let axis = (centres.max - centres.min).max_position();
-                let half = items.len() / 2;
-                items.select_nth_unstable_by(half, |a, b| {
-                    centre(&a.0)[axis].total_cmp(&centre(&b.0)[axis])
-                });
-                (half, Extent::of(&items[..half]), Extent::of(&items[half..]))
-            }
+        let Some((mid, left, right)) = split(&mut prims[start..end], extent, depth) else {
+            nodes[index].first = (offset + start) as u32;
+            nodes[index].count = (end - start) as u32;
+            continue;
         };
         let first = nodes.len();
         nodes[index].first = first as u32;
-        nodes[index].count = 0;
         for side in [left, right] {
             nodes.push(BinaryNode {
                 bounds: side.bounds,
@@ -526,6 +609,37 @@ mod tests {
         let (bvh, order) = Bvh::build(&boxes);
         check_structure(&bvh, &order, &boxes);
         assert!(bvh.node_count() > 25);
+    }
+
+    #[test]
+    fn a_tree_built_in_parallel_is_whole_and_finds_the_closest_box() {
+        // Enough boxes that the top of the tree is built by several rayon tasks.
+        let mut seed = 12345u64;
+        let mut next = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 40) as f32 / (1u64 << 24) as f32 * 100.0
+        };
+        let boxes: Vec<Aabb> = (0..3 * PARALLEL_MIN)
+            .map(|_| unit_box_at(next(), next(), next()))
+            .collect();
+        let (bvh, order) = Bvh::build(&boxes);
+        check_structure(&bvh, &order, &boxes);
+        for _ in 0..200 {
+            let origin = Vec3A::new(next(), next(), next()) * 2.0 - 50.0;
+            let ray = Ray::new(origin, (Vec3A::splat(50.0) - origin).normalize());
+            let closest = boxes
+                .iter()
+                .filter_map(|b| b.hit(&ray, 0.0, f32::INFINITY))
+                .reduce(f32::min);
+            let t = bvh.traverse(&ray, 0.0, f32::INFINITY, |i, t_max| {
+                boxes[order[i as usize] as usize]
+                    .hit(&ray, 0.0, t_max)
+                    .filter(|&t| t < t_max)
+            });
+            assert_eq!(Some(t).filter(|t| t.is_finite()), closest);
+        }
     }
 
     #[test]

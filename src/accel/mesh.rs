@@ -1,7 +1,9 @@
 use glam::{Vec3, Vec3A};
 
 use super::Bvh;
-use crate::geometry::{Aabb, Ray, Triangle4, intersect_triangle, triangle_normal};
+use crate::geometry::{
+    Aabb, Ray, Triangle4, TriangleRayLanes, intersect_triangle, triangle_normal,
+};
 
 /// A triangle mesh and its BVH. The triangles are stored in the order of the BVH's leaves, and
 /// again packed four to a block per leaf, for the SIMD test the traversal uses.
@@ -61,9 +63,10 @@ impl TriangleMesh {
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
         let mut found = None;
+        let lanes = TriangleRayLanes::new(ray);
         self.bvh.traverse(ray, t_min, t_max, |block, t_max| {
             let block = &self.blocks[block as usize];
-            let (t, lane) = block.intersect(ray, t_min, t_max)?;
+            let (t, lane) = block.intersect(ray, &lanes, t_min, t_max)?;
             found = Some((t, block.index[lane]));
             Some(t)
         });

@@ -15,4 +15,4 @@ pub use ray::Ray;
 pub use sphere::{Sphere, intersect_sphere};
 pub use transform::Transform;
 pub use triangle::{intersect_triangle, triangle_normal};
-pub use triangle4::Triangle4;
+pub use triangle4::{RayLanes as TriangleRayLanes, Triangle4};

@@ -5,6 +5,27 @@ use glam::{Vec3, Vec4};
 
 use super::{Ray, intersect_triangle};
 
+/// A ray's watertight frame with every entry in all four lanes: worked out once per ray, not
+/// once per block of triangles.
+#[derive(Debug, Clone, Copy)]
+pub struct RayLanes {
+    origin: [Vec4; 3],
+    /// `rows[i][j]`: entry (i, j) of the ray-space matrix.
+    rows: [[Vec4; 3]; 3],
+}
+
+impl RayLanes {
+    #[inline(always)]
+    pub fn new(ray: &Ray) -> RayLanes {
+        let m = ray.to_ray_space;
+        let columns = [m.x_axis, m.y_axis, m.z_axis];
+        RayLanes {
+            origin: [ray.origin.x, ray.origin.y, ray.origin.z].map(Vec4::splat),
+            rows: [0, 1, 2].map(|i| columns.map(|c| Vec4::splat(c[i]))),
+        }
+    }
+}
+
 /// Four triangles' vertices in structure-of-arrays form; unused lanes hold a zero-area triangle,
 /// which is never hit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -14,6 +35,8 @@ pub struct Triangle4 {
     vertices: [[Vec4; 3]; 3],
     /// Each lane's triangle, as its index in the mesh.
     pub index: [u32; 4],
+    /// Bit k set when lane k holds a triangle.
+    used: u32,
 }
 
 impl Triangle4 {
@@ -23,6 +46,7 @@ impl Triangle4 {
         let mut packed = Triangle4 {
             vertices: [[Vec4::ZERO; 3]; 3],
             index: [u32::MAX; 4],
+            used: 0,
         };
         for (lane, (triangle, &i)) in triangles.iter().zip(index).enumerate() {
             for (k, vertex) in triangle.iter().enumerate() {
@@ -31,25 +55,33 @@ impl Triangle4 {
                 }
             }
             packed.index[lane] = i;
+            packed.used |= 1 << lane;
         }
         packed
     }
 
     /// The nearest of the four hits with t_min <= t < t_max: its t and lane.
     #[inline(always)]
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, usize)> {
-        let m = ray.to_ray_space;
-        let o = ray.origin;
-        let (ox, oy, oz) = (Vec4::splat(o.x), Vec4::splat(o.y), Vec4::splat(o.z));
+    pub fn intersect(
+        &self,
+        ray: &Ray,
+        lanes: &RayLanes,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(f32, usize)> {
         // Row i of the matrix, one entry per lane-wide multiplication, as Mat3A * Vec3A does.
         let transform = |v: &[Vec4; 3]| {
-            let (dx, dy, dz) = (v[0] - ox, v[1] - oy, v[2] - oz);
-            let row = |i: usize| {
-                Vec4::splat(m.x_axis[i]) * dx
-                    + Vec4::splat(m.y_axis[i]) * dy
-                    + Vec4::splat(m.z_axis[i]) * dz
-            };
-            (row(0), row(1), row(2))
+            let d = [
+                v[0] - lanes.origin[0],
+                v[1] - lanes.origin[1],
+                v[2] - lanes.origin[2],
+            ];
+            let row = |r: &[Vec4; 3]| r[0] * d[0] + r[1] * d[1] + r[2] * d[2];
+            (
+                row(&lanes.rows[0]),
+                row(&lanes.rows[1]),
+                row(&lanes.rows[2]),
+            )
         };
         let (p0x, p0y, p0z) = transform(&self.vertices[0]);
         let (p1x, p1y, p1z) = transform(&self.vertices[1]);
@@ -58,7 +90,9 @@ impl Triangle4 {
         let e1 = p2x * p0y - p2y * p0x;
         let e2 = p0x * p1y - p0y * p1x;
         let zero = Vec4::ZERO;
-        if (e0.cmpeq(zero) | e1.cmpeq(zero) | e2.cmpeq(zero)).any() {
+        // (Empty lanes have every edge function zero; they must not send each block that has
+        // one down the slow path.)
+        if (e0.cmpeq(zero) | e1.cmpeq(zero) | e2.cmpeq(zero)).bitmask() & self.used != 0 {
             // A ray through an edge or vertex: the scalar test settles it in f64, lane by lane.
             return self.intersect_each(ray, t_min, t_max);
         }
@@ -69,15 +103,20 @@ impl Triangle4 {
         let inside = !(negative & positive) & det.cmpne(zero);
         let in_range = t.cmpge(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
         let mut mask = (inside & in_range).bitmask();
-        let mut best: Option<(f32, usize)> = None;
+        if mask == 0 {
+            return None;
+        }
+        let t = t.to_array();
+        let mut best = mask.trailing_zeros() as usize;
+        mask &= mask - 1;
         while mask != 0 {
             let lane = mask.trailing_zeros() as usize;
             mask &= mask - 1;
-            if best.is_none_or(|(b, _)| t[lane] < b) {
-                best = Some((t[lane], lane));
+            if t[lane] < t[best] {
+                best = lane;
             }
         }
-        best
+        Some((t[best], best))
     }
 
     fn intersect_each(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, usize)> {
@@ -137,7 +176,8 @@ mod tests {
                     Some((intersect_triangle(&ray, t, 0.0, f32::INFINITY)?, lane))
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
-            assert_eq!(packed.intersect(&ray, 0.0, f32::INFINITY), scalar);
+            let lanes = RayLanes::new(&ray);
+            assert_eq!(packed.intersect(&ray, &lanes, 0.0, f32::INFINITY), scalar);
             hits += scalar.is_some() as usize;
         }
         assert!(
@@ -150,8 +190,9 @@ mod tests {
     fn empty_lanes_are_never_hit() {
         let packed = Triangle4::new(&[], &[]);
         let ray = Ray::new(Vec3A::new(0.0, 0.0, 1.0), -Vec3A::Z);
+        let lanes = RayLanes::new(&ray);
         assert_eq!(
-            packed.intersect(&ray, f32::NEG_INFINITY, f32::INFINITY),
+            packed.intersect(&ray, &lanes, f32::NEG_INFINITY, f32::INFINITY),
             None
         );
         assert_eq!(packed.index, [u32::MAX; 4]);
