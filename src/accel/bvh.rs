@@ -97,8 +97,27 @@ pub struct Bvh {
 }
 
 const BINS: usize = 16;
-/// Leaves never grow past this, whatever the SAH says.
-const MAX_LEAF: u32 = 8;
+/// How many primitives a leaf holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LeafSize {
+    /// Nodes of at most this many are never split (one four-wide block of triangles costs
+    /// about what a node visit does).
+    pub min_split: u32,
+    /// Leaves never grow past this, whatever the SAH says.
+    pub max: u32,
+}
+
+impl LeafSize {
+    pub const TRIANGLES: LeafSize = LeafSize {
+        min_split: 4,
+        max: 8,
+    };
+    /// One instance a leaf: each is a whole tree of its own, best visited nearest first.
+    pub const INSTANCES: LeafSize = LeafSize {
+        min_split: 1,
+        max: 1,
+    };
+}
 /// Beyond this depth of the binary tree, splits are by count: a bound on the depth, and so on the
 /// traversal stack, for any input.
 const MAX_SAH_DEPTH: usize = 48;
@@ -119,12 +138,12 @@ struct BinaryNode {
 impl Bvh {
     /// Builds over the given primitive boxes. Returns the tree and the order the primitives must
     /// be stored in for it: leaf ranges index that order, `order[i]` is the input index.
-    pub fn build(boxes: &[Aabb]) -> (Bvh, Vec<u32>) {
+    pub fn build(boxes: &[Aabb], leaf: LeafSize) -> (Bvh, Vec<u32>) {
         if boxes.is_empty() {
             return (Bvh::default(), Vec::new());
         }
         let mut prims: Vec<(Aabb, u32)> = boxes.iter().copied().zip(0..).collect();
-        let binary = build_binary(&mut prims);
+        let binary = build_binary(&mut prims, leaf);
         let order = prims.iter().map(|&(_, i)| i).collect();
         let nodes = collapse(&binary);
         let bvh = Bvh {
@@ -289,9 +308,9 @@ impl Extent {
 /// Binary binned-SAH build; `prims` ends in leaf order. Node 0 is the root; an inner node's
 /// children are `first` and `first + 1`. The top of the tree is built in parallel on rayon's
 /// threads; the tree is the same whatever the number of threads.
-fn build_binary(prims: &mut [(Aabb, u32)]) -> Vec<BinaryNode> {
+fn build_binary(prims: &mut [(Aabb, u32)], leaf: LeafSize) -> Vec<BinaryNode> {
     let root = Extent::of(prims);
-    build_subtree(prims, root, 0, 0)
+    build_subtree(prims, root, 0, 0, leaf)
 }
 
 /// Subtrees at least this large are split off to be built in parallel.
@@ -303,17 +322,18 @@ fn build_subtree(
     extent: Extent,
     depth: usize,
     offset: usize,
+    leaf: LeafSize,
 ) -> Vec<BinaryNode> {
     if prims.len() < PARALLEL_MIN || depth >= MAX_SAH_DEPTH {
-        return build_sequential(prims, extent, depth, offset);
+        return build_sequential(prims, extent, depth, offset, leaf);
     }
-    let Some((mid, left, right)) = split(prims, extent, depth) else {
-        return build_sequential(prims, extent, depth, offset);
+    let Some((mid, left, right)) = split(prims, extent, depth, leaf) else {
+        return build_sequential(prims, extent, depth, offset, leaf);
     };
     let (left_prims, right_prims) = prims.split_at_mut(mid);
     let (left_nodes, right_nodes) = rayon::join(
-        || build_subtree(left_prims, left, depth + 1, offset),
-        || build_subtree(right_prims, right, depth + 1, offset + mid),
+        || build_subtree(left_prims, left, depth + 1, offset, leaf),
+        || build_subtree(right_prims, right, depth + 1, offset + mid, leaf),
     );
     // This node, both subtree roots side by side, then the rest of each subtree.
     let left_rest = left_nodes.len() - 1;
@@ -355,17 +375,17 @@ fn split(
     items: &mut [(Aabb, u32)],
     extent: Extent,
     depth: usize,
+    leaf: LeafSize,
 ) -> Option<(usize, Extent, Extent)> {
     let count = items.len() as u32;
-    // One four-wide block of triangles costs about what a node visit does: never split it.
-    let sah = if depth < MAX_SAH_DEPTH && count > 4 {
-        sah_split(items, extent.bounds, extent.centres)
+    let sah = if depth < MAX_SAH_DEPTH && count > leaf.min_split {
+        sah_split(items, extent.bounds, extent.centres, leaf)
     } else {
         None
     };
     match sah {
         Some(split) => Some(split),
-        None if count <= MAX_LEAF => None,
+        None if count <= leaf.max => None,
         None => {
             // All centroids in one spot, or too deep: halve by count along the widest axis.
             let centres = extent.centres;
@@ -384,6 +404,7 @@ fn build_sequential(
     extent: Extent,
     depth: usize,
     offset: usize,
+    leaf: LeafSize,
 ) -> Vec<BinaryNode> {
     let mut nodes = Vec::with_capacity(prims.len() / 2 + 1);
     nodes.push(BinaryNode {
@@ -397,7 +418,7 @@ fn build_sequential(
             bounds: nodes[index].bounds,
             centres,
         };
-        let Some((mid, left, right)) = split(&mut prims[start..end], extent, depth) else {
+        let Some((mid, left, right)) = split(&mut prims[start..end], extent, depth, leaf) else {
             nodes[index].first = (offset + start) as u32;
             nodes[index].count = (end - start) as u32;
             continue;
@@ -424,6 +445,7 @@ fn sah_split(
     items: &mut [(Aabb, u32)],
     bounds: Aabb,
     centres: Aabb,
+    leaf: LeafSize,
 ) -> Option<(usize, Extent, Extent)> {
     let count = items.len();
     let (lo, extent) = (centres.min, centres.max - centres.min);
@@ -482,7 +504,7 @@ fn sah_split(
     }
     let (cost, axis, boundary, left_bounds, right_bounds) = best?;
     let split_cost = TRAVERSAL_COST + cost / bounds.half_area().max(f32::MIN_POSITIVE);
-    if split_cost >= count as f32 && count as u32 <= MAX_LEAF {
+    if split_cost >= count as f32 && count as u32 <= leaf.max {
         return None;
     }
     let (mut left_centres, mut right_centres) = (Aabb::EMPTY, Aabb::EMPTY);
@@ -587,7 +609,7 @@ mod tests {
                 assert_eq!(padded(padded(outer)).union(b), padded(padded(outer)));
                 let (child, count) = (node.child[lane], node.count[lane] as u32);
                 if count > 0 {
-                    assert!(count <= MAX_LEAF);
+                    assert!(count <= LeafSize::TRIANGLES.max);
                     for k in child..child + count {
                         let prim = order[k as usize] as usize;
                         seen[prim] += 1;
@@ -606,7 +628,7 @@ mod tests {
         let boxes: Vec<Aabb> = (0..1000)
             .map(|i| unit_box_at((i % 10) as f32, (i / 10 % 10) as f32, (i / 100) as f32))
             .collect();
-        let (bvh, order) = Bvh::build(&boxes);
+        let (bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
         check_structure(&bvh, &order, &boxes);
         assert!(bvh.node_count() > 25);
     }
@@ -624,7 +646,7 @@ mod tests {
         let boxes: Vec<Aabb> = (0..3 * PARALLEL_MIN)
             .map(|_| unit_box_at(next(), next(), next()))
             .collect();
-        let (bvh, order) = Bvh::build(&boxes);
+        let (bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
         check_structure(&bvh, &order, &boxes);
         for _ in 0..200 {
             let origin = Vec3A::new(next(), next(), next()) * 2.0 - 50.0;
@@ -645,14 +667,14 @@ mod tests {
     #[test]
     fn identical_boxes_still_split_into_small_leaves() {
         let boxes = vec![unit_box_at(1.0, 2.0, 3.0); 100];
-        let (bvh, order) = Bvh::build(&boxes);
+        let (bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
         check_structure(&bvh, &order, &boxes);
     }
 
     #[test]
     fn traversal_finds_the_closest_box_hit() {
         let boxes: Vec<Aabb> = (0..50).map(|i| unit_box_at(0.0, 0.0, i as f32)).collect();
-        let (bvh, order) = Bvh::build(&boxes);
+        let (bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
         let ray = Ray::new(Vec3A::new(0.0, 0.0, 100.0), -Vec3A::Z);
         let mut closest = None;
         let t = bvh.traverse(&ray, 0.0, f32::INFINITY, |i, t_max| {
@@ -667,7 +689,7 @@ mod tests {
 
     #[test]
     fn an_empty_tree_is_never_entered() {
-        let (bvh, _) = Bvh::build(&[]);
+        let (bvh, _) = Bvh::build(&[], LeafSize::TRIANGLES);
         let ray = Ray::new(Vec3A::ZERO, Vec3A::Z);
         let t = bvh.traverse(
             &ray,

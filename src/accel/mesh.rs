@@ -1,6 +1,6 @@
 use glam::{Vec3, Vec3A};
 
-use super::Bvh;
+use super::{Bvh, LeafSize};
 use crate::geometry::{
     Aabb, Ray, Triangle4, TriangleRayLanes, intersect_triangle, triangle_normal,
 };
@@ -22,7 +22,7 @@ impl TriangleMesh {
             .iter()
             .map(|t| Aabb::from_points(&[t[0].into(), t[1].into(), t[2].into()]))
             .collect();
-        let (mut bvh, order) = Bvh::build(&boxes);
+        let (mut bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
         let triangles: Vec<[Vec3; 3]> = order.iter().map(|&i| triangles[i as usize]).collect();
         let mut blocks = Vec::with_capacity(triangles.len() / 2);
         bvh.map_leaves(|first, count| {
@@ -63,10 +63,12 @@ impl TriangleMesh {
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
         let mut found = None;
-        let lanes = TriangleRayLanes::new(ray);
+        // Set up on the first leaf: many rays that enter a mesh's box never reach one.
+        let mut lanes: Option<TriangleRayLanes> = None;
         self.bvh.traverse(ray, t_min, t_max, |block, t_max| {
             let block = &self.blocks[block as usize];
-            let (t, lane) = block.intersect(ray, &lanes, t_min, t_max)?;
+            let lanes = lanes.get_or_insert_with(|| TriangleRayLanes::new(ray));
+            let (t, lane) = block.intersect(ray, lanes, t_min, t_max)?;
             found = Some((t, block.index[lane]));
             Some(t)
         });

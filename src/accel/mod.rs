@@ -5,6 +5,6 @@ mod bvh;
 mod mesh;
 mod world;
 
-pub use bvh::Bvh;
+pub use bvh::{Bvh, LeafSize};
 pub use mesh::TriangleMesh;
 pub use world::{Hit, Item, World, WorldStats};

@@ -2,7 +2,7 @@
 
 use glam::Vec3A;
 
-use super::{Bvh, TriangleMesh};
+use super::{Bvh, LeafSize, TriangleMesh};
 use crate::geometry::{Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere};
 
 /// An entry of the top-level tree. `transform` indexes [`World::transforms`], or is
@@ -87,7 +87,7 @@ impl World {
         bounds: &[Aabb],
         planes: Vec<(Plane, u32)>,
     ) -> World {
-        let (top, order) = Bvh::build(bounds);
+        let (top, order) = Bvh::build(bounds, LeafSize::INSTANCES);
         let items = order.iter().map(|&i| items[i as usize]).collect();
         World {
             meshes,

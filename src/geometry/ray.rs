@@ -1,6 +1,6 @@
 use glam::{Mat3A, Vec3A};
 
-/// A ray, with what every box and triangle test against it would otherwise recompute.
+/// A ray, with what every box test against it would otherwise recompute.
 ///
 /// The direction need not be unit length: rays carried into a Transform's object space keep the
 /// world's parameter t that way (SCENE_FORMAT.md §8).
@@ -10,9 +10,6 @@ pub struct Ray {
     pub direction: Vec3A,
     /// 1/direction, kept finite (a zero component gives ±f32::MAX) so slab tests never make NaN.
     pub inv_direction: Vec3A,
-    /// The watertight triangle test's frame, as one matrix: the axes permuted so that z is the
-    /// direction's largest component, then sheared so that the direction becomes (0, 0, 1).
-    pub(crate) to_ray_space: Mat3A,
 }
 
 impl Ray {
@@ -23,6 +20,18 @@ impl Ray {
             inv,
             Vec3A::splat(f32::MAX).copysign(direction),
         );
+        Ray {
+            origin,
+            direction,
+            inv_direction,
+        }
+    }
+
+    /// The watertight triangle test's frame, as one matrix: the axes permuted so that z is the
+    /// direction's largest component, then sheared so that the direction becomes (0, 0, 1).
+    /// Worked out only for rays that reach triangles, since most rays of a big scene never do.
+    pub fn to_ray_space(&self) -> Mat3A {
+        let direction = self.direction;
         let a = direction.abs();
         // Rows: x' = p[kx] - d[kx]/d[kz]·p[kz], y' likewise, z' = p[kz]/d[kz], with kz the
         // direction's largest axis. Entries of 0 and 1 keep those sums exact, so each vertex maps
@@ -47,12 +56,7 @@ impl Ray {
                 Vec3A::new(1.0 / x, 0.0, 0.0),
             ]
         };
-        Ray {
-            origin,
-            direction,
-            inv_direction,
-            to_ray_space: Mat3A::from_cols(rows[0], rows[1], rows[2]).transpose(),
-        }
+        Mat3A::from_cols(rows[0], rows[1], rows[2]).transpose()
     }
 
     pub fn at(&self, t: f32) -> Vec3A {

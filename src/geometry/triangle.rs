@@ -1,4 +1,4 @@
-use glam::{Vec3, Vec3A};
+use glam::{Mat3A, Vec3, Vec3A};
 
 use super::Ray;
 
@@ -10,7 +10,18 @@ use super::Ray;
 /// is hit; a zero-area triangle never is. Returns t with t_min <= t < t_max.
 #[inline(always)]
 pub fn intersect_triangle(ray: &Ray, v: &[Vec3; 3], t_min: f32, t_max: f32) -> Option<f32> {
-    let m = ray.to_ray_space;
+    intersect_triangle_in(&ray.to_ray_space(), ray, v, t_min, t_max)
+}
+
+/// [`intersect_triangle`] with the ray's frame ([`Ray::to_ray_space`]) already worked out.
+#[inline(always)]
+pub(crate) fn intersect_triangle_in(
+    m: &Mat3A,
+    ray: &Ray,
+    v: &[Vec3; 3],
+    t_min: f32,
+    t_max: f32,
+) -> Option<f32> {
     let p0 = m * (Vec3A::from(v[0]) - ray.origin);
     let p1 = m * (Vec3A::from(v[1]) - ray.origin);
     let p2 = m * (Vec3A::from(v[2]) - ray.origin);

@@ -3,12 +3,16 @@
 
 use glam::{Vec3, Vec4};
 
-use super::{Ray, intersect_triangle};
+use glam::Mat3A;
+
+use super::Ray;
+use super::triangle::intersect_triangle_in;
 
 /// A ray's watertight frame with every entry in all four lanes: worked out once per ray, not
 /// once per block of triangles.
 #[derive(Debug, Clone, Copy)]
 pub struct RayLanes {
+    frame: Mat3A,
     origin: [Vec4; 3],
     /// `rows[i][j]`: entry (i, j) of the ray-space matrix.
     rows: [[Vec4; 3]; 3],
@@ -17,9 +21,10 @@ pub struct RayLanes {
 impl RayLanes {
     #[inline(always)]
     pub fn new(ray: &Ray) -> RayLanes {
-        let m = ray.to_ray_space;
+        let m = ray.to_ray_space();
         let columns = [m.x_axis, m.y_axis, m.z_axis];
         RayLanes {
+            frame: m,
             origin: [ray.origin.x, ray.origin.y, ray.origin.z].map(Vec4::splat),
             rows: [0, 1, 2].map(|i| columns.map(|c| Vec4::splat(c[i]))),
         }
@@ -94,7 +99,7 @@ impl Triangle4 {
         // one down the slow path.)
         if (e0.cmpeq(zero) | e1.cmpeq(zero) | e2.cmpeq(zero)).bitmask() & self.used != 0 {
             // A ray through an edge or vertex: the scalar test settles it in f64, lane by lane.
-            return self.intersect_each(ray, t_min, t_max);
+            return self.intersect_each(ray, &lanes.frame, t_min, t_max);
         }
         let negative = e0.cmplt(zero) | e1.cmplt(zero) | e2.cmplt(zero);
         let positive = e0.cmpgt(zero) | e1.cmpgt(zero) | e2.cmpgt(zero);
@@ -119,11 +124,17 @@ impl Triangle4 {
         Some((t[best], best))
     }
 
-    fn intersect_each(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, usize)> {
+    fn intersect_each(
+        &self,
+        ray: &Ray,
+        frame: &Mat3A,
+        t_min: f32,
+        t_max: f32,
+    ) -> Option<(f32, usize)> {
         let mut best: Option<(f32, usize)> = None;
         for lane in 0..4 {
             let limit = best.map_or(t_max, |(t, _)| t);
-            if let Some(t) = intersect_triangle(ray, &self.triangle(lane), t_min, limit) {
+            if let Some(t) = intersect_triangle_in(frame, ray, &self.triangle(lane), t_min, limit) {
                 best = Some((t, lane));
             }
         }
@@ -139,6 +150,7 @@ impl Triangle4 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::intersect_triangle;
     use glam::Vec3A;
 
     #[test]
