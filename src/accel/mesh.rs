@@ -29,10 +29,9 @@ impl TriangleMesh {
             let start = blocks.len() as u32;
             for chunk_start in (first..first + count).step_by(4) {
                 let end = (chunk_start + 4).min(first + count);
-                let indices: Vec<u32> = (chunk_start..end).collect();
                 blocks.push(Triangle4::new(
                     &triangles[chunk_start as usize..end as usize],
-                    &indices,
+                    chunk_start,
                 ));
             }
             (start, blocks.len() as u32 - start)

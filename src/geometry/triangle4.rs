@@ -45,15 +45,15 @@ pub struct Triangle4 {
 }
 
 impl Triangle4 {
-    /// Packs up to four triangles; `index` names each one.
-    pub fn new(triangles: &[[Vec3; 3]], index: &[u32]) -> Triangle4 {
-        debug_assert!(triangles.len() <= 4 && triangles.len() == index.len());
+    /// Packs up to four triangles, which are numbered `first`, `first + 1`, ... in their mesh.
+    pub fn new(triangles: &[[Vec3; 3]], first: u32) -> Triangle4 {
+        debug_assert!(triangles.len() <= 4);
         let mut packed = Triangle4 {
             vertices: [[Vec4::ZERO; 3]; 3],
             index: [u32::MAX; 4],
             used: 0,
         };
-        for (lane, (triangle, &i)) in triangles.iter().zip(index).enumerate() {
+        for (lane, (triangle, i)) in triangles.iter().zip(first..).enumerate() {
             for (k, vertex) in triangle.iter().enumerate() {
                 for axis in 0..3 {
                     packed.vertices[k][axis][lane] = vertex[axis];
@@ -172,7 +172,7 @@ mod tests {
                 Vec3::new(0.2, 0.8, 1.5),
             ],
         ];
-        let packed = Triangle4::new(&triangles, &[7, 8, 9]);
+        let packed = Triangle4::new(&triangles, 7);
         let mut hits = 0;
         for i in 0..400 {
             let x = (i % 20) as f32 / 13.0 - 0.4;
@@ -200,7 +200,7 @@ mod tests {
 
     #[test]
     fn empty_lanes_are_never_hit() {
-        let packed = Triangle4::new(&[], &[]);
+        let packed = Triangle4::new(&[], 0);
         let ray = Ray::new(Vec3A::new(0.0, 0.0, 1.0), -Vec3A::Z);
         let lanes = RayLanes::new(&ray);
         assert_eq!(
