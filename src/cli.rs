@@ -6,7 +6,7 @@
 //! imitate with workarounds, and users paste the course's command lines verbatim.
 
 use std::ffi::{OsStr, OsString};
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -41,6 +41,10 @@ and may also be written with two dashes (--input).";
 pub const MAX_SIDE: u32 = 32768;
 pub const MAX_PIXELS: u64 = 1 << 28;
 
+/// The most threads `-threads` may ask for: far more than any machine has cores, and few enough
+/// that starting them cannot exhaust the system's threads or memory (each has its own stack).
+pub const MAX_THREADS: usize = 1024;
+
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Options {
     pub input: PathBuf,
@@ -66,25 +70,32 @@ pub enum Command {
 pub fn run(args: Vec<OsString>) -> ExitCode {
     match parse_args(args) {
         Ok(Command::Help) => {
-            println!("{USAGE}");
+            say(std::io::stdout(), USAGE);
             ExitCode::SUCCESS
         }
         Ok(Command::Version) => {
-            println!("raycast {}", env!("CARGO_PKG_VERSION"));
+            let version = concat!("raycast ", env!("CARGO_PKG_VERSION"));
+            say(std::io::stdout(), version);
             ExitCode::SUCCESS
         }
         Ok(Command::Render(options)) => match execute(&options) {
             Ok(()) => ExitCode::SUCCESS,
             Err(error) => {
-                eprintln!("{error}");
+                say(std::io::stderr(), &error.to_string());
                 ExitCode::from(1)
             }
         },
         Err(message) => {
-            eprintln!("raycast: {message}\n\n{USAGE}");
+            say(std::io::stderr(), &format!("raycast: {message}\n\n{USAGE}"));
             ExitCode::from(2)
         }
     }
+}
+
+/// Writes a line, unlike `println!` without panicking (exit status 101) when the reader has
+/// gone, as in `raycast -help | head -1`: the exit status must stay the one documented.
+fn say(mut to: impl Write, text: &str) {
+    let _ = writeln!(to, "{text}");
 }
 
 pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
@@ -144,11 +155,17 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
             "shade_back" => options.shade_back = true,
             "stats" => options.stats = true,
             "threads" => {
-                options.threads = Some(positive(
-                    &value("a number of threads")?,
-                    "-threads",
-                    "a number of threads",
-                )? as usize);
+                let arg = value("a number of threads")?;
+                match arg.to_str().and_then(|s| s.parse::<usize>().ok()) {
+                    Some(n) if (1..=MAX_THREADS).contains(&n) => options.threads = Some(n),
+                    _ => {
+                        return Err(format!(
+                            "-threads needs a number of threads (a whole number from 1 to \
+                             {MAX_THREADS}), found '{}'",
+                            arg.to_string_lossy()
+                        ));
+                    }
+                }
             }
             _ => return Err(format!("unknown option '{text}'")),
         }
@@ -167,6 +184,13 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         return Err("nothing to write: give -output, -normals or -depth".into());
     }
     for (i, &(flag, path)) in outputs.iter().enumerate() {
+        // Found now rather than when the finished image is renamed into place, after the render.
+        if path.to_string_lossy().ends_with(std::path::is_separator) || path.is_dir() {
+            return Err(format!(
+                "{flag} '{}' names a folder, not an image file",
+                path.display()
+            ));
+        }
         // Asked before the extension: `-output scene.txt` is a slip of the scene's name, and
         // "unknown image type" would send the user looking in the wrong place.
         if same_file(path, &options.input) {

@@ -237,6 +237,44 @@ fn output_over_the_scene_file() {
 }
 
 #[test]
+fn an_output_that_names_a_folder() {
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output renders/"),
+        "-output 'renders/' names a folder, not an image file"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -depth 1 2 out.png/"),
+        "-depth 'out.png/' names a folder, not an image file"
+    );
+    // An existing folder, even one named like an image, is found before the render.
+    let dir = workspace();
+    std::fs::create_dir(dir.path().join("picture.png")).unwrap();
+    std::fs::write(dir.path().join("picture.png/keep"), b"kept").unwrap();
+    for (line, flag) in [
+        ("-input scene.txt -size 8 8 -output picture.png", "-output"),
+        (
+            "-input scene.txt -size 8 8 -output a.tga -normals picture.png",
+            "-normals",
+        ),
+        ("-input scene.txt -size 8 8 -output .", "-output"),
+    ] {
+        let args: Vec<&str> = line.split_whitespace().collect();
+        let output = raycast(dir.path(), &args);
+        assert_eq!(output.status.code(), Some(2), "{line}");
+        let name = args.last().unwrap();
+        assert_eq!(
+            stderr(&output),
+            format!("raycast: {flag} '{name}' names a folder, not an image file\n\n{USAGE}\n")
+        );
+    }
+    assert_dir_holds(dir.path(), "bad.txt picture.png scene.txt");
+    assert_eq!(
+        std::fs::read(dir.path().join("picture.png/keep")).unwrap(),
+        b"kept"
+    );
+}
+
+#[test]
 fn one_file_named_twice() {
     assert_eq!(
         refused("-input scene.txt -size 8 8 -output a.tga -normals a.tga"),
@@ -286,11 +324,23 @@ fn depth_range_must_not_be_empty() {
 }
 
 #[test]
-fn threads_must_be_above_zero() {
-    assert_eq!(
-        refused("-input scene.txt -size 8 8 -output a.tga -threads 0"),
-        "-threads needs a number of threads (a whole number above 0), found '0'"
-    );
+fn threads_must_be_from_1_to_1024() {
+    for n in ["0", "-2", "1025", "100000", "99999999999999999999", "two"] {
+        assert_eq!(
+            refused(&format!(
+                "-input scene.txt -size 8 8 -output a.tga -threads {n}"
+            )),
+            format!(
+                "-threads needs a number of threads (a whole number from 1 to 1024), found '{n}'"
+            )
+        );
+    }
+    // The bound itself is accepted (checked without starting the 1024 threads).
+    let args = "-input scene.txt -size 8 8 -output a.tga -threads 1024";
+    match raycast::cli::parse_args(args.split(' ').map(Into::into).collect()) {
+        Ok(raycast::cli::Command::Render(options)) => assert_eq!(options.threads, Some(1024)),
+        other => panic!("{other:?}"),
+    }
     assert_eq!(
         refused("-input scene.txt -size 8 8 -output a.tga -threads"),
         "-threads needs a number of threads, found the end of the command line"
@@ -317,6 +367,33 @@ fn help_and_version_go_to_stdout_and_succeed() {
         assert!(output.stderr.is_empty(), "{flag}");
     }
     assert_dir_holds(dir.path(), "bad.txt scene.txt");
+}
+
+#[test]
+fn a_reader_that_goes_away_does_not_change_the_exit_status() {
+    // `raycast -help | head -1`: the pipe is closed before raycast writes (or while it does).
+    // Writing to it fails, which must not turn into a panic's exit status 101.
+    use std::process::Stdio;
+    let dir = workspace();
+    for (args, status) in [
+        (&["-help"][..], 0),
+        (&["-input", "scene.txt", "-bogus"][..], 2),
+        (
+            &["-input", "bad.txt", "-size", "8", "8", "-output", "a.tga"][..],
+            1,
+        ),
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raycast"))
+            .args(args)
+            .current_dir(dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        drop(child.stderr.take());
+        assert_eq!(child.wait().unwrap().code(), Some(status), "{args:?}");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -86,28 +86,81 @@ fn a_word_where_a_number_belongs() {
 }
 
 #[test]
-fn numbers_beyond_single_precision_and_non_numbers_are_refused() {
-    for (word, column) in [
-        ("1e39", 56),
-        ("-1e39", 56),
-        ("nan", 56),
-        ("inf", 56),
-        ("-inf", 56),
+fn numbers_beyond_1e9_and_non_numbers_are_refused() {
+    for word in [
+        "1e39",
+        "-1e39",
+        "3e38",
+        "1e20",
+        "1e15",
+        "1.000001e9",
+        "-2e9",
+        "nan",
+        "NaN",
+        "inf",
+        "-inf",
+        "infinity",
     ] {
         let scene = with_group(&format!(
             "Group {{ numObjects 1 MaterialIndex 0 Sphere {{ center 0 {word} 0 radius 1 }} }}"
         ));
         assert_eq!(
             parse_error(&scene),
-            format!("s.txt:3:{column}: expected a finite number, found '{word}'")
+            format!("s.txt:3:56: expected a number between -1e9 and 1e9, found '{word}'")
         );
     }
-    // The largest single-precision value itself is fine.
-    let scene =
-        with_group("Group { numObjects 1 MaterialIndex 0 Sphere { center 0 3.4e38 0 radius 1 } }");
-    parse_scene(Path::new("s.txt"), &scene).unwrap();
+    // The bound itself is fine, and so are numbers too small for single precision: they are 0.
+    for word in ["1e9", "-1e9", "1e-45", "-1e-300"] {
+        let scene = with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Sphere {{ center 0 {word} 0 radius 1 }} }}"
+        ));
+        parse_scene(Path::new("s.txt"), &scene).unwrap();
+    }
 }
 
+#[test]
+fn every_kind_of_number_is_bounded() {
+    // A radius that overflows single precision when squared: the sphere was never hit.
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 3e38 } }"
+        )),
+        "s.txt:3:67: expected a number between -1e9 and 1e9, found '3e38'"
+    );
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Plane { normal 0 1 0 offset -1e20 } }"
+        )),
+        "s.txt:3:66: expected a number between -1e9 and 1e9, found '-1e20'"
+    );
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 1e15 }"),
+        "s.txt:1:67: expected a number between -1e9 and 1e9, found '1e15'"
+    );
+    // Before the bound, a direction this long squared to infinity and was called zero-length.
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 3e38 0 0 up 0 1 0 size 5 }"),
+        "s.txt:1:46: expected a number between -1e9 and 1e9, found '3e38'"
+    );
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\nBackground {{ color 1e10 0 0 }}\n")),
+        "s.txt:2:20: expected a number between -1e9 and 1e9, found '1e10'"
+    );
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Transform { XRotate 1e300 Sphere { center 0 0 0 radius 1 } } }"
+        )),
+        "s.txt:3:58: expected a number between -1e9 and 1e9, found '1e300'"
+    );
+    // Nested UniformScale 1e20 rendered nothing: the first one is refused now.
+    assert_eq!(
+        parse_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Transform { UniformScale 1e20 \
+             Transform { UniformScale 1e20 Sphere { center 0 0 0 radius 1 } } } }"
+        )),
+        "s.txt:3:63: expected a number between -1e9 and 1e9, found '1e20'"
+    );
+}
 #[test]
 fn end_of_file_inside_a_block() {
     assert_eq!(
@@ -367,6 +420,10 @@ fn camera_up_must_not_be_parallel_to_direction() {
         parse_error("PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 0 3.5 angle 30 }"),
         "s.txt:1:55: expected an up vector that is not parallel to the direction, found '0 0 3.5'"
     );
+    assert_eq!(
+        parse_error("PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 0 0 angle 30 }"),
+        "s.txt:1:55: expected an up vector that is not parallel to the direction, found '0 0 0'"
+    );
 }
 
 #[test]
@@ -387,6 +444,10 @@ fn orthographic_size_must_be_positive() {
     assert_eq!(
         parse_error("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 0 }"),
         "s.txt:1:67: expected a positive size, found '0'"
+    );
+    assert_eq!(
+        parse_error("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size -5 }"),
+        "s.txt:1:67: expected a positive size, found '-5'"
     );
     assert_eq!(
         parse_error("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 1e-50 }"),
@@ -415,16 +476,93 @@ fn singular_transforms_are_refused() {
         ))),
         "s.txt:3:59: expected an invertible transformation, found one that flattens space (a scale of zero)"
     );
-    // Each scale alone is fine; together, through nesting, they vanish: the error points at the
-    // Transform whose world matrix is singular.
+    // Each scale alone is not zero; multiplied (in double precision), they are: the error points
+    // at the Transform whose matrix is singular.
     assert_eq!(
         parse_error(&with_group(&format!(
             "Group {{ numObjects 1 MaterialIndex 0\n\
-             Transform {{ UniformScale 1e-100\n\
-             Transform {{ UniformScale 1e-100 {sphere} }} }} }}"
+             Transform {{ UniformScale 1e-200 UniformScale 1e-200 {sphere} }} }}"
         ))),
-        "s.txt:5:1: expected an invertible transformation, found one that flattens space (its scales multiply to zero)"
+        "s.txt:4:1: expected an invertible transformation, found one that flattens space (its scales multiply to zero)"
     );
+}
+
+#[test]
+fn transforms_that_scale_or_move_beyond_1e9_are_refused() {
+    let sphere = "Sphere { center 0 0 0 radius 1 }";
+    // Each scale is within bounds; nested, they multiply past them. The error points at the
+    // Transform whose combined matrix is out of bounds.
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0\n\
+             Transform {{ UniformScale 1e5\n\
+             Transform {{ UniformScale 1e5 {sphere} }} }} }}"
+        ))),
+        "s.txt:5:1: expected a transformation whose matrix, with the Transforms around it, has \
+         entries between -1e9 and 1e9, found an entry of 1e10"
+    );
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0\n\
+             Transform {{ Translate 6e8 0 0 Translate 6e8 0 0 {sphere} }} }}"
+        ))),
+        "s.txt:4:1: expected a transformation whose matrix, with the Transforms around it, has \
+         entries between -1e9 and 1e9, found an entry of 1.2e9"
+    );
+    // Shrinking too far: the inverse, which carries rays into the object, is out of bounds.
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0\n\
+             Transform {{ UniformScale 1e-5\n\
+             Transform {{ Scale 1 1e-5 1 {sphere} }} }} }}"
+        ))),
+        "s.txt:5:1: expected a transformation whose inverse, with the Transforms around it, has \
+         entries between -1e9 and 1e9, found an entry of 1e10 (it shrinks space too much)"
+    );
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Transform {{ Matrix {{ 1e-10 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 }} {sphere} }} }}"
+        ))),
+        "s.txt:3:38: expected a transformation whose inverse, with the Transforms around it, has \
+         entries between -1e9 and 1e9, found an entry of 1e10 (it shrinks space too much)"
+    );
+    // At the bounds, both ways, it is fine.
+    for ops in [
+        "UniformScale 1e9",
+        "UniformScale 1e-9",
+        "Translate -1e9 0 0",
+    ] {
+        let scene = with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Transform {{ {ops} {sphere} }} }}"
+        ));
+        parse_scene(Path::new("s.txt"), &scene).unwrap();
+    }
+}
+
+#[test]
+fn a_matrix_must_be_affine() {
+    let sphere = "Sphere { center 0 0 0 radius 1 }";
+    // The last row was dropped without a word; it is refused at its first number.
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Transform {{ Matrix {{ 1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1 }} {sphere} }} }}"
+        ))),
+        "s.txt:3:83: expected a last row of '0 0 0 1' (raycast does only affine transformations), \
+         found '0 0 1 1'"
+    );
+    assert_eq!(
+        parse_error(&with_group(&format!(
+            "Group {{ numObjects 1 MaterialIndex 0 Transform {{\n\
+             Matrix {{\n 2 0 0 0\n 0 2 0 0\n 0 0 2 0\n 0 0 0 2 }}\n{sphere} }} }}"
+        ))),
+        "s.txt:8:2: expected a last row of '0 0 0 1' (raycast does only affine transformations), \
+         found '0 0 0 2'"
+    );
+    // Written otherwise, the same numbers are fine.
+    let scene = with_group(&format!(
+        "Group {{ numObjects 1 MaterialIndex 0 Transform {{ Matrix {{ 1 0 0 0 0 1 0 0 0 0 1 0 -0 0.0 0 1.0 }} {sphere} }} }}"
+    ));
+    parse_scene(Path::new("s.txt"), &scene).unwrap();
 }
 
 #[test]
@@ -580,19 +718,13 @@ fn a_malformed_mesh_names_the_obj_file_line_and_column() {
     write(dir.path(), "bad.obj", b"v 0 0 0\nv 1 0 nope\n");
     assert_eq!(
         load_error(&scene),
-        format!(
-            "{}:2:7: expected a finite number, found 'nope'",
-            obj.display()
-        )
+        format!("{}:2:7: expected a number, found 'nope'", obj.display())
     );
     // Bytes that are not UTF-8 are shown as escapes, not as replacement characters.
     write(dir.path(), "bad.obj", b"v 0 0 0\nv 1 0 \xff\n");
     assert_eq!(
         load_error(&scene),
-        format!(
-            "{}:2:7: expected a finite number, found '\\xff'",
-            obj.display()
-        )
+        format!("{}:2:7: expected a number, found '\\xff'", obj.display())
     );
 }
 
@@ -657,4 +789,265 @@ fn an_error_deep_inside_nesting_is_reported_on_a_small_stack() {
             4 + 2 * DEPTH
         )
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shapes that a Transform carries beyond the bound
+
+#[test]
+fn shapes_placed_beyond_1e9_are_refused() {
+    // Each number is within bounds; the shape, once placed, is not. The error points at it.
+    assert_eq!(
+        build_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Sphere { center 8e8 0 0 radius 5e8 } }"
+        )),
+        "s.txt:3:38: expected a sphere between -1e9 and 1e9 on every axis once placed in the \
+         world, found one that reaches 1.3e9"
+    );
+    assert_eq!(
+        build_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Transform { Scale 1 1e5 1 \
+             Sphere { center 0 0 0 radius 2e4 } } }"
+        )),
+        "s.txt:3:64: expected a sphere between -1e9 and 1e9 on every axis once placed in the \
+         world, found one that reaches 2e9"
+    );
+    assert_eq!(
+        build_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Transform { UniformScale 1e5 \
+             Triangle { vertex0 0 0 0 vertex1 1e5 0 0 vertex2 0 1 0 } } }"
+        )),
+        "s.txt:3:67: expected a triangle between -1e9 and 1e9 on every axis once placed in the \
+         world, found one that reaches 1e10"
+    );
+    // A short normal divides the offset: this plane lies 1.6e9 from the origin.
+    assert_eq!(
+        build_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Plane { normal 0.5 0 0 offset 8e8 } }"
+        )),
+        "s.txt:3:38: expected a plane at most 1e9 from the origin once placed in the world, \
+         found one 1.6e9 from it"
+    );
+    assert_eq!(
+        build_error(&with_group(
+            "Group { numObjects 1 MaterialIndex 0 Transform { Scale 1 1e9 1 \
+             Plane { normal 0 1 0 offset -2 } } }"
+        )),
+        "s.txt:3:64: expected a plane at most 1e9 from the origin once placed in the world, \
+         found one 2e9 from it"
+    );
+    // A mesh: its box, placed, is what counts.
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "cube.obj",
+        b"v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nf 1 2 3 4\n",
+    );
+    let scene = write(
+        dir.path(),
+        "s.txt",
+        with_group(
+            "Group { numObjects 1 MaterialIndex 0 Transform { Translate 5e8 0 0 UniformScale 9e8 \
+             TriangleMesh { obj_file cube.obj } } }",
+        )
+        .as_bytes(),
+    );
+    assert_eq!(
+        load_error(&scene),
+        format!(
+            "{}:3:85: expected a mesh between -1e9 and 1e9 on every axis once placed in the \
+             world, found one that reaches 1.4e9",
+            scene.display()
+        )
+    );
+}
+
+#[test]
+fn a_mesh_coordinate_beyond_1e9_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(
+        dir.path(),
+        "s.txt",
+        with_group(&MESH_GROUP.replace("FILE", "big.obj")).as_bytes(),
+    );
+    let obj = write(
+        dir.path(),
+        "big.obj",
+        b"v 0 0 0\nv 1 0 3e38\nv 0 1 0\nf 1 2 3\n",
+    );
+    assert_eq!(
+        load_error(&scene),
+        format!(
+            "{}:2:7: expected a number between -1e9 and 1e9, found '3e38'",
+            obj.display()
+        )
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rules that are not errors: what raycast renders
+
+fn render_scene(scene: &Scene, size: u32) -> raycast::Rendered {
+    let settings = raycast::RenderSettings {
+        width: size,
+        height: size,
+        colour: true,
+        normals: true,
+        depth: Some((0.0, 20.0)),
+        shade_back: false,
+        progress: false,
+    };
+    raycast::render::render(scene, &settings)
+}
+
+/// Every hit of the rays through the pixel centres of a `size`² picture: none may carry a
+/// NaN or infinite t, or a normal that is not of unit length (NaN would become a black pixel).
+fn assert_hits_are_finite(scene: &Scene, size: u32) -> usize {
+    let mut hits = 0;
+    for j in 0..size {
+        for i in 0..size {
+            let (u, v) = raycast::camera::pixel_to_screen(i, j, size, size);
+            let ray = scene.camera.ray(u, v);
+            if let Some(hit) = scene.world.intersect(&ray, scene.camera.t_min()) {
+                hits += 1;
+                assert!(
+                    hit.t.is_finite() && (hit.normal.length() - 1.0).abs() < 1e-4,
+                    "pixel ({i}, {j}): t {} normal {}",
+                    hit.t,
+                    hit.normal
+                );
+            }
+        }
+    }
+    hits
+}
+
+#[test]
+fn zero_area_triangles_are_never_hit() {
+    const BLUE: &str = "Background { color 0 0 1 }";
+    // A 1×1 picture samples the very centre, where the tiny triangle's corner is: it was hit,
+    // with a NaN normal, and drawn red.
+    let camera = "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 1 }";
+    for triangle in [
+        "Triangle { vertex0 0 0 0 vertex1 1e-20 0 0 vertex2 0 1e-20 0 }",
+        "Triangle { vertex0 -1e-20 -1e-20 0 vertex1 1e-20 -1e-20 0 vertex2 0 1e-20 0 }",
+        "Triangle { vertex0 -1 0 0 vertex1 0 0 0 vertex2 1 0 0 }",
+        "Triangle { vertex0 0 0 0 vertex1 0 0 0 vertex2 0 1 0 }",
+    ] {
+        let text = format!(
+            "{camera}\n{BLUE}\n{MATERIAL}\nGroup {{ numObjects 1 MaterialIndex 0 {triangle} }}\n"
+        );
+        let (scene, stats) =
+            Scene::from_description(&parse_scene(Path::new("s.txt"), &text).unwrap()).unwrap();
+        assert_eq!(stats.world.triangles, 0, "{triangle}");
+        let rendered = render_scene(&scene, 1);
+        assert_eq!(rendered.colour.unwrap().pixels, [[0, 0, 255]], "{triangle}");
+        assert_eq!(rendered.normals.unwrap().pixels, [[0, 0, 0]], "{triangle}");
+    }
+    // In a mesh too: the flat faces are left out, the others stay.
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "m.obj",
+        b"v 0 0 0\nv 1e-20 0 0\nv 0 1e-20 0\nv 1 1 0\nv 2 2 0\nv 0 1 0\n\
+          f 1 2 3\nf 1 4 5\nf 1 4 6\n",
+    );
+    let scene = write(
+        dir.path(),
+        "s.txt",
+        format!(
+            "{camera}\n{BLUE}\n{MATERIAL}\n\
+             Group {{ numObjects 1 MaterialIndex 0 TriangleMesh {{ obj_file m.obj }} }}\n"
+        )
+        .as_bytes(),
+    );
+    let (scene, stats) = Scene::load(&scene).unwrap();
+    assert_eq!(stats.world.triangles, 1);
+    assert_eq!(
+        render_scene(&scene, 1).colour.unwrap().pixels,
+        [[255, 0, 0]]
+    );
+}
+
+#[test]
+fn mirroring_transforms_keep_front_faces_and_normals() {
+    // No lights: front faces are their flat colour, back faces black. Mirrored in x, every shape
+    // must give the mirror image: a triangle that faced the camera still does, and so does the
+    // outside of the cube and of the sphere.
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "cube.obj",
+        b"v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n\
+          f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n",
+    );
+    let shapes = "Group { numObjects 3\n\
+        MaterialIndex 0 Triangle { vertex0 1 -3 0 vertex1 3 -3 0 vertex2 2 -1 0 }\n\
+        MaterialIndex 1 Transform { Translate 2 2 0 YRotate 30 XRotate 20 UniformScale 0.8 \
+          TriangleMesh { obj_file cube.obj } }\n\
+        MaterialIndex 2 Transform { Translate -2 0 0 Scale 1 1.5 0.5 \
+          Sphere { center 0 0 0 radius 1 } } }";
+    let scene = |group: &str| {
+        let text = format!(
+            "PerspectiveCamera {{ center 0 0 10 direction 0 0 -1 up 0 1 0 angle 45 }}\n\
+             Background {{ color 0 0 0.2 }}\n\
+             Materials {{ numMaterials 3 Material {{ diffuseColor 1 0 0 }} \
+             Material {{ diffuseColor 0 1 0 }} Material {{ diffuseColor 1 1 0 }} }}\n\
+             Group {{ numObjects 1 MaterialIndex 0 {group} }}\n"
+        );
+        let path = write(dir.path(), "s.txt", text.as_bytes());
+        Scene::load(&path).unwrap().0
+    };
+    let plain = scene(shapes);
+    let mirrored = scene(&format!("Transform {{ Scale -1 1 1 {shapes} }}"));
+    const SIZE: u32 = 64;
+    assert!(assert_hits_are_finite(&mirrored, SIZE) > 500);
+    let (a, b) = (render_scene(&plain, SIZE), render_scene(&mirrored, SIZE));
+    let flipped = |image: &raycast::image_io::Image, i: u32, j: u32| {
+        image.pixels[(j * SIZE + (SIZE - 1 - i)) as usize]
+    };
+    let mut differing = 0;
+    let mut black = 0;
+    for j in 0..SIZE {
+        for i in 0..SIZE {
+            let (ca, cb) = (a.colour.as_ref().unwrap(), b.colour.as_ref().unwrap());
+            let (na, nb) = (a.normals.as_ref().unwrap(), b.normals.as_ref().unwrap());
+            let pixel = cb.pixels[(j * SIZE + i) as usize];
+            black += (pixel == [0, 0, 0]) as usize;
+            if pixel != flipped(ca, i, j) || nb.pixels[(j * SIZE + i) as usize] != flipped(na, i, j)
+            {
+                differing += 1;
+            }
+        }
+    }
+    // A pixel centre exactly on a silhouette may round to either side.
+    assert!(
+        differing <= 3,
+        "{differing} pixels differ from the mirror image"
+    );
+    assert_eq!(black, 0, "a back face (black) is showing");
+}
+
+/// A sphere too small for single precision to give its surface a direction, hit dead centre:
+/// its normal used to be NaN (a black pixel in the normals picture).
+#[test]
+fn surfaces_too_small_for_f32_still_face_the_ray() {
+    let text = "PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 angle 30 }
+        Lights { numLights 1 DirectionalLight { direction 0 0 -1 color 1 1 1 } }
+        Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
+        Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1e-7 } }";
+    let description = raycast::parse::parse_scene(Path::new("tiny.txt"), text).unwrap();
+    let (scene, _) = raycast::Scene::from_description(&description).unwrap();
+    let settings = raycast::RenderSettings {
+        width: 1,
+        height: 1,
+        colour: true,
+        normals: true,
+        depth: None,
+        shade_back: false,
+        progress: false,
+    };
+    let rendered = raycast::render::render(&scene, &settings);
+    assert_eq!(rendered.colour.unwrap().pixels, vec![[255, 0, 0]]);
+    assert_eq!(rendered.normals.unwrap().pixels, vec![[0, 0, 255]]);
 }

@@ -216,8 +216,17 @@ impl World {
                     }
                 };
                 let normal = match item.transform() {
-                    Item::WORLD_SPACE => object_normal.normalize(),
+                    Item::WORLD_SPACE => {
+                        (object_normal / object_normal.abs().max_element()).normalize_or_zero()
+                    }
                     i => self.transforms[i as usize].normal_to_world(object_normal),
+                };
+                // A surface too small for f32 to give it a direction (a sphere of radius 1e-7
+                // hit dead centre): it faces the ray, so that no NaN reaches a pixel.
+                let normal = if normal == Vec3A::ZERO {
+                    -ray.direction.normalize()
+                } else {
+                    normal
                 };
                 (normal, material)
             }

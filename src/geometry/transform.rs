@@ -34,10 +34,13 @@ impl Transform {
         )
     }
 
-    /// A world-space unit normal from an object-space normal of any length.
+    /// A world-space unit normal from an object-space normal of any length; zero if the normal
+    /// has no direction. Scaled to a largest component of 1 first, so that tiny or huge normals
+    /// (a tiny mesh under a large scale) neither underflow nor overflow on the way.
     #[inline]
     pub fn normal_to_world(&self, normal: Vec3A) -> Vec3A {
-        (self.normal_to_world * normal).normalize()
+        let largest = normal.abs().max_element();
+        (self.normal_to_world * (normal / largest)).normalize_or_zero()
     }
 }
 
@@ -73,5 +76,15 @@ mod tests {
         let n = transform.normal_to_world(Vec3A::new(1.0, 1.0, 0.0));
         let expected = Vec3A::new(0.2, 1.0, 0.0).normalize();
         assert!((n - expected).length() < 1e-6, "{n} vs {expected}");
+    }
+
+    #[test]
+    fn tiny_and_huge_normals_survive_the_trip() {
+        // A mesh of 1e-9-sized triangles scaled up by 1e9: its raw normals are ~1e-18 long.
+        let up = Transform::new(DMat4::from_scale(DVec3::splat(1e9)));
+        assert_eq!(up.normal_to_world(Vec3A::new(0.0, 0.0, 1e-18)), Vec3A::Z);
+        let down = Transform::new(DMat4::from_scale(DVec3::splat(1e-9)));
+        assert_eq!(down.normal_to_world(Vec3A::new(0.0, 3e30, 0.0)), Vec3A::Y);
+        assert_eq!(down.normal_to_world(Vec3A::ZERO), Vec3A::ZERO);
     }
 }

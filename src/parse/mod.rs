@@ -5,4 +5,5 @@ mod lexer;
 mod parser;
 
 pub use lexer::{Span, Token, describe};
-pub use parser::{parse_scene, read_scene};
+pub(crate) use parser::show_number;
+pub use parser::{MAX_MAGNITUDE, NUMBER_IN_RANGE, parse_scene, read_scene};

@@ -32,6 +32,19 @@ const LATER_KEYWORDS: &[&str] = &[
 
 const OBJECT: &str = "an object (Group, Transform, Sphere, Plane, Triangle or TriangleMesh)";
 
+/// The largest magnitude of any number in a scene or mesh file, of any entry of a Transform's
+/// matrix or its inverse, and of any coordinate of a shape once placed in the world.
+///
+/// Geometry is stored and intersected in single precision, whose largest value is 3.4e38, and
+/// the intersection tests multiply coordinates: squared distances, the cross product of two
+/// triangle edges and its squared length. Within 1e9 on every axis, the largest of these (that
+/// squared length, at most (2·√3·1e9)⁴ ≈ 1.44e38) stays finite; a sphere of radius 3e38 was never
+/// hit. No scene needs more: the course's stay below 100, and f32 resolves only 64 units at 1e9.
+pub const MAX_MAGNITUDE: f64 = 1e9;
+
+/// What a number out of [`MAX_MAGNITUDE`]'s range is refused as.
+pub const NUMBER_IN_RANGE: &str = "a number between -1e9 and 1e9";
+
 /// Reads and parses a scene file.
 pub fn read_scene(path: &Path) -> std::result::Result<SceneDescription, Error> {
     let bytes = std::fs::read(path).map_err(|source| Error::Read {
@@ -280,13 +293,34 @@ impl<'a> Parser<'a> {
                             Some(parent) => out.transforms[parent as usize] * local,
                             None => local,
                         };
-                        if !world.inverse().is_finite() || world.determinant() == 0.0 {
+                        let inverse = world.inverse();
+                        if !inverse.is_finite() || world.determinant() == 0.0 {
                             return Err(Diagnostic::expected(
                                 self.path,
                                 token.span,
                                 "an invertible transformation",
                                 "one that flattens space (its scales multiply to zero)",
                             ));
+                        }
+                        // Bounding both keeps a ray carried into the object's space finite: its
+                        // origin and direction go through the inverse, its normal through the
+                        // inverse's transpose, and a direction shrunk too far would square to 0.
+                        for (matrix, which, why) in [
+                            (world, "matrix", ""),
+                            (inverse, "inverse", " (it shrinks space too much)"),
+                        ] {
+                            let largest = largest_entry(&matrix);
+                            if largest > MAX_MAGNITUDE {
+                                return Err(Diagnostic::expected(
+                                    self.path,
+                                    token.span,
+                                    &format!(
+                                        "a transformation whose {which}, with the Transforms \
+                                         around it, has entries between -1e9 and 1e9"
+                                    ),
+                                    &format!("an entry of {}{why}", show_number(largest)),
+                                ));
+                            }
                         }
                         open.push(Open::Transform { parent: transform });
                         transform = Some(out.transforms.len() as u32);
@@ -405,10 +439,26 @@ impl<'a> Parser<'a> {
                     self.keyword("{")?;
                     let span = self.peek_span();
                     let mut rows = [0.0; 16];
-                    for value in &mut rows {
-                        *value = self.number()?.0;
+                    let mut last_row = Vec::with_capacity(4);
+                    for (i, value) in rows.iter_mut().enumerate() {
+                        let (number, token) = self.number_token()?;
+                        *value = number;
+                        if i >= 12 {
+                            last_row.push(token);
+                        }
                     }
                     self.keyword("}")?;
+                    // A last row other than 0 0 0 1 is a projective map, which the course's code
+                    // would drop without a word (it keeps only the upper three rows).
+                    if rows[12..] != [0.0, 0.0, 0.0, 1.0] {
+                        let written: Vec<&str> = last_row.iter().map(|t| t.text).collect();
+                        return Err(Diagnostic::expected(
+                            self.path,
+                            last_row[0].span,
+                            "a last row of '0 0 0 1' (raycast does only affine transformations)",
+                            &describe(&written.join(" ")),
+                        ));
+                    }
                     let file_matrix = DMat4::from_cols_array(&rows).transpose();
                     if file_matrix.determinant() == 0.0 {
                         return Err(self.singular(span));
@@ -537,9 +587,9 @@ impl<'a> Parser<'a> {
     fn number_token(&mut self) -> Result<(f64, Token<'a>)> {
         let token = self.next("a number")?;
         match token.text.parse::<f64>() {
-            // Values are stored as f32, so anything beyond its range would become infinite.
-            Ok(value) if value.is_finite() && value.abs() <= f32::MAX as f64 => Ok((value, token)),
-            Ok(_) => Err(self.unexpected(token, "a finite number")),
+            // NaN fails the comparison too.
+            Ok(value) if value.abs() <= MAX_MAGNITUDE => Ok((value, token)),
+            Ok(_) => Err(self.unexpected(token, NUMBER_IN_RANGE)),
             Err(_) => Err(self.unexpected(token, "a number")),
         }
     }
@@ -624,6 +674,22 @@ impl<'a> Parser<'a> {
 fn more(missing: u32, item: &str, count_name: &str, count: u32) -> String {
     let plural = if missing == 1 { "" } else { "s" };
     format!("{missing} more {item}{plural} ({count_name} is {count})")
+}
+
+fn largest_entry(m: &DMat4) -> f64 {
+    m.to_cols_array().iter().fold(0.0, |a, &x| a.max(x.abs()))
+}
+
+/// A computed value beyond [`MAX_MAGNITUDE`] for a message, to six digits (`1e10`, not
+/// `1.0000000000000002e10` or the f32 `1e-5`'s `1.000000025e10`), or more where six would round
+/// it down to the bound itself.
+pub(crate) fn show_number(x: f64) -> String {
+    let round = |digits: usize| -> f64 { format!("{x:.digits$e}").parse().unwrap_or(x) };
+    let mut rounded = round(5);
+    if rounded.abs() <= MAX_MAGNITUDE {
+        rounded = round(15);
+    }
+    format!("{rounded:e}")
 }
 
 /// A vector as the file could have written it: its values are single precision, shown in the

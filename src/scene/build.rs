@@ -7,13 +7,14 @@ use std::time::Instant;
 
 use glam::{DMat4, DVec3, Vec3, Vec3A};
 
-use super::model::{SceneDescription, Shape};
+use super::model::{PlacedObject, SceneDescription, Shape};
 use super::obj::parse_obj;
 use super::{Light, LoadStats, MaterialColour, Scene};
 use crate::accel::{Item, TriangleMesh, World};
 use crate::camera::Camera;
 use crate::error::{Diagnostic, Error};
-use crate::geometry::{Aabb, Plane, Sphere, Transform};
+use crate::geometry::{Aabb, Plane, Sphere, Transform, triangle_normal};
+use crate::parse::{MAX_MAGNITUDE, show_number};
 
 pub fn load(path: &Path) -> Result<(Scene, LoadStats), Error> {
     let start = Instant::now();
@@ -44,6 +45,16 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
                     center: (*center).into(),
                     radius: *radius,
                 };
+                let (centre, reach) = match placement {
+                    None => (center.as_dvec3(), DVec3::splat(*radius as f64)),
+                    Some((_, matrix)) => ellipsoid_extent(&sphere, &matrix),
+                };
+                within_bounds(
+                    description,
+                    object,
+                    "sphere",
+                    &[centre - reach, centre + reach],
+                )?;
                 bounds.push(match placement {
                     None => sphere.bounds(),
                     Some((_, matrix)) => ellipsoid_bounds(&sphere, &matrix),
@@ -59,27 +70,41 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
                     normal: (*normal).into(),
                     offset: *offset,
                 };
-                let plane = match placement {
-                    None => plane,
+                let (plane, world_offset) = match placement {
+                    None => (plane, plane.offset as f64),
                     Some((t, matrix)) => {
                         // Carry one point of the plane and its normal into the world.
                         let point =
                             matrix.transform_point3(plane.normal.as_dvec3() * plane.offset as f64);
                         let normal = t.normal_to_world(plane.normal);
-                        Plane {
+                        let offset = normal.as_dvec3().dot(point);
+                        let plane = Plane {
                             normal,
-                            offset: normal.as_dvec3().dot(point) as f32,
-                        }
+                            offset: offset as f32,
+                        };
+                        (plane, offset)
                     }
                 };
+                // The parser divides the offset by the normal's length, so a short normal can
+                // move a plane of modest offset far out even without a Transform.
+                if world_offset.is_nan() || world_offset.abs() > MAX_MAGNITUDE {
+                    return Err(Diagnostic::expected(
+                        &description.path,
+                        object.span,
+                        "a plane at most 1e9 from the origin once placed in the world",
+                        &format!("one {} from it", show_number(world_offset.abs())),
+                    )
+                    .into());
+                }
                 planes.push((plane, object.material));
             }
             Shape::Triangle { vertices } => {
                 let world = match placement {
                     None => *vertices,
                     Some((_, matrix)) => {
-                        let mut v =
-                            vertices.map(|v| matrix.transform_point3(v.as_dvec3()).as_vec3());
+                        let exact = vertices.map(|v| matrix.transform_point3(v.as_dvec3()));
+                        within_bounds(description, object, "triangle", &exact)?;
+                        let mut v = exact.map(|v| v.as_vec3());
                         // A mirroring transform turns the winding around; swap to keep the
                         // front side the one the inverse transpose of the normal points to.
                         if matrix.determinant() < 0.0 {
@@ -88,14 +113,32 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
                         v
                     }
                 };
-                loose_triangles.push(world);
-                loose_materials.push(object.material);
+                if has_area(&world) {
+                    loose_triangles.push(world);
+                    loose_materials.push(object.material);
+                }
             }
             Shape::Mesh { file } => {
                 let mesh = meshes.load(file, object.span)?;
+                let local = meshes.bounds(mesh);
+                if let (Some((_, matrix)), false) = (placement, local.is_empty()) {
+                    let corners: Vec<DVec3> = (0..8)
+                        .map(|corner| {
+                            let pick = |bit: usize, lo: f32, hi: f32| {
+                                if corner & bit == 0 { lo } else { hi }
+                            };
+                            matrix.transform_point3(DVec3::new(
+                                pick(1, local.min.x, local.max.x) as f64,
+                                pick(2, local.min.y, local.max.y) as f64,
+                                pick(4, local.min.z, local.max.z) as f64,
+                            ))
+                        })
+                        .collect();
+                    within_bounds(description, object, "mesh", &corners)?;
+                }
                 bounds.push(match placement {
-                    None => meshes.bounds(mesh),
-                    Some((t, _)) => meshes.bounds(mesh).transformed(&t.object_to_world),
+                    None => local,
+                    Some((t, _)) => local.transformed(&t.object_to_world),
                 });
                 items.push(Item::Mesh {
                     mesh,
@@ -152,9 +195,40 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
     Ok((scene, stats))
 }
 
-/// The exact box of a sphere after an affine map: along each world axis, the ellipsoid reaches
-/// r·|row| from its centre.
-fn ellipsoid_bounds(sphere: &Sphere, matrix: &DMat4) -> Aabb {
+/// Refuses a shape that reaches beyond [`MAX_MAGNITUDE`] on some axis once placed (`points`
+/// are its world-space extremes): the scene's numbers are bounded, but a Transform can still
+/// carry a shape past the bound, where single precision's products overflow.
+fn within_bounds(
+    description: &SceneDescription,
+    object: &PlacedObject,
+    kind: &str,
+    points: &[DVec3],
+) -> Result<(), Error> {
+    let reach = points
+        .iter()
+        .fold(0.0f64, |a, p| a.max(p.abs().max_element()));
+    if reach <= MAX_MAGNITUDE {
+        return Ok(());
+    }
+    Err(Diagnostic::expected(
+        &description.path,
+        object.span,
+        &format!("a {kind} between -1e9 and 1e9 on every axis once placed in the world"),
+        &format!("one that reaches {}", show_number(reach)),
+    )
+    .into())
+}
+
+/// Whether a triangle has a side to face. One of zero area has none, and one whose edges' cross
+/// product squares to less than the smallest normal f32 has none that single precision can
+/// normalise: a hit on it would have a NaN normal. Such triangles are left out, so never hit.
+fn has_area(triangle: &[Vec3; 3]) -> bool {
+    triangle_normal(triangle).length_squared() >= f32::MIN_POSITIVE
+}
+
+/// The centre of a sphere after an affine map, and how far the ellipsoid reaches from it along
+/// each world axis: r·|row|.
+fn ellipsoid_extent(sphere: &Sphere, matrix: &DMat4) -> (DVec3, DVec3) {
     let centre = matrix.transform_point3(sphere.center.as_dvec3());
     let r = sphere.radius as f64;
     let linear = matrix.transpose();
@@ -163,6 +237,12 @@ fn ellipsoid_bounds(sphere: &Sphere, matrix: &DMat4) -> Aabb {
         linear.y_axis.truncate().length(),
         linear.z_axis.truncate().length(),
     ) * r;
+    (centre, reach)
+}
+
+/// The exact box of a sphere after an affine map.
+fn ellipsoid_bounds(sphere: &Sphere, matrix: &DMat4) -> Aabb {
+    let (centre, reach) = ellipsoid_extent(sphere, matrix);
     // Widened by an ulp or so, so that rounding to f32 never cuts the surface.
     let pad = reach * 1e-6;
     Aabb {
@@ -227,6 +307,7 @@ impl<'a> MeshLoader<'a> {
             .triangles
             .iter()
             .map(|t| t.map(|i| obj.positions[i as usize]))
+            .filter(has_area)
             .collect();
         let bounds = triangles
             .iter()

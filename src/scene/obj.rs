@@ -12,7 +12,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::error::Diagnostic;
-use crate::parse::{Span, describe};
+use crate::parse::{MAX_MAGNITUDE, NUMBER_IN_RANGE, Span, describe};
 
 /// A triangle soup: vertex positions and, per triangle, three indices into them.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -60,18 +60,22 @@ pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
                             "end of line",
                         ));
                     };
-                    *value = parse_coordinate(word).ok_or_else(|| {
-                        Diagnostic::expected(path, at(offset), "a finite number", &show(word))
+                    *value = parse_coordinate(word).map_err(|expected| {
+                        Diagnostic::expected(path, at(offset), expected, &show(word))
                     })?;
                 }
                 // A fourth value (w) or three more (a vertex colour) may follow; they do not
                 // move the vertex, but they must still be numbers.
                 for (word, offset) in words.by_ref() {
-                    if parse_coordinate(word).is_none() {
+                    if let Err(expected) = parse_coordinate(word) {
+                        let expected = match expected {
+                            NOT_A_NUMBER => "a number or end of line",
+                            out_of_range => out_of_range,
+                        };
                         return Err(Diagnostic::expected(
                             path,
                             at(offset),
-                            "a number or end of line",
+                            expected,
                             &show(word),
                         ));
                     }
@@ -117,9 +121,20 @@ pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
     Ok(mesh)
 }
 
-fn parse_coordinate(word: &[u8]) -> Option<f32> {
-    let value: f32 = std::str::from_utf8(word).ok()?.parse().ok()?;
-    value.is_finite().then_some(value)
+const NOT_A_NUMBER: &str = "a number";
+
+/// A coordinate, or what was expected instead. The scene's bound holds here too: a mesh is
+/// intersected in its own space, with the same single-precision products as any shape.
+fn parse_coordinate(word: &[u8]) -> Result<f32, &'static str> {
+    let text = std::str::from_utf8(word).map_err(|_| NOT_A_NUMBER)?;
+    // Read as f32 directly: through f64 it would be rounded twice, now and then off by an ulp.
+    let value: f32 = text.parse().map_err(|_| NOT_A_NUMBER)?;
+    // NaN fails the comparison too.
+    if (value as f64).abs() <= MAX_MAGNITUDE {
+        Ok(value)
+    } else {
+        Err(NUMBER_IN_RANGE)
+    }
 }
 
 /// The position index of one face corner (`i`, `i/t`, `i//n` or `i/t/n`), made 0-based.
@@ -212,7 +227,7 @@ mod tests {
         );
         assert_eq!(
             parse("v 0 zero 0\n").unwrap_err(),
-            "m.obj:1:5: expected a finite number, found 'zero'"
+            "m.obj:1:5: expected a number, found 'zero'"
         );
         assert_eq!(
             parse("v 0 0\n").unwrap_err(),
@@ -232,7 +247,19 @@ mod tests {
         );
         assert_eq!(
             parse("v 0 0 1e39\n").unwrap_err(),
-            "m.obj:1:7: expected a finite number, found '1e39'"
+            "m.obj:1:7: expected a number between -1e9 and 1e9, found '1e39'"
+        );
+        assert_eq!(
+            parse("v 0 0 -1.5e9\n").unwrap_err(),
+            "m.obj:1:7: expected a number between -1e9 and 1e9, found '-1.5e9'"
+        );
+        assert_eq!(
+            parse("v 0 0 0 nan\n").unwrap_err(),
+            "m.obj:1:9: expected a number between -1e9 and 1e9, found 'nan'"
+        );
+        assert_eq!(
+            parse("v 0 0 0 w\n").unwrap_err(),
+            "m.obj:1:9: expected a number or end of line, found 'w'"
         );
     }
 }
