@@ -49,12 +49,15 @@ pub fn encode(image: &Image, format: ImageFormat) -> Vec<u8> {
             bytes.extend_from_slice(&(w as u16).to_le_bytes());
             bytes.extend_from_slice(&(h as u16).to_le_bytes());
             bytes.extend_from_slice(&[24, 32]);
-            bytes.extend(image.pixels.iter().flat_map(|&[r, g, b]| [b, g, r]));
+            bytes.resize(18 + image.pixels.len() * 3, 0);
+            for (out, &[r, g, b]) in bytes[18..].chunks_exact_mut(3).zip(&image.pixels) {
+                out.copy_from_slice(&[b, g, r]);
+            }
             bytes
         }
         ImageFormat::Ppm => {
             let mut bytes = format!("P6\n{w} {h}\n255\n").into_bytes();
-            bytes.extend(image.pixels.iter().flatten());
+            bytes.extend_from_slice(image.pixels.as_flattened());
             bytes
         }
         ImageFormat::Png => {
@@ -124,14 +127,16 @@ impl PendingOutputs {
     }
 
     /// Writes each file's bytes (in the order reserved), then renames them all into place.
+    ///
+    /// No fsync: the rename already guarantees that the process, however it stops, leaves the
+    /// old file or the new one, never a mix; only a crash of the whole machine could lose the
+    /// new image, and syncing took longer than tracing a million rays.
     pub fn commit(mut self, contents: Vec<Vec<u8>>) -> Result<(), Error> {
         for ((path, file), bytes) in self.files.iter_mut().zip(&contents) {
-            file.write_all(bytes)
-                .and_then(|()| file.as_file().sync_all())
-                .map_err(|e| Error::Write {
-                    path: path.clone(),
-                    message: e.to_string(),
-                })?;
+            file.write_all(bytes).map_err(|e| Error::Write {
+                path: path.clone(),
+                message: e.to_string(),
+            })?;
         }
         for (path, file) in self.files {
             file.persist(&path).map_err(|e| Error::Write {

@@ -142,13 +142,9 @@ impl Bvh {
         if boxes.is_empty() {
             return (Bvh::default(), Vec::new());
         }
-        let mut prims: Vec<Prim> = boxes
-            .iter()
-            .zip(0..)
-            .map(|(b, i)| Prim::new(b, i))
-            .collect();
+        let mut prims: Vec<(Aabb, u32)> = boxes.iter().copied().zip(0..).collect();
         let binary = build_binary(&mut prims, leaf);
-        let order = prims.iter().map(Prim::index).collect();
+        let order = prims.iter().map(|&(_, i)| i).collect();
         let nodes = collapse(&binary);
         let bvh = Bvh {
             nodes,
@@ -282,35 +278,6 @@ fn hit_lanes(node: &Node, ray: &RayLanes, t_min: f32, t_max: f32) -> ([f32; 4], 
     (entry.to_array(), mask)
 }
 
-/// A primitive during the build: its box, with its input index in the spare lane of the
-/// minimum. 32 bytes: the build streams over these once per level, so size is speed.
-#[derive(Debug, Clone, Copy)]
-struct Prim {
-    min: Vec4,
-    max: Vec4,
-}
-
-impl Prim {
-    fn new(b: &Aabb, index: u32) -> Prim {
-        Prim {
-            min: b.min.extend(f32::from_bits(index)),
-            max: b.max.extend(0.0),
-        }
-    }
-
-    #[inline(always)]
-    fn bounds(&self) -> Aabb {
-        Aabb {
-            min: Vec3A::from_vec4(self.min),
-            max: Vec3A::from_vec4(self.max),
-        }
-    }
-
-    fn index(&self) -> u32 {
-        self.min.w.to_bits()
-    }
-}
-
 /// Centroids are kept doubled (min + max): the same order, one multiplication fewer.
 fn centre(b: &Aabb) -> Vec3A {
     b.min + b.max
@@ -324,15 +291,15 @@ struct Extent {
 }
 
 impl Extent {
-    fn of(prims: &[Prim]) -> Extent {
+    fn of(prims: &[(Aabb, u32)]) -> Extent {
         prims.iter().fold(
             Extent {
                 bounds: Aabb::EMPTY,
                 centres: Aabb::EMPTY,
             },
             |e, p| Extent {
-                bounds: e.bounds.union(p.bounds()),
-                centres: e.centres.grow(centre(&p.bounds())),
+                bounds: e.bounds.union(p.0),
+                centres: e.centres.grow(centre(&p.0)),
             },
         )
     }
@@ -341,7 +308,7 @@ impl Extent {
 /// Binary binned-SAH build; `prims` ends in leaf order. Node 0 is the root; an inner node's
 /// children are `first` and `first + 1`. The top of the tree is built in parallel on rayon's
 /// threads; the tree is the same whatever the number of threads.
-fn build_binary(prims: &mut [Prim], leaf: LeafSize) -> Vec<BinaryNode> {
+fn build_binary(prims: &mut [(Aabb, u32)], leaf: LeafSize) -> Vec<BinaryNode> {
     let root = Extent::of(prims);
     build_subtree(prims, root, 0, 0, leaf)
 }
@@ -351,7 +318,7 @@ const PARALLEL_MIN: usize = 8192;
 
 /// The subtree over `prims` (which start at `offset` in the whole build order).
 fn build_subtree(
-    prims: &mut [Prim],
+    prims: &mut [(Aabb, u32)],
     extent: Extent,
     depth: usize,
     offset: usize,
@@ -405,7 +372,7 @@ fn build_subtree(
 /// How a node is divided: the size of the left part and the extents of both parts, with `items`
 /// partitioned in place; `None` for a leaf.
 fn split(
-    items: &mut [Prim],
+    items: &mut [(Aabb, u32)],
     extent: Extent,
     depth: usize,
     leaf: LeafSize,
@@ -425,7 +392,7 @@ fn split(
             let axis = (centres.max - centres.min).max_position();
             let half = items.len() / 2;
             items.select_nth_unstable_by(half, |a, b| {
-                centre(&a.bounds())[axis].total_cmp(&centre(&b.bounds())[axis])
+                centre(&a.0)[axis].total_cmp(&centre(&b.0)[axis])
             });
             Some((half, Extent::of(&items[..half]), Extent::of(&items[half..])))
         }
@@ -433,7 +400,7 @@ fn split(
 }
 
 fn build_sequential(
-    prims: &mut [Prim],
+    prims: &mut [(Aabb, u32)],
     extent: Extent,
     depth: usize,
     offset: usize,
@@ -475,7 +442,7 @@ fn build_sequential(
 /// the extents of both parts; or `None` when keeping a leaf is cheaper (or no split separates
 /// anything).
 fn sah_split(
-    items: &mut [Prim],
+    items: &mut [(Aabb, u32)],
     bounds: Aabb,
     centres: Aabb,
     leaf: LeafSize,
@@ -498,11 +465,10 @@ fn sah_split(
     };
     let mut bins = [[(Aabb::EMPTY, 0u32); BINS]; 3];
     for p in items.iter() {
-        let b = p.bounds();
-        let bin = bins_of(centre(&b));
+        let bin = bins_of(centre(&p.0));
         for axis in 0..3 {
             let slot = &mut bins[axis][bin[axis]];
-            slot.0 = slot.0.union(b);
+            slot.0 = slot.0.union(p.0);
             slot.1 += 1;
         }
     }
@@ -544,7 +510,7 @@ fn sah_split(
     let (mut left_centres, mut right_centres) = (Aabb::EMPTY, Aabb::EMPTY);
     let mut left = 0;
     for i in 0..count {
-        let c = centre(&items[i].bounds());
+        let c = centre(&items[i].0);
         if bin_on(c, axis) < boundary {
             left_centres = left_centres.grow(c);
             items.swap(i, left);
