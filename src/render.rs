@@ -131,7 +131,7 @@ impl Progress {
                 indicatif::ProgressDrawTarget::hidden(),
             );
             if let Ok(style) = indicatif::ProgressStyle::with_template(
-                "rendering {bar:40} {percent:>3}%  {elapsed} elapsed, about {eta} left",
+                "rendering {wide_bar} {percent:>3}%, {elapsed} elapsed, about {eta} left",
             ) {
                 bar.set_style(style);
             }
