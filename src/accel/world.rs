@@ -102,14 +102,7 @@ impl World {
     /// The nearest hit with t >= t_min.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
-        let mut found = None;
-        let mut t_max = f32::INFINITY;
-        for (i, (plane, _)) in self.planes.iter().enumerate() {
-            if let Some(t) = intersect_plane(ray, plane, t_min, t_max) {
-                t_max = t;
-                found = Some(Found::Plane(i as u32));
-            }
-        }
+        let (mut found, t_max) = self.nearest_plane(ray, t_min);
         let mut test = |i, t_max| {
             let (t, triangle) = self.intersect_item(i, ray, t_min, t_max)?;
             found = Some(Found::Item { item: i, triangle });
@@ -125,14 +118,7 @@ impl World {
 
     /// The same answer as [`World::intersect`] without either tree: the brute-force twin.
     pub fn intersect_brute_force(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
-        let mut found = None;
-        let mut t_max = f32::INFINITY;
-        for (i, (plane, _)) in self.planes.iter().enumerate() {
-            if let Some(t) = intersect_plane(ray, plane, t_min, t_max) {
-                t_max = t;
-                found = Some(Found::Plane(i as u32));
-            }
-        }
+        let (mut found, mut t_max) = self.nearest_plane(ray, t_min);
         for (i, item) in self.items.iter().enumerate() {
             let local = self.ray_into(item, ray);
             let hit = match *item {
@@ -152,6 +138,21 @@ impl World {
             }
         }
         found.map(|found| self.hit(ray, t_max, found))
+    }
+
+    /// Planes have no bounds for a tree to hold: each ray tests them all, before the trees, so
+    /// that a hit on a plane shortens the search through them.
+    #[inline(always)]
+    fn nearest_plane(&self, ray: &Ray, t_min: f32) -> (Option<Found>, f32) {
+        let mut found = None;
+        let mut t_max = f32::INFINITY;
+        for (i, (plane, _)) in self.planes.iter().enumerate() {
+            if let Some(t) = intersect_plane(ray, plane, t_min, t_max) {
+                t_max = t;
+                found = Some(Found::Plane(i as u32));
+            }
+        }
+        (found, t_max)
     }
 
     #[inline(always)]
