@@ -33,9 +33,18 @@ const SKIPPED: &[&[u8]] = &[
 pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
     let mut mesh = ObjMesh::default();
     let mut face: Vec<u32> = Vec::new();
-    for (line_index, line) in bytes.split(|&b| b == b'\n').enumerate() {
-        let line_number = line_index as u32 + 1;
-        let content = match line.iter().position(|&b| b == b'#') {
+    let mut rest = bytes;
+    for line_number in 1.. {
+        let line = match memchr::memchr(b'\n', rest) {
+            Some(end) => {
+                let line = &rest[..end];
+                rest = &rest[end + 1..];
+                line
+            }
+            None if rest.is_empty() && line_number > 1 => break,
+            None => std::mem::take(&mut rest),
+        };
+        let content = match memchr::memchr(b'#', line) {
             Some(hash) => &line[..hash],
             None => line,
         };
@@ -126,15 +135,53 @@ const NOT_A_NUMBER: &str = "a number";
 /// A coordinate, or what was expected instead. The scene's bound holds here too: a mesh is
 /// intersected in its own space, with the same single-precision products as any shape.
 fn parse_coordinate(word: &[u8]) -> Result<f32, &'static str> {
-    let text = std::str::from_utf8(word).map_err(|_| NOT_A_NUMBER)?;
-    // Read as f32 directly: through f64 it would be rounded twice, now and then off by an ulp.
-    let value: f32 = text.parse().map_err(|_| NOT_A_NUMBER)?;
+    let value = match short_decimal(word) {
+        Some(value) => value,
+        None => {
+            let text = std::str::from_utf8(word).map_err(|_| NOT_A_NUMBER)?;
+            // Read as f32 directly: through f64 it would be rounded twice, now and then off by
+            // an ulp.
+            text.parse().map_err(|_| NOT_A_NUMBER)?
+        }
+    };
     // NaN fails the comparison too.
     if (value as f64).abs() <= MAX_MAGNITUDE {
         Ok(value)
     } else {
         Err(NUMBER_IN_RANGE)
     }
+}
+
+/// A plain decimal (`-0.0390041`) whose digits, read as an integer, stay below 2^24, read
+/// without `str::parse`: both that integer and the power of ten it is divided by are exact in
+/// f32, so the one division rounds correctly and gives the same float as `str::parse` (Clinger's
+/// fast path). Most coordinates in mesh files are of this kind; anything else returns `None`.
+fn short_decimal(word: &[u8]) -> Option<f32> {
+    const POWERS: [f32; 11] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10];
+    let (negative, rest) = match word {
+        [b'-', rest @ ..] => (true, rest),
+        [b'+', rest @ ..] => (false, rest),
+        _ => (false, word),
+    };
+    let (whole, fraction) = match memchr::memchr(b'.', rest) {
+        Some(dot) => (&rest[..dot], &rest[dot + 1..]),
+        None => (rest, &rest[..0]),
+    };
+    if whole.is_empty() && fraction.is_empty() || fraction.len() >= POWERS.len() {
+        return None;
+    }
+    let mut digits: u32 = 0;
+    for &b in whole.iter().chain(fraction) {
+        if !b.is_ascii_digit() {
+            return None;
+        }
+        digits = digits.checked_mul(10)?.checked_add(u32::from(b - b'0'))?;
+        if digits >= 1 << 24 {
+            return None;
+        }
+    }
+    let magnitude = digits as f32 / POWERS[fraction.len()];
+    Some(if negative { -magnitude } else { magnitude })
 }
 
 /// The position index of one face corner (`i`, `i/t`, `i//n` or `i/t/n`), made 0-based.
@@ -214,6 +261,44 @@ mod tests {
 
     fn parse(text: &str) -> Result<ObjMesh, String> {
         parse_obj(Path::new("m.obj"), text.as_bytes()).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn short_decimals_read_exactly_as_str_parse_reads_them() {
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut fast = 0;
+        for _ in 0..200_000 {
+            let r = next();
+            let whole = r % 100_000;
+            let places = (r >> 20) % 9;
+            let fraction = (r >> 24) % 10u64.pow(places as u32).max(1);
+            let sign = if r >> 63 == 1 { "-" } else { "" };
+            let text = match places {
+                0 => format!("{sign}{whole}"),
+                p => format!("{sign}{whole}.{fraction:0width$}", width = p as usize),
+            };
+            let expected: f32 = text.parse().unwrap();
+            if let Some(value) = short_decimal(text.as_bytes()) {
+                assert_eq!(value.to_bits(), expected.to_bits(), "{text}");
+                fast += 1;
+            }
+        }
+        assert!(fast > 50_000, "only {fast} took the fast path");
+        for odd in ["", ".", "-", "+", "1e5", "1.2.3", "0x10", "nan", "inf", "١"] {
+            assert_eq!(short_decimal(odd.as_bytes()), None, "{odd}");
+        }
+        assert_eq!(short_decimal(b".5"), Some(0.5));
+        assert_eq!(short_decimal(b"5."), Some(5.0));
+        assert_eq!(
+            short_decimal(b"-0").map(f32::to_bits),
+            Some((-0.0f32).to_bits())
+        );
     }
 
     #[test]
