@@ -211,9 +211,21 @@ impl Bvh {
                     t: entry[lane],
                 };
                 // One child hit is the common case deep in the tree: straight down, no sorting.
-                if mask.count_ones() == 1 {
-                    current = lane_child(mask.trailing_zeros() as usize);
-                    continue;
+                match mask.count_ones() {
+                    0 => {}
+                    1 => {
+                        current = lane_child(mask.trailing_zeros() as usize);
+                        continue;
+                    }
+                    2 => {
+                        let a = mask.trailing_zeros() as usize;
+                        let b = (mask & (mask - 1)).trailing_zeros() as usize;
+                        let (near, far) = if entry[a] <= entry[b] { (a, b) } else { (b, a) };
+                        stack.push(lane_child(far));
+                        current = lane_child(near);
+                        continue;
+                    }
+                    _ => {}
                 }
                 // The hit children, nearest first (insertion into at most four).
                 let mut hits = [current; 4];
