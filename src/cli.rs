@@ -37,9 +37,12 @@ Images are written as TGA, PPM or PNG, by their extension (.tga, .ppm, .png).
 At least one of -output, -normals and -depth is needed. Options may come in any order,
 and may also be written with two dashes (--input).";
 
-/// The largest side accepted, and the most pixels (about 270 million: 2 GB of buffers).
+/// The largest side accepted, and the most pixels: about 270 million, which at 7 bytes a pixel
+/// while rendering and up to three 3-byte pictures after is about 4.5 GB at the peak.
 pub const MAX_SIDE: u32 = 32768;
 pub const MAX_PIXELS: u64 = 1 << 28;
+// Every size accepted fits a TGA header's 16-bit sides.
+const _: () = assert!(MAX_SIDE <= image_io::TGA_MAX_SIDE);
 
 /// The most threads `-threads` may ask for: far more than any machine has cores, and few enough
 /// that starting them cannot exhaust the system's threads or memory (each has its own stack).

@@ -1,5 +1,6 @@
-//! The pixel loop: tiles of 16×16 pixels spread over rayon's threads, each pixel one ray
-//! through its centre. Every pixel is computed the same way whichever thread takes it, so any
+//! The pixel loop: bands of 16 rows spread over rayon's threads, each band walked in 16×16
+//! tiles (neighbouring rays then meet the same nodes while they are in cache), each pixel one
+//! ray through its centre. Every pixel is computed the same way whichever thread takes it, so any
 //! thread count gives the same image.
 
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -34,7 +34,9 @@ pub fn normal_colour(hit: &Hit) -> Vec3A {
 /// Near is white, far is black: t_near and nearer give 1, t_far and farther 0.
 #[inline]
 pub fn depth_grey(hit: &Hit, t_near: f32, t_far: f32) -> f32 {
-    ((t_far - hit.t) / (t_far - t_near)).clamp(0.0, 1.0)
+    // In f64: the range itself may overflow f32 (`-depth -3e38 3e38`).
+    let (t, near, far) = (f64::from(hit.t), f64::from(t_near), f64::from(t_far));
+    ((far - t) / (far - near)).clamp(0.0, 1.0) as f32
 }
 
 /// The course's float-to-byte rule: truncate, then clamp (0.2 is 51, 0.8165 is 208).
@@ -72,5 +74,7 @@ mod tests {
         assert_eq!(depth_grey(&at(8.0), 9.0, 11.0), 1.0);
         assert_eq!(depth_grey(&at(10.0), 9.0, 11.0), 0.5);
         assert_eq!(depth_grey(&at(12.0), 9.0, 11.0), 0.0);
+        // A range wider than f32 can hold.
+        assert_eq!(depth_grey(&at(0.0), -3e38, 3e38), 0.5);
     }
 }

@@ -428,7 +428,8 @@ fn camera_up_must_not_be_parallel_to_direction() {
 
 #[test]
 fn perspective_angle_must_be_between_0_and_180() {
-    for angle in ["0", "180", "-30", "180.0", "360"] {
+    // 179.9999999 is below 180, but its f32 radians round up to π: the picture would flip.
+    for angle in ["0", "180", "-30", "180.0", "360", "179.9999999"] {
         let scene = format!(
             "PerspectiveCamera {{ center 0 0 10 direction 0 0 -1 up 0 1 0 angle {angle} }}"
         );
@@ -1050,4 +1051,35 @@ fn surfaces_too_small_for_f32_still_face_the_ray() {
     let rendered = raycast::render::render(&scene, &settings);
     assert_eq!(rendered.colour.unwrap().pixels, vec![[255, 0, 0]]);
     assert_eq!(rendered.normals.unwrap().pixels, vec![[0, 0, 255]]);
+}
+
+/// SCENE_FORMAT.md §7: the current material is global to the parser, so it carries from one
+/// top-level Group into a later one that replaces it.
+#[test]
+fn a_second_group_keeps_the_current_material() {
+    let text = format!(
+        "{CAMERA}\nMaterials {{ numMaterials 2 Material {{ }} Material {{ }} }}\n\
+         Group {{ numObjects 1 MaterialIndex 1 Sphere {{ center 5 0 0 radius 1 }} }}\n\
+         Group {{ numObjects 1 Sphere {{ center 0 0 0 radius 1 }} }}"
+    );
+    let description = parse_scene(Path::new("s.txt"), &text).unwrap();
+    assert_eq!(description.objects.len(), 1);
+    assert_eq!(description.objects[0].material, 1);
+}
+
+/// Transformation values are read in f64 like the matrices they build: `Scale 0.1 0.1 0.1`
+/// and `UniformScale 0.1` are the same transformation.
+#[test]
+fn transform_values_keep_full_precision() {
+    let matrix_of = |op: &str| {
+        let text = format!(
+            "{CAMERA}\n{MATERIAL}\nGroup {{ numObjects 1 MaterialIndex 0 \
+             Transform {{ {op} Sphere {{ center 0 0 0 radius 1 }} }} }}"
+        );
+        parse_scene(Path::new("s.txt"), &text).unwrap().transforms[0]
+    };
+    assert_eq!(
+        matrix_of("Scale 0.1 0.1 0.1"),
+        matrix_of("UniformScale 0.1")
+    );
 }

@@ -65,16 +65,16 @@ impl Node {
 
 /// A ray as the four-wide box test wants it: every component in all four lanes, and which of
 /// min and max is the near side on each axis.
-struct RayLanes {
+struct BoxRayLanes {
     origin: [Vec4; 3],
     inv_direction: [Vec4; 3],
     near_side: [usize; 3],
 }
 
-impl RayLanes {
+impl BoxRayLanes {
     fn new(ray: &Ray) -> Self {
         let side = |d: f32| usize::from(d < 0.0);
-        RayLanes {
+        BoxRayLanes {
             origin: [0, 1, 2].map(|a| Vec4::splat(ray.origin[a])),
             inv_direction: [0, 1, 2].map(|a| Vec4::splat(ray.inv_direction[a])),
             near_side: [0, 1, 2].map(|a| side(ray.inv_direction[a])),
@@ -180,8 +180,9 @@ impl Bvh {
         self.nodes.len() * std::mem::size_of::<Node>()
     }
 
-    /// Closest-hit traversal. `hit(i, t_max)` tests primitive `i` (in build order) and returns
-    /// its t if it is nearer than `t_max`. Returns the final t_max.
+    /// Closest-hit traversal. `hit(i, t_max)` tests leaf entry `i` (a primitive in build order,
+    /// or whatever [`Bvh::map_leaves`] made the leaves point at, such as a block of triangles)
+    /// and returns its t if it is nearer than `t_max`. Returns the final t_max.
     #[inline(always)]
     pub fn traverse(
         &self,
@@ -193,7 +194,7 @@ impl Bvh {
         if self.nodes.is_empty() {
             return t_max;
         }
-        let lanes = RayLanes::new(ray);
+        let lanes = BoxRayLanes::new(ray);
         // Not an array: initialising a few kilobytes for every ray cost more than the traversal.
         let mut stack: ArrayVec<Pending, STACK> = ArrayVec::new();
         let mut current = Pending {
@@ -272,7 +273,7 @@ impl Bvh {
 
 /// The ray against a node's four boxes: entry distances, and a bit mask of the lanes hit.
 #[inline(always)]
-fn hit_lanes(node: &Node, ray: &RayLanes, t_min: f32, t_max: f32) -> ([f32; 4], u32) {
+fn hit_lanes(node: &Node, ray: &BoxRayLanes, t_min: f32, t_max: f32) -> ([f32; 4], u32) {
     let slab = |axis: usize| {
         let near = node.bounds[ray.near_side[axis] & 1][axis];
         let far = node.bounds[(ray.near_side[axis] ^ 1) & 1][axis];

@@ -3,7 +3,9 @@
 use glam::Vec3A;
 
 use super::{Bvh, LeafSize, TriangleMesh};
-use crate::geometry::{Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere};
+use crate::geometry::{
+    Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere, unit_normal,
+};
 
 /// An entry of the top-level tree. `transform` indexes [`World::transforms`], or is
 /// [`Item::WORLD_SPACE`].
@@ -217,9 +219,7 @@ impl World {
                     }
                 };
                 let normal = match item.transform() {
-                    Item::WORLD_SPACE => {
-                        (object_normal / object_normal.abs().max_element()).normalize_or_zero()
-                    }
+                    Item::WORLD_SPACE => unit_normal(object_normal),
                     i => self.transforms[i as usize].normal_to_world(object_normal),
                 };
                 // A surface too small for f32 to give it a direction (a sphere of radius 1e-7

@@ -39,9 +39,20 @@ impl Transform {
     /// (a tiny mesh under a large scale) neither underflow nor overflow on the way.
     #[inline]
     pub fn normal_to_world(&self, normal: Vec3A) -> Vec3A {
-        let largest = normal.abs().max_element();
-        (self.normal_to_world * (normal / largest)).normalize_or_zero()
+        unit_normal(self.normal_to_world * scaled_to_one(normal))
     }
+}
+
+/// `v` divided by its largest component, so that squaring it can neither underflow nor overflow.
+#[inline]
+fn scaled_to_one(v: Vec3A) -> Vec3A {
+    v / v.abs().max_element()
+}
+
+/// A normal of any length made unit length; zero if it has no direction at all.
+#[inline]
+pub fn unit_normal(v: Vec3A) -> Vec3A {
+    scaled_to_one(v).normalize_or_zero()
 }
 
 #[cfg(test)]

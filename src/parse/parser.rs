@@ -105,7 +105,13 @@ impl<'a> Parser<'a> {
                 "Lights" => lights = self.lights()?,
                 "Materials" => materials = self.materials()?,
                 "Group" => {
-                    objects = Objects::default();
+                    // A later Group replaces the scene's objects, but the current material is
+                    // the parser's, global, and carries on into it (SCENE_FORMAT.md §7).
+                    objects = Objects {
+                        current_material: objects.current_material,
+                        material_indices: std::mem::take(&mut objects.material_indices),
+                        ..Objects::default()
+                    };
                     self.objects(token, &mut objects)?;
                 }
                 _ => {
@@ -186,7 +192,10 @@ impl<'a> Parser<'a> {
         } else {
             self.keyword("angle")?;
             let (angle, token) = self.number_token()?;
-            if !(angle > 0.0 && angle < 180.0) {
+            // Also below 180 once in f32 radians: an angle that rounds up to π would turn the
+            // screen's tangent negative and the picture upside down.
+            let in_range = angle > 0.0 && (angle.to_radians() as f32) < std::f32::consts::PI;
+            if !in_range {
                 return Err(self.unexpected(token, "an angle between 0 and 180 degrees"));
             }
             Projection::Perspective {
@@ -399,7 +408,7 @@ impl<'a> Parser<'a> {
             let op = match token.text {
                 "Scale" => {
                     let span = self.peek_span();
-                    let scale = self.vec3()?.as_dvec3();
+                    let scale = self.dvec3()?;
                     if scale.x * scale.y * scale.z == 0.0 {
                         return Err(self.singular(span));
                     }
@@ -412,14 +421,14 @@ impl<'a> Parser<'a> {
                     }
                     DMat4::from_scale(DVec3::splat(scale))
                 }
-                "Translate" => DMat4::from_translation(self.vec3()?.as_dvec3()),
+                "Translate" => DMat4::from_translation(self.dvec3()?),
                 "XRotate" => DMat4::from_rotation_x(self.number()?.0.to_radians()),
                 "YRotate" => DMat4::from_rotation_y(self.number()?.0.to_radians()),
                 "ZRotate" => DMat4::from_rotation_z(self.number()?.0.to_radians()),
                 "Rotate" => {
                     self.keyword("{")?;
                     let span = self.peek_span();
-                    let axis = self.vec3()?.as_dvec3();
+                    let axis = self.dvec3()?;
                     let (degrees, _) = self.number()?;
                     self.keyword("}")?;
                     // The course does not normalise the axis, which turns a non-unit axis into
@@ -595,10 +604,15 @@ impl<'a> Parser<'a> {
     }
 
     fn vec3(&mut self) -> Result<Vec3> {
+        Ok(self.dvec3()?.as_vec3())
+    }
+
+    /// Three numbers at full precision, for transformations: their matrices are built in f64.
+    fn dvec3(&mut self) -> Result<DVec3> {
         let x = self.number()?.0;
         let y = self.number()?.0;
         let z = self.number()?.0;
-        Ok(DVec3::new(x, y, z).as_vec3())
+        Ok(DVec3::new(x, y, z))
     }
 
     /// A vector used as a direction: normalised here, refused if it has no length.

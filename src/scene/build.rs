@@ -121,24 +121,17 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
             Shape::Mesh { file } => {
                 let mesh = meshes.load(file, object.span)?;
                 let local = meshes.bounds(mesh);
-                if let (Some((_, matrix)), false) = (placement, local.is_empty()) {
-                    let corners: Vec<DVec3> = (0..8)
-                        .map(|corner| {
-                            let pick = |bit: usize, lo: f32, hi: f32| {
-                                if corner & bit == 0 { lo } else { hi }
-                            };
-                            matrix.transform_point3(DVec3::new(
-                                pick(1, local.min.x, local.max.x) as f64,
-                                pick(2, local.min.y, local.max.y) as f64,
-                                pick(4, local.min.z, local.max.z) as f64,
-                            ))
-                        })
-                        .collect();
-                    within_bounds(description, object, "mesh", &corners)?;
+                // A mesh without a face to hit has no box either; the trees have no use for it.
+                if local.is_empty() {
+                    continue;
                 }
                 bounds.push(match placement {
                     None => local,
-                    Some((t, _)) => local.transformed(&t.object_to_world),
+                    Some((_, matrix)) => {
+                        let corners = box_corners(&local, &matrix);
+                        within_bounds(description, object, "mesh", &corners)?;
+                        outward_box(&corners)
+                    }
                 });
                 items.push(Item::Mesh {
                     mesh,
@@ -241,9 +234,39 @@ fn ellipsoid_extent(sphere: &Sphere, matrix: &DMat4) -> (DVec3, DVec3) {
 }
 
 /// The exact box of a sphere after an affine map.
+/// The corners of a box, placed by `matrix`, in f64.
+fn box_corners(b: &Aabb, matrix: &DMat4) -> [DVec3; 8] {
+    std::array::from_fn(|corner| {
+        let pick =
+            |bit: usize, lo: f32, hi: f32| f64::from(if corner & bit == 0 { lo } else { hi });
+        matrix.transform_point3(DVec3::new(
+            pick(1, b.min.x, b.max.x),
+            pick(2, b.min.y, b.max.y),
+            pick(4, b.min.z, b.max.z),
+        ))
+    })
+}
+
+/// The f32 box around points worked out in f64. Placed in f32, a far-off mesh moved back near
+/// the origin loses its box's edges to cancellation and rays that hit it would be culled; in f64
+/// the only error left is the final rounding, which the pad covers.
+fn outward_box(points: &[DVec3]) -> Aabb {
+    let (lo, hi) = points
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let pad = lo.abs().max(hi.abs()) * 1e-6;
+    Aabb {
+        min: (lo - pad).as_vec3().into(),
+        max: (hi + pad).as_vec3().into(),
+    }
+}
+
 fn ellipsoid_bounds(sphere: &Sphere, matrix: &DMat4) -> Aabb {
     let (centre, reach) = ellipsoid_extent(sphere, matrix);
-    // Widened by an ulp or so, so that rounding to f32 never cuts the surface.
+    // Widened by a millionth of the reach, many ulps, so that rounding to f32 never cuts the
+    // surface.
     let pad = reach * 1e-6;
     Aabb {
         min: (centre - reach - pad).as_vec3().into(),

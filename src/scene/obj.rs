@@ -4,8 +4,8 @@
 //! every tool there is, so this reads real files: comments, `f a/b/c` and `a//c` references,
 //! polygons (split into fans), negative (relative) indices, and statements that carry no geometry
 //! (normals, texture coordinates, groups, materials), which it skips. Hand-written rather than
-//! `tobj`, for two reasons: every error names its line and column, and reading the 69k-triangle
-//! bunny takes a few milliseconds, which matters when the whole render takes a hundred.
+//! `tobj`, for two reasons: every error names its line and column, and speed: the 69k-triangle
+//! bunny is read in about 15 ms, in a whole render of under 200.
 
 use std::path::Path;
 
