@@ -58,7 +58,9 @@ impl TriangleMesh {
         self.bvh.bounds()
     }
 
-    /// The nearest triangle hit in [t_min, t_max): its t and index.
+    /// The nearest triangle hit in [t_min, t_max]: its t and index. Of triangles hit at the
+    /// same t, the one stored first wins, here and in the brute-force search alike, so that both
+    /// name the same triangle (and so the same normal) on a shared edge.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
         let mut found = None;
@@ -68,7 +70,11 @@ impl TriangleMesh {
             let block = &self.blocks[block as usize];
             let lanes = lanes.get_or_insert_with(|| TriangleRayLanes::new(ray));
             let (t, lane) = block.intersect(ray, lanes, t_min, t_max)?;
-            found = Some((t, block.index[lane]));
+            let index = block.index[lane];
+            if found.is_some_and(|(best, best_index)| t > best || t == best && index > best_index) {
+                return None;
+            }
+            found = Some((t, index));
             Some(t)
         });
         found
@@ -80,7 +86,10 @@ impl TriangleMesh {
         for (i, triangle) in self.triangles.iter().enumerate() {
             let limit = best.map_or(t_max, |(t, _)| t);
             if let Some(t) = intersect_triangle(ray, triangle, t_min, limit) {
-                best = Some((t, i as u32));
+                // A tie keeps the earlier triangle.
+                if best.is_none_or(|(best_t, _)| t < best_t) {
+                    best = Some((t, i as u32));
+                }
             }
         }
         best

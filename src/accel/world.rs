@@ -79,6 +79,45 @@ enum Found {
     Item { item: u32, triangle: u32 },
 }
 
+/// The nearest hit so far. Hits at the same t go to the lower key: planes in their order, then
+/// items in their stored order (triangles of one mesh are settled by the mesh). The trees and
+/// the brute-force search visit surfaces in different orders; with one rule for ties they still
+/// name the same surface, and so give the same normal and material.
+#[derive(Clone, Copy)]
+struct Nearest {
+    t: f32,
+    key: u64,
+    found: Found,
+}
+
+impl Nearest {
+    fn plane(t: f32, plane: u32) -> Nearest {
+        Nearest {
+            t,
+            key: u64::from(plane),
+            found: Found::Plane(plane),
+        }
+    }
+
+    fn item(t: f32, item: u32, triangle: u32) -> Nearest {
+        Nearest {
+            t,
+            key: (1 << 32) | u64::from(item),
+            found: Found::Item { item, triangle },
+        }
+    }
+
+    /// Takes the place of `nearest` if it is nearer, or as near with a lower key.
+    #[inline(always)]
+    fn replaces(self, nearest: &mut Option<Nearest>) -> bool {
+        let better = nearest.is_none_or(|n| self.t < n.t || self.t == n.t && self.key < n.key);
+        if better {
+            *nearest = Some(self);
+        }
+        better
+    }
+}
+
 impl World {
     /// `items` in any order; the top-level tree is built over `bounds` (one box per item).
     pub fn new(
@@ -104,24 +143,31 @@ impl World {
     /// The nearest hit with t >= t_min.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
-        let (mut found, t_max) = self.nearest_plane(ray, t_min);
+        let mut nearest = self.nearest_plane(ray, t_min);
+        let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
         let mut test = |i, t_max| {
             let (t, triangle) = self.intersect_item(i, ray, t_min, t_max)?;
-            found = Some(Found::Item { item: i, triangle });
-            Some(t)
+            Nearest::item(t, i, triangle)
+                .replaces(&mut nearest)
+                .then_some(t)
         };
         // A scene of one mesh (the common case for big meshes) needs no top-level tree.
-        let t_max = match self.items.len() {
-            1 => test(0, t_max).unwrap_or(t_max),
-            _ => self.top.traverse(ray, t_min, t_max, test),
-        };
-        found.map(|found| self.hit(ray, t_max, found))
+        match self.items.len() {
+            1 => {
+                test(0, t_max);
+            }
+            _ => {
+                self.top.traverse(ray, t_min, t_max, test);
+            }
+        }
+        nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
     /// The same answer as [`World::intersect`] without either tree: the brute-force twin.
     pub fn intersect_brute_force(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
-        let (mut found, mut t_max) = self.nearest_plane(ray, t_min);
+        let mut nearest = self.nearest_plane(ray, t_min);
         for (i, item) in self.items.iter().enumerate() {
+            let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
             let local = self.ray_into(item, ray);
             let hit = match *item {
                 Item::Sphere { sphere, .. } => {
@@ -132,29 +178,24 @@ impl World {
                 }
             };
             if let Some((t, triangle)) = hit {
-                t_max = t;
-                found = Some(Found::Item {
-                    item: i as u32,
-                    triangle,
-                });
+                Nearest::item(t, i as u32, triangle).replaces(&mut nearest);
             }
         }
-        found.map(|found| self.hit(ray, t_max, found))
+        nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
     /// Planes have no bounds for a tree to hold: each ray tests them all, before the trees, so
     /// that a hit on a plane shortens the search through them.
     #[inline(always)]
-    fn nearest_plane(&self, ray: &Ray, t_min: f32) -> (Option<Found>, f32) {
-        let mut found = None;
-        let mut t_max = f32::INFINITY;
+    fn nearest_plane(&self, ray: &Ray, t_min: f32) -> Option<Nearest> {
+        let mut nearest = None;
         for (i, (plane, _)) in self.planes.iter().enumerate() {
+            let t_max = nearest.map_or(f32::INFINITY, |n: Nearest| n.t);
             if let Some(t) = intersect_plane(ray, plane, t_min, t_max) {
-                t_max = t;
-                found = Some(Found::Plane(i as u32));
+                Nearest::plane(t, i as u32).replaces(&mut nearest);
             }
         }
-        (found, t_max)
+        nearest
     }
 
     #[inline(always)]

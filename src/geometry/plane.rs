@@ -13,7 +13,7 @@ pub struct Plane {
 pub fn intersect_plane(ray: &Ray, plane: &Plane, t_min: f32, t_max: f32) -> Option<f32> {
     let t = (plane.offset - plane.normal.dot(ray.origin)) / plane.normal.dot(ray.direction);
     // A ray parallel to the plane gives ±inf or NaN; -inf would pass an orthographic t_min.
-    (t >= t_min && t < t_max && t.is_finite()).then_some(t)
+    (t >= t_min && t <= t_max && t.is_finite()).then_some(t)
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@ impl Sphere {
     }
 }
 
-/// The nearest t in [t_min, t_max) where the ray meets the sphere; from inside that is the far
+/// The nearest t in [t_min, t_max] where the ray meets the sphere; from inside that is the far
 /// side. The direction need not be unit length.
 #[inline(always)]
 pub fn intersect_sphere(ray: &Ray, sphere: &Sphere, t_min: f32, t_max: f32) -> Option<f32> {
@@ -42,9 +42,9 @@ pub fn intersect_sphere(ray: &Ray, sphere: &Sphere, t_min: f32, t_max: f32) -> O
     let c = oc.length_squared() - r2;
     let (t0, t1) = (c / q, q / a);
     let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-    if near >= t_min && near < t_max {
+    if near >= t_min && near <= t_max {
         Some(near)
-    } else if far >= t_min && far < t_max {
+    } else if far >= t_min && far <= t_max {
         Some(far)
     } else {
         None

@@ -7,7 +7,8 @@ use super::Ray;
 /// The vertices are moved into a frame where the ray runs along +z from the origin; the 2-D edge
 /// functions there are computed the same way for both triangles that share an edge, so a ray
 /// through that edge or a shared vertex never slips between them. Either side of the triangle
-/// is hit; a zero-area triangle never is. Returns t with t_min <= t < t_max.
+/// is hit; a zero-area triangle never is. Returns t with t_min <= t <= t_max (a hit at exactly
+/// t_max is a tie, which the caller settles).
 #[inline(always)]
 pub fn intersect_triangle(ray: &Ray, v: &[Vec3; 3], t_min: f32, t_max: f32) -> Option<f32> {
     intersect_triangle_in(&ray.to_ray_space(), ray, v, t_min, t_max)
@@ -47,7 +48,7 @@ pub(crate) fn intersect_triangle_in(
         return None;
     }
     let t = (e0 * p0z + e1 * p1z + e2 * p2z) / det;
-    (t >= t_min && t < t_max).then_some(t)
+    (t >= t_min && t <= t_max).then_some(t)
 }
 
 /// The side counter-clockwise vertices are seen from: (v1 - v0) × (v2 - v0), not normalised.

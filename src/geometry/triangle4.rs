@@ -65,7 +65,8 @@ impl Triangle4 {
         packed
     }
 
-    /// The nearest of the four hits with t_min <= t < t_max: its t and lane.
+    /// The nearest of the four hits with t_min <= t <= t_max (ties to the lowest lane): its t
+    /// and lane.
     #[inline(always)]
     pub fn intersect(
         &self,
@@ -106,7 +107,7 @@ impl Triangle4 {
         let det = e0 + e1 + e2;
         let t = (e0 * p0z + e1 * p1z + e2 * p2z) / det;
         let inside = !(negative & positive) & det.cmpne(zero);
-        let in_range = t.cmpge(Vec4::splat(t_min)) & t.cmplt(Vec4::splat(t_max));
+        let in_range = t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max));
         let mut mask = (inside & in_range).bitmask();
         if mask == 0 {
             return None;
