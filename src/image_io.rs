@@ -132,6 +132,11 @@ impl PendingOutputs {
     /// old file or the new one, never a mix; only a crash of the whole machine could lose the
     /// new image, and syncing took longer than tracing a million rays.
     pub fn commit(mut self, contents: Vec<Vec<u8>>) -> Result<(), Error> {
+        assert_eq!(
+            self.files.len(),
+            contents.len(),
+            "one content for each reserved file"
+        );
         for ((path, file), bytes) in self.files.iter_mut().zip(&contents) {
             file.write_all(bytes).map_err(|e| Error::Write {
                 path: path.clone(),

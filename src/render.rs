@@ -50,14 +50,18 @@ struct Sample {
 pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
     let (width, height) = (settings.width, settings.height);
     let mut samples = vec![Sample::default(); width as usize * height as usize];
-    let band_len = (width * TILE) as usize;
+    // Bands of TILE rows, thinner when the image is too short to give every thread several
+    // (a 4096x16 picture would otherwise be one band on one thread).
+    let threads = rayon::current_num_threads() as u32;
+    let band_rows = (height / (4 * threads)).clamp(1, TILE);
+    let band_len = width as usize * band_rows as usize;
     let background = shade::to_rgb(scene.background);
     let progress = Progress::new(settings.progress, samples.len().div_ceil(band_len.max(1)));
     samples
         .par_chunks_mut(band_len.max(1))
         .enumerate()
         .for_each(|(band, pixels)| {
-            let top = band as u32 * TILE;
+            let top = band as u32 * band_rows;
             let rows = (pixels.len() / width as usize) as u32;
             for tile_left in (0..width).step_by(TILE as usize) {
                 for row in top..top + rows {
