@@ -97,6 +97,8 @@ pub struct Bvh {
 }
 
 const BINS: usize = 16;
+/// Nodes with fewer primitives than this are binned along one axis.
+const SMALL_NODE: usize = 128;
 /// How many primitives a leaf holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LeafSize {
@@ -477,10 +479,21 @@ fn sah_split(
         (b.to_bits() & 0xFF) as usize
     };
     let mut bins = [[(Aabb::EMPTY, 0u32); BINS]; 3];
+    // Small nodes are binned along their widest axis only: near the leaves a split along another
+    // axis rarely wins, and the bottom levels hold most of the nodes.
+    let widest = extent.max_position();
+    let all_axes = count >= SMALL_NODE;
     for p in items.iter() {
-        let bin = bins_of(centre(&p.0));
-        for axis in 0..3 {
-            let slot = &mut bins[axis][bin[axis]];
+        let c = centre(&p.0);
+        if all_axes {
+            let bin = bins_of(c);
+            for axis in 0..3 {
+                let slot = &mut bins[axis][bin[axis]];
+                slot.0 = slot.0.union(p.0);
+                slot.1 += 1;
+            }
+        } else {
+            let slot = &mut bins[widest][bin_on(c, widest)];
             slot.0 = slot.0.union(p.0);
             slot.1 += 1;
         }
@@ -489,7 +502,9 @@ fn sah_split(
     let mut best: Option<(f32, usize, usize, Aabb, Aabb)> = None;
     for (axis, axis_bins) in bins.iter().enumerate() {
         // A flat (or NaN) extent has nothing to bin along.
-        if extent[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        if extent[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+            || !all_axes && axis != widest
+        {
             continue;
         }
         // The right side of each boundary, swept from the right.
