@@ -107,7 +107,10 @@ fn sample(scene: &Scene, settings: &RenderSettings, background: [u8; 3], i: u32,
         Vec3A::ZERO
     };
     let depth = match settings.depth {
-        Some((near, far)) => shade::to_byte(shade::depth_grey(&hit, near, far)),
+        Some((near, far)) => {
+            let distance = hit.t * ray.direction.length();
+            shade::to_byte(shade::depth_grey(distance, near, far))
+        }
         None => 0,
     };
     Sample {

@@ -31,11 +31,12 @@ pub fn normal_colour(hit: &Hit) -> Vec3A {
     hit.normal.abs()
 }
 
-/// Near is white, far is black: t_near and nearer give 1, t_far and farther 0.
+/// Near is white, far is black: `t_near` and nearer give 1, `t_far` and farther 0. `t` is the
+/// distance along the ray (for the perspective camera, from the eye).
 #[inline]
-pub fn depth_grey(hit: &Hit, t_near: f32, t_far: f32) -> f32 {
+pub fn depth_grey(t: f32, t_near: f32, t_far: f32) -> f32 {
     // In f64: the range itself may overflow f32 (`-depth -3e38 3e38`).
-    let (t, near, far) = (f64::from(hit.t), f64::from(t_near), f64::from(t_far));
+    let (t, near, far) = (f64::from(t), f64::from(t_near), f64::from(t_far));
     ((far - t) / (far - near)).clamp(0.0, 1.0) as f32
 }
 
@@ -66,15 +67,10 @@ mod tests {
 
     #[test]
     fn depth_is_white_near_and_black_far() {
-        let at = |t| Hit {
-            t,
-            normal: Vec3A::Z,
-            material: 0,
-        };
-        assert_eq!(depth_grey(&at(8.0), 9.0, 11.0), 1.0);
-        assert_eq!(depth_grey(&at(10.0), 9.0, 11.0), 0.5);
-        assert_eq!(depth_grey(&at(12.0), 9.0, 11.0), 0.0);
+        assert_eq!(depth_grey(8.0, 9.0, 11.0), 1.0);
+        assert_eq!(depth_grey(10.0, 9.0, 11.0), 0.5);
+        assert_eq!(depth_grey(12.0, 9.0, 11.0), 0.0);
         // A range wider than f32 can hold.
-        assert_eq!(depth_grey(&at(0.0), -3e38, 3e38), 0.5);
+        assert_eq!(depth_grey(0.0, -3e38, 3e38), 0.5);
     }
 }
