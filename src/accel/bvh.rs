@@ -6,6 +6,8 @@
 //! The tree knows only boxes; what sits in a leaf is the caller's business, tested through a
 //! closure, so triangles, spheres and whole instances all use the same code, monomorphised.
 
+use std::cmp::Ordering;
+
 use arrayvec::ArrayVec;
 use glam::{Vec3A, Vec4};
 
@@ -478,57 +480,38 @@ fn sah_split(
         let b = ((c[axis] - lo[axis]) * scale[axis]).clamp(0.0, top.x) + ROUND;
         (b.to_bits() & 0xFF) as usize
     };
-    let mut bins = [[(Aabb::EMPTY, 0u32); BINS]; 3];
     // Small nodes are binned along their widest axis only: near the leaves a split along another
     // axis rarely wins, and the bottom levels hold most of the nodes.
     let widest = extent.max_position();
-    let all_axes = count >= SMALL_NODE;
-    for p in items.iter() {
-        let c = centre(&p.0);
-        if all_axes {
-            let bin = bins_of(c);
-            for axis in 0..3 {
-                let slot = &mut bins[axis][bin[axis]];
-                slot.0 = slot.0.union(p.0);
-                slot.1 += 1;
-            }
-        } else {
-            let slot = &mut bins[widest][bin_on(c, widest)];
-            slot.0 = slot.0.union(p.0);
-            slot.1 += 1;
-        }
-    }
+    let binnable = |axis: usize| extent[axis].partial_cmp(&0.0) == Some(Ordering::Greater);
     // (cost, axis, boundary, left box, right box)
     let mut best: Option<(f32, usize, usize, Aabb, Aabb)> = None;
-    for (axis, axis_bins) in bins.iter().enumerate() {
-        // A flat (or NaN) extent has nothing to bin along.
-        if extent[axis].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-            || !all_axes && axis != widest
-        {
-            continue;
-        }
-        // The right side of each boundary, swept from the right.
-        let mut right = [(Aabb::EMPTY, 0.0f32); BINS];
-        let (mut b, mut n) = (Aabb::EMPTY, 0u32);
-        for k in (1..BINS).rev() {
-            b = b.union(axis_bins[k].0);
-            n += axis_bins[k].1;
-            if n > 0 {
-                right[k] = (b, b.half_area_unchecked() * n as f32);
-            }
-        }
-        let (mut b, mut n) = (Aabb::EMPTY, 0u32);
-        for k in 1..BINS {
-            b = b.union(axis_bins[k - 1].0);
-            n += axis_bins[k - 1].1;
-            if n == 0 || n as usize == count {
-                continue;
-            }
-            let cost = b.half_area_unchecked() * n as f32 + right[k].1;
+    let mut consider = |axis: usize, bins: &Bins| {
+        if let Some((cost, k, left, right)) = bins.best_boundary(count) {
             if best.is_none_or(|best| cost < best.0) {
-                best = Some((cost, axis, k, b, right[k].0));
+                best = Some((cost, axis, k, left, right));
             }
         }
+    };
+    if count >= SMALL_NODE {
+        let mut bins = [Bins::EMPTY; 3];
+        for p in items.iter() {
+            let bin = bins_of(centre(&p.0));
+            for (axis, axis_bins) in bins.iter_mut().enumerate() {
+                axis_bins.add(bin[axis], &p.0);
+            }
+        }
+        for (axis, axis_bins) in bins.iter().enumerate() {
+            if binnable(axis) {
+                consider(axis, axis_bins);
+            }
+        }
+    } else if binnable(widest) {
+        let mut bins = Bins::EMPTY;
+        for p in items.iter() {
+            bins.add(bin_on(centre(&p.0), widest), &p.0);
+        }
+        consider(widest, &bins);
     }
     let (cost, axis, boundary, left_bounds, right_bounds) = best?;
     let split_cost = TRAVERSAL_COST + cost / bounds.half_area().max(f32::MIN_POSITIVE);
@@ -553,6 +536,58 @@ fn sah_split(
         side(left_bounds, left_centres),
         side(right_bounds, right_centres),
     ))
+}
+
+/// The boxes and counts of one axis's bins.
+#[derive(Clone, Copy)]
+struct Bins {
+    boxes: [Aabb; BINS],
+    counts: [u32; BINS],
+}
+
+impl Bins {
+    const EMPTY: Bins = Bins {
+        boxes: [Aabb::EMPTY; BINS],
+        counts: [0; BINS],
+    };
+
+    #[inline(always)]
+    fn add(&mut self, bin: usize, b: &Aabb) {
+        self.boxes[bin] = self.boxes[bin].union(*b);
+        self.counts[bin] += 1;
+    }
+
+    /// The cheapest boundary between bins by the SAH: its cost (areas times counts, not yet
+    /// divided by the parent's area), the first bin on its right, and both sides' boxes.
+    fn best_boundary(&self, count: usize) -> Option<(f32, usize, Aabb, Aabb)> {
+        // The right side of each boundary, swept from the right. Entries whose right side is
+        // empty are never read: their left side holds everything, which is no split.
+        let mut right_boxes = [Aabb::EMPTY; BINS];
+        let mut right_costs = [0.0f32; BINS];
+        let (mut b, mut n) = (Aabb::EMPTY, 0u32);
+        for k in (1..BINS).rev() {
+            b = b.union(self.boxes[k]);
+            n += self.counts[k];
+            if n > 0 {
+                right_boxes[k] = b;
+                right_costs[k] = b.half_area_unchecked() * n as f32;
+            }
+        }
+        let mut best: Option<(f32, usize, Aabb, Aabb)> = None;
+        let (mut b, mut n) = (Aabb::EMPTY, 0u32);
+        for k in 1..BINS {
+            b = b.union(self.boxes[k - 1]);
+            n += self.counts[k - 1];
+            if n == 0 || n as usize == count {
+                continue;
+            }
+            let cost = b.half_area_unchecked() * n as f32 + right_costs[k];
+            if best.is_none_or(|best| cost < best.0) {
+                best = Some((cost, k, b, right_boxes[k]));
+            }
+        }
+        best
+    }
 }
 
 /// Four-wide nodes from the binary tree: each takes its binary node's children and keeps
