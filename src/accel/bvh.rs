@@ -487,10 +487,10 @@ fn sah_split(
     // (cost, axis, boundary, left box, right box)
     let mut best: Option<(f32, usize, usize, Aabb, Aabb)> = None;
     let mut consider = |axis: usize, bins: &Bins| {
-        if let Some((cost, k, left, right)) = bins.best_boundary(count) {
-            if best.is_none_or(|best| cost < best.0) {
-                best = Some((cost, axis, k, left, right));
-            }
+        if let Some((cost, k, left, right)) = bins.best_boundary(count)
+            && best.is_none_or(|best| cost < best.0)
+        {
+            best = Some((cost, axis, k, left, right));
         }
     };
     if count >= SMALL_NODE {
