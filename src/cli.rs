@@ -259,11 +259,8 @@ fn finite(arg: &OsStr, flag: &str, what: &str) -> Result<f32, String> {
 /// Whether two paths name one file, also when written differently (`./a.txt` and `a.txt`).
 fn same_file(a: &Path, b: &Path) -> bool {
     let resolve = |p: &Path| -> Option<PathBuf> {
-        let folder = match p.parent() {
-            Some(f) if !f.as_os_str().is_empty() => f,
-            _ => Path::new("."),
-        };
-        Some(folder.canonicalize().ok()?.join(p.file_name()?))
+        let folder = image_io::folder_of(p).canonicalize().ok()?;
+        Some(folder.join(p.file_name()?))
     };
     a == b || matches!((resolve(a), resolve(b)), (Some(x), Some(y)) if x == y)
 }

@@ -82,6 +82,14 @@ pub fn encode(image: &Image, format: ImageFormat) -> Vec<u8> {
     }
 }
 
+/// The folder a file is (to be) in: `.` for a bare file name.
+pub(crate) fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    }
+}
+
 /// A TGA can say at most 65535 pixels a side.
 pub const TGA_MAX_SIDE: u32 = u16::MAX as u32;
 
@@ -96,10 +104,7 @@ impl PendingOutputs {
     pub fn reserve(paths: &[&Path]) -> Result<PendingOutputs, Error> {
         let mut files = Vec::new();
         for &path in paths {
-            let folder = match path.parent() {
-                Some(p) if !p.as_os_str().is_empty() => p,
-                _ => Path::new("."),
-            };
+            let folder = folder_of(path);
             let mut builder = tempfile::Builder::new();
             builder.prefix(".raycast-").suffix(".part");
             // Temporary files are made private (0600) and the rename keeps that; an image is an

@@ -90,12 +90,13 @@ pub fn invalid_utf8_span(bytes: &[u8], valid_up_to: usize) -> Span {
         .iter()
         .rposition(|&b| b == b'\n')
         .map_or(0, |i| i + 1);
-    let column = before[line_start..]
-        .iter()
-        .filter(|&&b| b & 0xC0 != 0x80)
-        .count() as u32
-        + 1;
-    Span::new(line, column)
+    Span::new(line, column_after(&before[line_start..]))
+}
+
+/// The column, counted from 1 in characters, just after `line_prefix` (UTF-8 bytes from the
+/// start of a line; continuation bytes do not start a character).
+pub(crate) fn column_after(line_prefix: &[u8]) -> u32 {
+    line_prefix.iter().filter(|&&b| b & 0xC0 != 0x80).count() as u32 + 1
 }
 
 /// How a token is shown in a message: quoted, shortened, with control characters escaped.

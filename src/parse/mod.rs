@@ -4,6 +4,7 @@
 mod lexer;
 mod parser;
 
+pub(crate) use lexer::column_after;
 pub use lexer::{Span, Token, describe};
 pub(crate) use parser::show_number;
 pub use parser::{MAX_MAGNITUDE, NUMBER_IN_RANGE, parse_scene, read_scene};

@@ -265,13 +265,7 @@ fn outward_box(points: &[DVec3]) -> Aabb {
 
 fn ellipsoid_bounds(sphere: &Sphere, matrix: &DMat4) -> Aabb {
     let (centre, reach) = ellipsoid_extent(sphere, matrix);
-    // Widened by a millionth of the reach, many ulps, so that rounding to f32 never cuts the
-    // surface.
-    let pad = reach * 1e-6;
-    Aabb {
-        min: (centre - reach - pad).as_vec3().into(),
-        max: (centre + reach + pad).as_vec3().into(),
-    }
+    outward_box(&[centre - reach, centre + reach])
 }
 
 /// Reads each mesh file once, however often the scene places it.

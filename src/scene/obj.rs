@@ -227,7 +227,7 @@ fn show(word: &[u8]) -> String {
 
 /// The character column of a byte offset, counted from 1.
 fn column(line: &[u8], offset: usize) -> u32 {
-    line[..offset].iter().filter(|&&b| b & 0xC0 != 0x80).count() as u32 + 1
+    crate::parse::column_after(&line[..offset])
 }
 
 /// Whitespace-separated words of one line, with their byte offsets.
