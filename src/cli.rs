@@ -1,5 +1,7 @@
 //! The course's command line: `raycast -input scene.txt -size 200 200 -output out.tga
-//! [-normals n.tga] [-depth 9 11 d.tga] [-shade_back]`, plus `-threads N` and `-stats`.
+//! [-normals n.tga] [-depth 9 11 d.tga] [-shade_back] [-shadows] [-bounces N] [-weight W]`,
+//! assignment 3's OpenGL-preview switches (accepted, without effect), plus `-specular_fix`,
+//! `-threads N` and `-stats`.
 //!
 //! Parsed by hand rather than with `clap`: the course's options are single-dash words
 //! (`-input`, `-shade_back`) and `-depth` takes three values of two kinds, which clap can only
@@ -14,20 +16,29 @@ use std::time::Instant;
 use crate::error::Error;
 use crate::image_io::{self, ImageFormat, PendingOutputs};
 use crate::render::{RenderSettings, render};
-use crate::scene::Scene;
+use crate::scene::{Scene, SpecularFalloff};
+use crate::trace::TraceSettings;
 
 pub const USAGE: &str = "\
 usage: raycast -input SCENE.txt -size WIDTH HEIGHT [-output IMAGE] [-normals IMAGE]
-               [-depth TMIN TMAX IMAGE] [-shade_back] [-threads N] [-stats]
+               [-depth TMIN TMAX IMAGE] [-shade_back] [-shadows] [-bounces N] [-weight W]
+               [-specular_fix] [-threads N] [-stats]
 
-Renders a scene of MIT 6.837's ray casting assignments (1 and 2).
+Renders a scene of MIT 6.837's ray tracing assignments (1 to 4).
 
   -input FILE            the scene file
   -size W H              the image size in pixels
   -output FILE           the shaded picture
   -normals FILE          the surface normals as colours (|x|, |y|, |z|)
   -depth TMIN TMAX FILE  distance as grey: TMIN and nearer white, TMAX and farther black
-  -shade_back            shade back faces like front faces (otherwise they are black)
+  -shade_back            shade back faces like front faces (otherwise they are black);
+                         needed to see through glass
+  -shadows               one shadow ray toward each light
+  -bounces N             reflect and refract rays up to N times (default 0)
+  -weight W              trace no mirror or glass ray whose weight is below W (default 0)
+  -specular_fix          fade highlights by N.L (the handout's optional fix)
+  -gui, -tessellation THETA PHI, -gouraud
+                         the course's OpenGL preview: accepted, and ignored
   -threads N             render on N threads (default: one per core)
   -stats                 after the render, print the time of each phase and the scene's size
   -help                  print this text
@@ -56,7 +67,9 @@ pub struct Options {
     pub output: Option<PathBuf>,
     pub normals: Option<PathBuf>,
     pub depth: Option<(f32, f32, PathBuf)>,
-    pub shade_back: bool,
+    pub trace: TraceSettings,
+    /// The course's OpenGL preview was asked for (`-gui`, `-tessellation`, `-gouraud`).
+    pub preview: bool,
     pub threads: Option<usize>,
     pub stats: bool,
 }
@@ -81,13 +94,22 @@ pub fn run(args: Vec<OsString>) -> ExitCode {
             say(std::io::stdout(), version);
             ExitCode::SUCCESS
         }
-        Ok(Command::Render(options)) => match execute(&options) {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(error) => {
-                say(std::io::stderr(), &error.to_string());
-                ExitCode::from(1)
+        Ok(Command::Render(options)) => {
+            if options.preview {
+                say(
+                    std::io::stderr(),
+                    "raycast: -gui, -tessellation and -gouraud drive the course's OpenGL preview, \
+                     which raycast does not have; they are ignored (the image is the same)",
+                );
             }
-        },
+            match execute(&options) {
+            Ok(()) => ExitCode::SUCCESS,
+                Err(error) => {
+                    say(std::io::stderr(), &error.to_string());
+                    ExitCode::from(1)
+                }
+            }
+        }
         Err(message) => {
             say(std::io::stderr(), &format!("raycast: {message}\n\n{USAGE}"));
             ExitCode::from(2)
@@ -155,7 +177,39 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
                 }
                 options.depth = Some((near, far, PathBuf::from(value(what)?)));
             }
-            "shade_back" => options.shade_back = true,
+            "shade_back" => options.trace.shade_back = true,
+            "shadows" => options.trace.shadows = true,
+            "specular_fix" => options.trace.specular = SpecularFalloff::Fade,
+            "bounces" => {
+                let arg = value("a number of bounces")?;
+                match arg.to_str().and_then(|s| s.parse::<u32>().ok()) {
+                    Some(n) => options.trace.bounces = n,
+                    None => {
+                        return Err(format!(
+                            "-bounces needs a number of bounces (a whole number from 0 to {}), \
+                             found '{}'",
+                            u32::MAX,
+                            arg.to_string_lossy()
+                        ));
+                    }
+                }
+            }
+            "weight" => {
+                let weight = finite(&value("a weight")?, "-weight", "a weight, a number")?;
+                if weight < 0.0 {
+                    return Err(format!(
+                        "-weight needs a weight of 0 or more, found '{weight}'"
+                    ));
+                }
+                options.trace.cutoff_weight = weight;
+            }
+            "gui" | "gouraud" => options.preview = true,
+            "tessellation" => {
+                let what = "the preview's THETA and PHI steps";
+                positive(&value(what)?, "-tessellation", "THETA")?;
+                positive(&value(what)?, "-tessellation", "PHI")?;
+                options.preview = true;
+            }
             "stats" => options.stats = true,
             "threads" => {
                 let arg = value("a number of threads")?;
@@ -291,7 +345,7 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
         colour: options.output.is_some(),
         normals: options.normals.is_some(),
         depth: options.depth.as_ref().map(|&(near, far, _)| (near, far)),
-        shade_back: options.shade_back,
+        trace: options.trace,
         progress: std::io::stderr().is_terminal(),
     };
     let render_start = Instant::now();
@@ -316,16 +370,23 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
 
     if options.stats {
         let w = load.world;
-        let rays = options.width as u64 * options.height as u64;
+        let rays = rendered.rays;
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
         let mb = |bytes: usize| bytes as f64 / (1 << 20) as f64;
         eprintln!("raycast: parse and load  {:9.2} ms", ms(load.parse));
         eprintln!("raycast: build BVH       {:9.2} ms", ms(load.build));
         eprintln!(
-            "raycast: render          {:9.2} ms  ({rays} primary rays on {threads} thread{}, {:.2} M rays/s)",
+            "raycast: render          {:9.2} ms  ({} rays on {threads} thread{}, {:.2} M rays/s)",
             ms(render_time),
+            rays.primary + rays.secondary + rays.shadow,
             if threads == 1 { "" } else { "s" },
-            rays as f64 / render_time.as_secs_f64() / 1e6
+            (rays.primary + rays.secondary + rays.shadow) as f64
+                / render_time.as_secs_f64()
+                / 1e6
+        );
+        eprintln!(
+            "raycast: rays: {} primary, {} reflected or refracted, {} shadow",
+            rays.primary, rays.secondary, rays.shadow
         );
         eprintln!("raycast: write images    {:9.2} ms", ms(write_time));
         eprintln!(

@@ -19,7 +19,7 @@
 //! let (scene, _stats) = Scene::from_description(&description)?;
 //! let settings = RenderSettings {
 //!     width: 20, height: 20, colour: true, normals: false, depth: None,
-//!     shade_back: false, progress: false,
+//!     trace: Default::default(), progress: false,
 //! };
 //! let image = render(&scene, &settings).colour.unwrap();
 //! assert_eq!(image.pixels[10 * 20 + 10], [255, 0, 0]); // the sphere, flat red
@@ -39,6 +39,7 @@ pub mod parse;
 pub mod render;
 pub mod scene;
 pub mod shade;
+pub mod trace;
 
 pub use error::{Diagnostic, Error};
 pub use render::{RenderSettings, Rendered};

@@ -1,7 +1,7 @@
 //! The pixel loop: bands of 16 rows spread over rayon's threads, each band walked in 16×16
 //! tiles (neighbouring rays then meet the same nodes while they are in cache), each pixel one
-//! ray through its centre. Every pixel is computed the same way whichever thread takes it, so any
-//! thread count gives the same image.
+//! camera ray through its centre, handed to the [`Tracer`]. Every pixel is computed the same way
+//! whichever thread takes it, so any thread count gives the same image.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -13,6 +13,7 @@ use crate::camera::pixel_to_screen;
 use crate::image_io::Image;
 use crate::scene::Scene;
 use crate::shade;
+use crate::trace::{RayCounts, Scratch, TraceSettings, Tracer};
 
 const TILE: u32 = 16;
 
@@ -25,7 +26,8 @@ pub struct RenderSettings {
     pub normals: bool,
     /// The t that maps to white and the t that maps to black.
     pub depth: Option<(f32, f32)>,
-    pub shade_back: bool,
+    /// Shadows, bounces and the rest of the tracer's switches.
+    pub trace: TraceSettings,
     /// Show a progress bar on stderr if the render outlasts about a second (and stderr is a
     /// terminal).
     pub progress: bool,
@@ -37,6 +39,8 @@ pub struct Rendered {
     pub colour: Option<Image>,
     pub normals: Option<Image>,
     pub depth: Option<Image>,
+    /// The rays cast to make them.
+    pub rays: RayCounts,
 }
 
 #[derive(Clone, Copy, Default)]
@@ -57,10 +61,12 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
     let band_len = width as usize * band_rows as usize;
     let background = shade::to_rgb(scene.background);
     let progress = Progress::new(settings.progress, samples.len().div_ceil(band_len.max(1)));
-    samples
+    let tracer = Tracer::new(scene, settings.trace);
+    let rays = samples
         .par_chunks_mut(band_len.max(1))
         .enumerate()
-        .for_each(|(band, pixels)| {
+        .map(|(band, pixels)| {
+            let mut scratch = Scratch::default();
             let top = band as u32 * band_rows;
             let rows = (pixels.len() / width as usize) as u32;
             for tile_left in (0..width).step_by(TILE as usize) {
@@ -68,13 +74,21 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
                     for column in tile_left..(tile_left + TILE).min(width) {
                         let index = ((row - top) * width + column) as usize;
                         // Rows are stored top first; the camera counts them from the bottom.
-                        pixels[index] =
-                            sample(scene, settings, background, column, height - 1 - row);
+                        pixels[index] = sample(
+                            &tracer,
+                            settings,
+                            background,
+                            column,
+                            height - 1 - row,
+                            &mut scratch,
+                        );
                     }
                 }
             }
             progress.advance();
-        });
+            scratch.counts
+        })
+        .reduce(RayCounts::default, |a, b| a + b);
     progress.finish();
 
     let picture = |wanted: bool, pick: fn(&Sample) -> [u8; 3]| {
@@ -88,13 +102,23 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
         colour: picture(settings.colour, |s| s.colour),
         normals: picture(settings.normals, |s| s.normal),
         depth: picture(settings.depth.is_some(), |s| [s.depth; 3]),
+        rays,
     }
 }
 
 #[inline]
-fn sample(scene: &Scene, settings: &RenderSettings, background: [u8; 3], i: u32, j: u32) -> Sample {
+fn sample(
+    tracer: &Tracer,
+    settings: &RenderSettings,
+    background: [u8; 3],
+    i: u32,
+    j: u32,
+    scratch: &mut Scratch,
+) -> Sample {
+    let scene = tracer.scene();
     let (u, v) = pixel_to_screen(i, j, settings.width, settings.height);
     let ray = scene.camera.ray(u, v);
+    scratch.counts.primary += 1;
     let Some(hit) = scene.world.intersect(&ray, scene.camera.t_min()) else {
         return Sample {
             colour: background,
@@ -102,7 +126,7 @@ fn sample(scene: &Scene, settings: &RenderSettings, background: [u8; 3], i: u32,
         };
     };
     let colour = if settings.colour {
-        shade::diffuse(scene, &ray, &hit, settings.shade_back)
+        tracer.colour(&ray, Some(&hit), scratch)
     } else {
         Vec3A::ZERO
     };

@@ -1,29 +1,9 @@
-//! Turning a hit into the three pictures raycast can make.
+//! From hits and colours to pixels: the normal and depth pictures, and the course's rule for
+//! turning a colour into bytes. (The colour itself comes from [`crate::trace`].)
 
 use glam::Vec3A;
 
 use crate::accel::Hit;
-use crate::geometry::Ray;
-use crate::scene::Scene;
-
-/// Ambient plus diffuse light. A back face (one the ray reaches from behind its normal) is black,
-/// unless `shade_back` asks for it to be shaded as seen from its other side.
-#[inline]
-pub fn diffuse(scene: &Scene, ray: &Ray, hit: &Hit, shade_back: bool) -> Vec3A {
-    let mut normal = hit.normal;
-    if ray.direction.dot(normal) > 0.0 {
-        if !shade_back {
-            return Vec3A::ZERO;
-        }
-        normal = -normal;
-    }
-    let diffuse = scene.materials[hit.material as usize].diffuse;
-    let mut light = scene.ambient;
-    for l in &scene.lights {
-        light += l.to_light.dot(normal).max(0.0) * l.color;
-    }
-    light * diffuse
-}
 
 /// |n|: the normal's components as a colour.
 #[inline]

@@ -423,7 +423,13 @@ fn render(scene: &Scene, shade_back: bool) -> Result<(), TestCaseError> {
         colour: true,
         normals: true,
         depth: Some((-5.0, 20.0)),
-        shade_back,
+        // The whole tracer: shadow rays, mirrors and glass meet the damaged scenes too.
+        trace: raycast::trace::TraceSettings {
+            shade_back,
+            shadows: true,
+            bounces: 3,
+            ..Default::default()
+        },
         progress: false,
     };
     let rendered = raycast::render::render(scene, &settings);

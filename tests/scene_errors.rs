@@ -895,7 +895,7 @@ fn render_scene(scene: &Scene, size: u32) -> raycast::Rendered {
         colour: true,
         normals: true,
         depth: Some((0.0, 20.0)),
-        shade_back: false,
+        trace: raycast::trace::TraceSettings::default(),
         progress: false,
     };
     raycast::render::render(scene, &settings)
@@ -1045,7 +1045,7 @@ fn surfaces_too_small_for_f32_still_face_the_ray() {
         colour: true,
         normals: true,
         depth: None,
-        shade_back: false,
+        trace: raycast::trace::TraceSettings::default(),
         progress: false,
     };
     let rendered = raycast::render::render(&scene, &settings);

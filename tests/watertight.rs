@@ -1187,7 +1187,10 @@ fn check_case(index: usize, case: &Case, folder: &Path, failures: &mut Vec<Strin
         colour: true,
         normals: false,
         depth: None,
-        shade_back: true,
+        trace: raycast::trace::TraceSettings {
+            shade_back: true,
+            ..Default::default()
+        },
         progress: false,
     };
     let fail = |failures: &mut Vec<String>, what: String| {

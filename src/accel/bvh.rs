@@ -184,6 +184,42 @@ impl Bvh {
         self.nodes.len() * std::mem::size_of::<Node>()
     }
 
+    /// Whether `hit` reports any primitive whose box the ray meets within [t_min, t_max]. An
+    /// occlusion query: children in no particular order, and the search ends at the first hit.
+    pub fn occluded(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        mut hit: impl FnMut(u32) -> bool,
+    ) -> bool {
+        if self.nodes.is_empty() {
+            return false;
+        }
+        let lanes = BoxRayLanes::new(ray);
+        // (first child or primitive, primitive count); a count of 0 is an inner node.
+        let mut stack: ArrayVec<(u32, u32), STACK> = ArrayVec::new();
+        let mut current = (0, 0);
+        loop {
+            let (child, count) = current;
+            if count == 0 {
+                let node = &self.nodes[child as usize];
+                let (_, mut mask) = hit_lanes(node, &lanes, t_min, t_max);
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    stack.push((node.child[lane], u32::from(node.count[lane])));
+                }
+            } else if (child..child + count).any(&mut hit) {
+                return true;
+            }
+            match stack.pop() {
+                Some(next) => current = next,
+                None => return false,
+            }
+        }
+    }
+
     /// Closest-hit traversal. `hit(i, t_max)` tests leaf entry `i` (a primitive in build order,
     /// or whatever [`Bvh::map_leaves`] made the leaves point at, such as a block of triangles)
     /// and returns its t if it is nearer than `t_max`. Returns the final t_max.

@@ -80,6 +80,18 @@ impl TriangleMesh {
         found
     }
 
+    /// Whether any triangle is hit in [t_min, t_max].
+    #[inline(always)]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let mut lanes: Option<TriangleRayLanes> = None;
+        self.bvh.occluded(ray, t_min, t_max, |block| {
+            let lanes = lanes.get_or_insert_with(|| TriangleRayLanes::new(ray));
+            self.blocks[block as usize]
+                .intersect(ray, lanes, t_min, t_max)
+                .is_some()
+        })
+    }
+
     /// Every triangle, one at a time, no tree: the brute-force twin the BVH is tested against.
     pub fn intersect_brute_force(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
         let mut best: Option<(f32, u32)> = None;

@@ -163,6 +163,45 @@ impl World {
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
+    /// Whether anything at all is hit with t in [t_min, t_max]: the shadow ray's question,
+    /// answered at the first hit found rather than the nearest.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        let on_plane = |(plane, _): &(Plane, u32)| intersect_plane(ray, plane, t_min, t_max);
+        if self.planes.iter().any(|p| on_plane(p).is_some()) {
+            return true;
+        }
+        let test = |i: u32| {
+            let item = &self.items[i as usize];
+            match item.transform() {
+                Item::WORLD_SPACE => self.occluded_local(item, ray, t_min, t_max),
+                t => {
+                    let local = self.transforms[t as usize].ray_to_object(ray);
+                    self.occluded_local(item, &local, t_min, t_max)
+                }
+            }
+        };
+        match self.items.len() {
+            0 => false,
+            1 => test(0),
+            _ => self.top.occluded(ray, t_min, t_max, test),
+        }
+    }
+
+    /// [`World::occluded`] without either tree: its brute-force twin.
+    pub fn occluded_brute_force(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+        self.intersect_brute_force(ray, t_min)
+            .is_some_and(|hit| hit.t <= t_max)
+    }
+
+    #[inline(always)]
+    fn occluded_local(&self, item: &Item, local: &Ray, t_min: f32, t_max: f32) -> bool {
+        match *item {
+            Item::Sphere { sphere, .. } => intersect_sphere(local, &sphere, t_min, t_max).is_some(),
+            Item::Mesh { mesh, .. } => self.meshes[mesh as usize].occluded(local, t_min, t_max),
+        }
+    }
+
     /// The same answer as [`World::intersect`] without either tree: the brute-force twin.
     pub fn intersect_brute_force(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
         let mut nearest = self.nearest_plane(ray, t_min);

@@ -5,11 +5,11 @@ use std::collections::HashMap;
 use std::path::{Component, Path, PathBuf};
 use std::time::Instant;
 
-use glam::{DMat4, DVec3, Vec3, Vec3A};
+use glam::{DMat4, DVec3, Vec3};
 
 use super::model::{PlacedObject, SceneDescription, Shape};
 use super::obj::parse_obj;
-use super::{Light, LoadStats, MaterialColour, Scene};
+use super::{Light, LoadStats, Material, Scene};
 use crate::accel::{Item, TriangleMesh, World};
 use crate::camera::Camera;
 use crate::error::{Diagnostic, Error};
@@ -163,21 +163,8 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
         camera: Camera::new(&description.camera),
         background: description.background.into(),
         ambient: description.ambient.into(),
-        lights: description
-            .lights
-            .iter()
-            .map(|l| Light {
-                to_light: -Vec3A::from(l.direction),
-                color: l.color.into(),
-            })
-            .collect(),
-        materials: description
-            .materials
-            .iter()
-            .map(|m| MaterialColour {
-                diffuse: m.diffuse.into(),
-            })
-            .collect(),
+        lights: description.lights.iter().map(Light::new).collect(),
+        materials: description.materials.iter().map(Material::new).collect(),
         world,
     };
     let stats = LoadStats {

@@ -1,6 +1,8 @@
 //! The scene: its description as parsed, and the render-ready form built from it.
 
 mod build;
+pub mod light;
+pub mod material;
 pub mod model;
 pub mod obj;
 
@@ -9,19 +11,13 @@ use std::time::Duration;
 
 use glam::Vec3A;
 
-pub use model::{Material, SceneDescription};
+pub use light::{Illumination, Light};
+pub use material::{Material, Phong, SpecularFalloff};
+pub use model::SceneDescription;
 
 use crate::accel::{World, WorldStats};
 use crate::camera::Camera;
 use crate::error::Error;
-
-/// A light as shading uses it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Light {
-    /// Unit vector toward the light: the opposite of the way its light travels.
-    pub to_light: Vec3A,
-    pub color: Vec3A,
-}
 
 /// A scene ready to render.
 #[derive(Debug, Clone)]
@@ -30,14 +26,8 @@ pub struct Scene {
     pub background: Vec3A,
     pub ambient: Vec3A,
     pub lights: Vec<Light>,
-    pub materials: Vec<MaterialColour>,
+    pub materials: Vec<Material>,
     pub world: World,
-}
-
-/// A material as shading uses it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MaterialColour {
-    pub diffuse: Vec3A,
 }
 
 /// How long loading took and what it made, for `-stats`.

@@ -15,7 +15,7 @@ pub struct SceneDescription {
     pub background: Vec3,
     /// Already forced to white when the scene has no lights (assignment 1's flat shading).
     pub ambient: Vec3,
-    pub lights: Vec<DirectionalLight>,
+    pub lights: Vec<LightSpec>,
     pub materials: Vec<Material>,
     /// Object-to-world matrices of the scene's Transform blocks, nesting already multiplied in.
     pub transforms: Vec<DMat4>,
@@ -39,16 +39,49 @@ pub struct CameraSpec {
     pub projection: Projection,
 }
 
+/// A light as the file gives it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DirectionalLight {
-    /// The direction the light travels, normalised.
-    pub direction: Vec3,
-    pub color: Vec3,
+pub enum LightSpec {
+    /// Light from infinitely far away: the same direction and colour everywhere.
+    Directional {
+        /// The direction the light travels, normalised.
+        direction: Vec3,
+        color: Vec3,
+    },
+    /// Light from a point, dimmed with distance d by 1 / (constant + linear·d + quadratic·d²).
+    Point {
+        position: Vec3,
+        color: Vec3,
+        /// The constant, linear and quadratic terms; none negative, not all zero.
+        attenuation: [f32; 3],
+    },
 }
 
+/// A Phong material (assignment 4's `PhongMaterial`, every field optional).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
     pub diffuse: Vec3,
+    pub specular: Vec3,
+    /// The specular exponent, at least 0.
+    pub exponent: f32,
+    pub reflective: Vec3,
+    pub transparent: Vec3,
+    /// Above 0.
+    pub index_of_refraction: f32,
+}
+
+impl Default for Material {
+    /// The staff parser's defaults: white diffuse, nothing else, exponent 1, index 1.
+    fn default() -> Material {
+        Material {
+            diffuse: Vec3::ONE,
+            specular: Vec3::ZERO,
+            exponent: 1.0,
+            reflective: Vec3::ZERO,
+            transparent: Vec3::ZERO,
+            index_of_refraction: 1.0,
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -1,0 +1,418 @@
+//! The ray tracer of assignment 4: the closest hit, shaded by every light (each behind a shadow
+//! ray under `-shadows`), plus what the mirror and glass rays it spawns bring back.
+//!
+//! The course writes this as a recursive `traceRay`. Colour is linear in what each ray brings
+//! back, so here the ray tree is walked with an explicit list of pending rays, each carrying
+//! the product of the reflective and transparent colours on its way from the camera: the same
+//! sum, in bounded native stack however large `-bounces` is, and with the list reused from ray
+//! to ray instead of allocated for each.
+
+use glam::Vec3A;
+
+use crate::accel::Hit;
+use crate::geometry::Ray;
+use crate::scene::{Scene, SpecularFalloff};
+
+/// Mirror and glass rays ignore hits nearer than this, in world units, so that they do not
+/// find the surface they start from.
+pub const SECONDARY_T_MIN: f32 = 1e-4;
+/// A shadow ray is blocked by a hit with `SHADOW_EPSILON < t < distance to the light`.
+pub const SHADOW_EPSILON: f32 = 1e-4;
+
+/// How rays are traced: the course's assignment-2 to -4 switches.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TraceSettings {
+    /// Shade back faces as seen from their other side (otherwise they are black).
+    pub shade_back: bool,
+    /// Send a shadow ray toward each light.
+    pub shadows: bool,
+    /// How many times a ray may be reflected or refracted; 0 traces camera rays only.
+    pub bounces: u32,
+    /// Mirror and glass rays whose weight falls below this are not traced.
+    pub cutoff_weight: f32,
+    pub specular: SpecularFalloff,
+}
+
+/// Rays cast, for `-stats`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    /// Camera rays.
+    pub primary: u64,
+    /// Reflected and refracted rays.
+    pub secondary: u64,
+    pub shadow: u64,
+}
+
+impl std::ops::Add for RayCounts {
+    type Output = RayCounts;
+    fn add(self, other: RayCounts) -> RayCounts {
+        RayCounts {
+            primary: self.primary + other.primary,
+            secondary: self.secondary + other.secondary,
+            shadow: self.shadow + other.shadow,
+        }
+    }
+}
+
+/// What one thread keeps between rays: the pending-ray list (so that no ray allocates) and its
+/// counts.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    pending: Vec<Pending>,
+    pub counts: RayCounts,
+}
+
+/// A mirror or glass ray still to trace.
+#[derive(Debug, Clone, Copy)]
+struct Pending {
+    ray: Ray,
+    bounces_left: u32,
+    weight: f32,
+    /// The product of the colours it was reflected or refracted by: what its colour counts for
+    /// in the pixel.
+    throughput: Vec3A,
+}
+
+/// Traces rays through one scene with one set of switches.
+#[derive(Debug, Clone, Copy)]
+pub struct Tracer<'a> {
+    scene: &'a Scene,
+    settings: TraceSettings,
+}
+
+impl<'a> Tracer<'a> {
+    pub fn new(scene: &'a Scene, settings: TraceSettings) -> Self {
+        Tracer { scene, settings }
+    }
+
+    pub fn scene(&self) -> &'a Scene {
+        self.scene
+    }
+
+    /// The colour seen along `ray` from its own start (the course's `traceRay` with weight 1 and
+    /// every bounce left).
+    pub fn trace(&self, ray: &Ray, t_min: f32, scratch: &mut Scratch) -> Vec3A {
+        let hit = self.scene.world.intersect(ray, t_min);
+        self.colour(ray, hit.as_ref(), scratch)
+    }
+
+    /// The colour seen along `ray`, given what it hits (the camera's rays are cast by the
+    /// caller, which also wants the hit for the normal and depth pictures). Unclamped.
+    pub fn colour(&self, ray: &Ray, hit: Option<&Hit>, scratch: &mut Scratch) -> Vec3A {
+        let first = Pending {
+            ray: *ray,
+            bounces_left: self.settings.bounces,
+            weight: 1.0,
+            throughput: Vec3A::ONE,
+        };
+        let mut colour = self.visit(&first, hit, scratch);
+        while let Some(next) = scratch.pending.pop() {
+            scratch.counts.secondary += 1;
+            let hit = self.scene.world.intersect(&next.ray, SECONDARY_T_MIN);
+            colour += next.throughput * self.visit(&next, hit.as_ref(), scratch);
+        }
+        colour
+    }
+
+    /// The light `ray` brings back from `hit` itself (ambient, then each light), queueing the
+    /// mirror and glass rays it spawns.
+    #[inline]
+    fn visit(&self, ray: &Pending, hit: Option<&Hit>, scratch: &mut Scratch) -> Vec3A {
+        let scene = self.scene;
+        let Some(hit) = hit else {
+            return scene.background;
+        };
+        let direction = ray.ray.direction;
+        let inside = direction.dot(hit.normal) > 0.0;
+        if inside && !self.settings.shade_back {
+            return Vec3A::ZERO;
+        }
+        let normal = if inside { -hit.normal } else { hit.normal };
+        let point = ray.ray.at(hit.t);
+        let material = &scene.materials[hit.material as usize];
+        let mut colour = scene.ambient * material.diffuse_at(point);
+        if material.is_lit() {
+            let to_eye = -direction.normalize();
+            for light in &scene.lights {
+                let Some(light) = light.illuminate(point) else {
+                    continue;
+                };
+                let shaded = material.shade(
+                    point,
+                    normal,
+                    to_eye,
+                    light.to_light,
+                    light.color,
+                    self.settings.specular,
+                );
+                // A light that adds nothing here needs no shadow ray.
+                if shaded == Vec3A::ZERO {
+                    continue;
+                }
+                if self.settings.shadows {
+                    scratch.counts.shadow += 1;
+                    let shadow = Ray::new(point, light.to_light);
+                    let (near, far) = shadow_range(light.distance);
+                    if scene.world.occluded(&shadow, near, far) {
+                        continue;
+                    }
+                }
+                colour += shaded;
+            }
+        }
+        if ray.bounces_left > 0 {
+            let unit = direction.normalize();
+            let mut spawn = |colour: Vec3A, direction: Vec3A| {
+                let weight = ray.weight * colour.length();
+                if weight >= self.settings.cutoff_weight {
+                    scratch.pending.push(Pending {
+                        ray: Ray::new(point, direction),
+                        bounces_left: ray.bounces_left - 1,
+                        weight,
+                        throughput: ray.throughput * colour,
+                    });
+                }
+            };
+            let reflective = material.reflective_at(point);
+            if reflective != Vec3A::ZERO {
+                spawn(reflective, reflect(unit, normal));
+            }
+            let transparent = material.transparent_at(point);
+            if transparent != Vec3A::ZERO {
+                // Outside is air (index 1); which side the ray is on says which way it crosses.
+                let index = material.index_of_refraction_at(point);
+                let ratio = if inside { index } else { 1.0 / index };
+                if let Some(refracted) = refract(unit, normal, ratio) {
+                    spawn(transparent, refracted);
+                }
+            }
+        }
+        colour
+    }
+}
+
+/// The t range in which a hit blocks a shadow ray: `SHADOW_EPSILON < t < distance`, both ends
+/// open.
+#[inline]
+pub fn shadow_range(distance: f32) -> (f32, f32) {
+    (SHADOW_EPSILON.next_up(), distance.next_down())
+}
+
+/// The mirror direction of unit `direction` about unit `normal` (either side).
+#[inline]
+pub fn reflect(direction: Vec3A, normal: Vec3A) -> Vec3A {
+    direction - 2.0 * direction.dot(normal) * normal
+}
+
+/// The direction of unit `direction` once through a surface with unit `normal` facing against
+/// it, `ratio` being the index it leaves over the index it enters (η_i / η_t); `None` on total
+/// internal reflection. The course's formula: with I = −direction,
+/// T = [η (N·I) − √(1 − η² (1 − (N·I)²))] N − η I.
+#[inline]
+pub fn refract(direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+    let incoming = -direction;
+    let cos_in = normal.dot(incoming);
+    let k = 1.0 - ratio * ratio * (1.0 - cos_in * cos_in);
+    if k < 0.0 {
+        return None;
+    }
+    Some(((ratio * cos_in - k.sqrt()) * normal - ratio * incoming).normalize())
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::parse::parse_scene;
+
+    fn close(a: Vec3A, b: Vec3A) -> bool {
+        (a - b).abs().max_element() < 1e-6
+    }
+
+    #[test]
+    fn reflection_by_hand() {
+        let d = Vec3A::new(1.0, -1.0, 0.0).normalize();
+        assert!(close(
+            reflect(d, Vec3A::Y),
+            Vec3A::new(1.0, 1.0, 0.0).normalize()
+        ));
+        // The same mirror seen from below: the normal's side does not matter.
+        assert!(close(
+            reflect(d, -Vec3A::Y),
+            Vec3A::new(1.0, 1.0, 0.0).normalize()
+        ));
+        // Head on, straight back.
+        assert!(close(reflect(-Vec3A::Z, Vec3A::Z), Vec3A::Z));
+    }
+
+    #[test]
+    fn refraction_into_glass_by_hand() {
+        // 45° into index 1.5: sin θt = sin 45° / 1.5 = 0.4714, cos θt = 0.8819.
+        let d = Vec3A::new(1.0, -1.0, 0.0).normalize();
+        let t = refract(d, Vec3A::Y, 1.0 / 1.5).unwrap();
+        assert!(close(t, Vec3A::new(0.471_404_5, -0.881_917_1, 0.0)), "{t}");
+        // Index 1 bends nothing.
+        assert!(close(refract(d, Vec3A::Y, 1.0).unwrap(), d));
+        // Head on goes straight through.
+        assert!(close(refract(-Vec3A::Y, Vec3A::Y, 1.0 / 1.5).unwrap(), -Vec3A::Y));
+    }
+
+    #[test]
+    fn refraction_out_of_glass_and_total_internal_reflection() {
+        // Inside index 1.5, the normal turned to face the ray: 20° leaves at
+        // asin(1.5 sin 20°) = 30.865°.
+        let angle = 20f32.to_radians();
+        let d = Vec3A::new(angle.sin(), angle.cos(), 0.0);
+        let t = refract(d, -Vec3A::Y, 1.5).unwrap();
+        let out = 30.865_03f32.to_radians();
+        assert!(close(t, Vec3A::new(out.sin(), out.cos(), 0.0)), "{t}");
+        // The critical angle is asin(1/1.5) = 41.81°: 45° stays inside.
+        let d = Vec3A::new(1.0, 1.0, 0.0).normalize();
+        assert_eq!(refract(d, -Vec3A::Y, 1.5), None);
+        // Just under it, out at nearly 90°.
+        let angle = 41.8f32.to_radians();
+        let d = Vec3A::new(angle.sin(), angle.cos(), 0.0);
+        let t = refract(d, -Vec3A::Y, 1.5).unwrap();
+        assert!(t.y > 0.0 && t.y < 0.03, "{t}");
+    }
+
+    #[test]
+    fn shadow_range_is_open_at_both_ends() {
+        let (near, far) = shadow_range(5.0);
+        assert!(near > 1e-4 && near < 1.0001e-4);
+        assert!(far < 5.0 && far > 4.9999);
+        assert_eq!(shadow_range(f32::INFINITY).1, f32::MAX);
+    }
+
+    fn scene(text: &str) -> Scene {
+        let description = parse_scene(Path::new("t.txt"), text).unwrap();
+        Scene::from_description(&description).unwrap().0
+    }
+
+    const MIRRORS: &str = "
+        OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+        Background { color 0.5 0.25 1 ambientLight 1 1 1 }
+        Materials { numMaterials 2
+            Material { diffuseColor 0.1 0.2 0.3 reflectiveColor 0.5 0.5 0.5 }
+            Material { diffuseColor 0.4 0 0 } }
+        Group { numObjects 2
+            MaterialIndex 0 Plane { normal 0 0 1 offset 0 }
+            MaterialIndex 1 Plane { normal 0 0 -1 offset -20 } }";
+
+    #[test]
+    fn bounces_and_the_weight_cut_off() {
+        // A camera ray meets a mirror (diffuse 0.1 0.2 0.3, reflective 0.5 grey); the reflected
+        // ray meets a red wall behind the camera. |0.5 0.5 0.5| = 0.866.
+        let scene = scene(MIRRORS);
+        let ray = Ray::new(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z);
+        let colour = |bounces, cutoff_weight| {
+            let settings = TraceSettings {
+                bounces,
+                cutoff_weight,
+                ..TraceSettings::default()
+            };
+            let mut scratch = Scratch::default();
+            let c = Tracer::new(&scene, settings).trace(&ray, f32::NEG_INFINITY, &mut scratch);
+            (c, scratch.counts.secondary)
+        };
+        let mirror = Vec3A::new(0.1, 0.2, 0.3);
+        let wall = Vec3A::new(0.4, 0.0, 0.0);
+        assert_eq!(colour(0, 0.0), (mirror, 0));
+        assert_eq!(colour(1, 0.0), (mirror + 0.5 * wall, 1));
+        // At or under 0.866 the reflection is traced, above it not.
+        assert_eq!(colour(1, 0.866).1, 1);
+        assert_eq!(colour(1, 0.867), (mirror, 0));
+        // More bounces change nothing: the wall does not reflect.
+        assert_eq!(colour(5, 0.0), (mirror + 0.5 * wall, 1));
+    }
+
+    #[test]
+    fn a_mirror_ray_that_escapes_brings_the_background() {
+        let scene = scene(
+            "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+             Background { color 0.5 0.25 1 ambientLight 1 1 1 }
+             Materials { numMaterials 1 Material { diffuseColor 0 0 0 reflectiveColor 1 0.5 0 } }
+             Group { numObjects 1 MaterialIndex 0 Plane { normal 0 0 1 offset 0 } }",
+        );
+        let ray = Ray::new(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z);
+        let settings = TraceSettings {
+            bounces: 1,
+            ..TraceSettings::default()
+        };
+        let c = Tracer::new(&scene, settings).trace(&ray, 0.0, &mut Scratch::default());
+        assert_eq!(c, Vec3A::new(0.5, 0.125, 0.0));
+    }
+
+    #[test]
+    fn shadow_ray_epsilon_and_light_distance() {
+        // A floor lit by a point light at (3, 0, 2) and a dim directional light from straight
+        // above; a small sphere halfway to the point light, off the camera ray, can block it.
+        let floor = |blocker: &str| {
+            scene(&format!(
+                "OrthographicCamera {{ center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }}
+                 Background {{ color 0 0 0 ambientLight 0 0 0 }}
+                 Lights {{ numLights 2 PointLight {{ position 3 0 2 color 0.5 0.5 0.5 }}
+                     DirectionalLight {{ direction 0 0 -1 color 0.1 0.2 0.3 }} }}
+                 Materials {{ numMaterials 1 Material {{ diffuseColor 1 1 1 }} }}
+                 Group {{ numObjects 2 MaterialIndex 0 Plane {{ normal 0 0 1 offset 0 }}
+                     {blocker} }}"
+            ))
+        };
+        let floor_point = |scene: &Scene, shadows| {
+            let settings = TraceSettings {
+                shadows,
+                ..TraceSettings::default()
+            };
+            let ray = Ray::new(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z);
+            let mut scratch = Scratch::default();
+            let c = Tracer::new(scene, settings).trace(&ray, 0.0, &mut scratch);
+            (c, scratch.counts.shadow)
+        };
+        // N·L = 2/√13 for the point light, 1 for the directional one.
+        let point_share = Vec3A::splat(0.5 * 2.0 / 13f32.sqrt());
+        let directional_share = Vec3A::new(0.1, 0.2, 0.3);
+        let open = floor("Sphere { center 1.5 3 1 radius 0.1 }");
+        let blocked = floor("Sphere { center 1.5 0 1 radius 0.1 }");
+        let (lit, rays) = floor_point(&open, true);
+        assert!(close(lit, point_share + directional_share), "{lit}");
+        assert_eq!(rays, 2);
+        let (shadowed, rays) = floor_point(&blocked, true);
+        assert_eq!(rays, 2);
+        // Exactly the blocked light's share is missing.
+        assert!(close(lit - shadowed, point_share), "{shadowed}");
+        // Without -shadows, no shadow rays and no shadow.
+        assert_eq!(floor_point(&blocked, false), (lit, 0));
+
+        let blocked = scene(
+            "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+             Background { color 0 0 0 ambientLight 0 0 0 }
+             Lights { numLights 1 PointLight { position 0 0 2 color 0.5 0.5 0.5 } }
+             Materials { numMaterials 1 Material { diffuseColor 1 1 1 } }
+             Group { numObjects 1 MaterialIndex 0 Plane { normal 0 0 1 offset 0 } }",
+        );
+        let world = &blocked.world;
+        let up = Ray::new(Vec3A::ZERO, Vec3A::Z);
+        // From a point on the floor, toward the light: the floor itself at t = 0 is within the
+        // epsilon and does not block.
+        let (near, far) = shadow_range(2.0);
+        assert!(!world.occluded(&up, near, far));
+        // A ray starting 0.5e-4 above the plane sees it at t = -0.5e-4 (behind), and one
+        // starting below it sees it at t = 0.5e-4, inside the epsilon: neither blocks. At
+        // 2e-4 below, it is past the epsilon and blocks.
+        for (start, blocks) in [(0.5e-4, false), (-0.5e-4, false), (-2e-4, true)] {
+            let ray = Ray::new(Vec3A::new(0.0, 0.0, start), Vec3A::Z);
+            assert_eq!(world.occluded(&ray, near, far), blocks, "start {start}");
+        }
+        // A surface beyond the light does not block: the light at distance 2 from a point 3
+        // below the plane... the plane is at t = 3, past the light.
+        let below = Ray::new(Vec3A::new(0.0, 0.0, -3.0), Vec3A::Z);
+        let (near, far) = shadow_range(2.0);
+        assert!(!world.occluded(&below, near, far));
+        let (near, far) = shadow_range(3.5);
+        assert!(world.occluded(&below, near, far));
+        // Exactly at the light's distance: open end, no block.
+        let (near, far) = shadow_range(3.0);
+        assert!(!world.occluded(&below, near, far));
+    }
+}
