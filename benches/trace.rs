@@ -143,7 +143,7 @@ fn trace(bencher: Bencher, name: &str, threads: usize) {
         colour: true,
         normals: false,
         depth: None,
-        shade_back: false,
+        trace: raycast::trace::TraceSettings::default(),
         progress: false,
     };
     let pool = pool(threads);

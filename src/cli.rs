@@ -103,7 +103,7 @@ pub fn run(args: Vec<OsString>) -> ExitCode {
                 );
             }
             match execute(&options) {
-            Ok(()) => ExitCode::SUCCESS,
+                Ok(()) => ExitCode::SUCCESS,
                 Err(error) => {
                     say(std::io::stderr(), &error.to_string());
                     ExitCode::from(1)
@@ -380,9 +380,7 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
             ms(render_time),
             rays.primary + rays.secondary + rays.shadow,
             if threads == 1 { "" } else { "s" },
-            (rays.primary + rays.secondary + rays.shadow) as f64
-                / render_time.as_secs_f64()
-                / 1e6
+            (rays.primary + rays.secondary + rays.shadow) as f64 / render_time.as_secs_f64() / 1e6
         );
         eprintln!(
             "raycast: rays: {} primary, {} reflected or refracted, {} shadow",

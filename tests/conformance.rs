@@ -100,7 +100,7 @@ fn run_suite(suite: &Suite) -> (usize, usize, Vec<String>) {
     let out_dir = tempfile::tempdir().unwrap();
     let failures_dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("target/conformance-failures")
-        .join(suite.name);
+        .join(suite.name.replace(' ', "-"));
     let lines: Vec<&str> = commands
         .lines()
         .filter(|l| l.starts_with("raytracer "))
@@ -109,8 +109,7 @@ fn run_suite(suite: &Suite) -> (usize, usize, Vec<String>) {
         .par_iter()
         .enumerate()
         .map(|(number, line)| {
-            let mut args: Vec<String> =
-                line.split_whitespace().skip(1).map(String::from).collect();
+            let mut args: Vec<String> = line.split_whitespace().skip(1).map(String::from).collect();
             // Output names become paths in a scratch folder of the line's own (two lines may
             // write the same name); remember which is which.
             let line_dir = out_dir.path().join(number.to_string());
@@ -157,8 +156,7 @@ fn run_suite(suite: &Suite) -> (usize, usize, Vec<String>) {
                         std::fs::create_dir_all(&failures_dir).unwrap();
                         let actual_path = failures_dir.join(format!("{stem}-actual.png"));
                         actual.save(&actual_path).unwrap();
-                        let mut message =
-                            format!("{stem}: actual image {}", actual_path.display());
+                        let mut message = format!("{stem}: actual image {}", actual_path.display());
                         match comparison {
                             Some(c) => {
                                 let diff_path = failures_dir.join(format!("{stem}-diff.png"));

@@ -273,7 +273,7 @@ fn material_and_light_counts_that_do_not_match() {
         parse_error(&format!(
             "{CAMERA}\nLights {{ numLights 1 SpotLight {{ direction 0 0 1 color 1 1 1 }} }}\n"
         )),
-        "s.txt:2:22: expected DirectionalLight, found 'SpotLight'"
+        "s.txt:2:22: expected DirectionalLight or PointLight, found 'SpotLight'"
     );
 }
 
@@ -339,21 +339,158 @@ fn an_object_before_any_material_index() {
 fn keywords_of_later_assignments_are_named() {
     assert_eq!(
         parse_error(&format!(
-            "{CAMERA}\nMaterials {{ numMaterials 1 Material {{ diffuseColor 1 0 0 specularColor 1 1 1 }} }}\n"
-        )),
-        "s.txt:2:58: 'specularColor' is not supported yet: it belongs to a later assignment of the course"
-    );
-    assert_eq!(
-        parse_error(&format!(
-            "{CAMERA}\nLights {{ numLights 1 PointLight {{ position 0 0 0 color 1 1 1 }} }}\n"
-        )),
-        "s.txt:2:22: 'PointLight' is not supported yet: it belongs to a later assignment of the course"
-    );
-    assert_eq!(
-        parse_error(&format!(
             "{CAMERA}\nMaterials {{ numMaterials 2 Material {{ }} Checkerboard {{ }} }}\n"
         )),
         "s.txt:2:41: 'Checkerboard' is not supported yet: it belongs to a later assignment of the course"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Assignment 4's materials and lights
+
+/// The scene's materials and lights, from `Materials { ... }` and `Lights { ... }` blocks.
+fn materials_and_lights(
+    blocks: &str,
+) -> (
+    Vec<raycast::scene::model::Material>,
+    Vec<raycast::scene::model::LightSpec>,
+) {
+    let description = parse_scene(Path::new("s.txt"), &format!("{CAMERA}\n{blocks}\n")).unwrap();
+    (description.materials, description.lights)
+}
+
+#[test]
+fn phong_fields_are_optional_and_in_any_order() {
+    use glam::Vec3;
+    use raycast::scene::model::Material;
+    let (materials, _) = materials_and_lights(
+        "Materials { numMaterials 3
+            PhongMaterial { }
+            Material { indexOfRefraction 1.5 transparentColor 0.1 0.2 0.3 exponent 20
+                reflectiveColor 0.4 0.5 0.6 specularColor 0.7 0.8 0.9 diffuseColor 0 0.5 1 }
+            PhongMaterial { exponent 0 exponent 3 } }",
+    );
+    assert_eq!(materials[0], Material::default());
+    assert_eq!(
+        materials[0],
+        Material {
+            diffuse: Vec3::ONE,
+            specular: Vec3::ZERO,
+            exponent: 1.0,
+            reflective: Vec3::ZERO,
+            transparent: Vec3::ZERO,
+            index_of_refraction: 1.0,
+        }
+    );
+    assert_eq!(
+        materials[1],
+        Material {
+            diffuse: Vec3::new(0.0, 0.5, 1.0),
+            specular: Vec3::new(0.7, 0.8, 0.9),
+            exponent: 20.0,
+            reflective: Vec3::new(0.4, 0.5, 0.6),
+            transparent: Vec3::new(0.1, 0.2, 0.3),
+            index_of_refraction: 1.5,
+        }
+    );
+    // As the course's parser: a field given twice keeps its last value.
+    assert_eq!(materials[2].exponent, 3.0);
+}
+
+#[test]
+fn point_lights_with_and_without_attenuation() {
+    use glam::Vec3;
+    use raycast::scene::model::LightSpec;
+    let (_, lights) = materials_and_lights(
+        "Lights { numLights 3
+            PointLight { position 1 2 3 color 0.5 0.5 0.5 }
+            DirectionalLight { direction 0 -2 0 color 1 1 1 }
+            PointLight { position 0 0 0 color 1 0 0 attenuation 0 0.5 0.25 } }",
+    );
+    assert_eq!(
+        lights,
+        [
+            LightSpec::Point {
+                position: Vec3::new(1.0, 2.0, 3.0),
+                color: Vec3::splat(0.5),
+                attenuation: [1.0, 0.0, 0.0],
+            },
+            LightSpec::Directional {
+                direction: Vec3::new(0.0, -1.0, 0.0),
+                color: Vec3::ONE,
+            },
+            LightSpec::Point {
+                position: Vec3::ZERO,
+                color: Vec3::new(1.0, 0.0, 0.0),
+                attenuation: [0.0, 0.5, 0.25],
+            },
+        ]
+    );
+}
+
+#[test]
+fn material_values_that_make_no_sense() {
+    let material = |fields: &str| {
+        parse_error(&format!(
+            "{CAMERA}\nMaterials {{ numMaterials 1 Material {{ {fields} }} }}\n"
+        ))
+    };
+    assert_eq!(
+        material("exponent -2"),
+        "s.txt:2:48: expected a specular exponent of 0 or more, found '-2'"
+    );
+    assert_eq!(
+        material("indexOfRefraction 0"),
+        "s.txt:2:57: expected an index of refraction above 0, found '0'"
+    );
+    assert_eq!(
+        material("indexOfRefraction -1.5"),
+        "s.txt:2:57: expected an index of refraction above 0, found '-1.5'"
+    );
+    assert_eq!(
+        material("indexOfRefraction 1e-50"),
+        "s.txt:2:57: expected an index of refraction above 0, found '1e-50' (so small that \
+         single precision rounds it to zero)"
+    );
+    assert_eq!(
+        material("shininess 4"),
+        "s.txt:2:39: expected diffuseColor, specularColor, exponent, reflectiveColor, \
+         transparentColor, indexOfRefraction or '}', found 'shininess'"
+    );
+    assert_eq!(
+        material("reflectiveColor 1 1"),
+        "s.txt:2:59: expected a number, found '}'"
+    );
+}
+
+#[test]
+fn point_light_values_that_make_no_sense() {
+    let light = |body: &str| {
+        parse_error(&format!(
+            "{CAMERA}\nLights {{ numLights 1 PointLight {{ {body} }} }}\n"
+        ))
+    };
+    assert_eq!(
+        light("position 0 0 0 color 1 1 1 attenuation 0 0 0"),
+        "s.txt:2:62: expected attenuation with at least one term above 0 (1 0 0: no \
+         fall-off), found '0 0 0', which would make the light infinitely bright"
+    );
+    assert_eq!(
+        light("position 0 0 0 color 1 1 1 attenuation 1 -0.5 0"),
+        "s.txt:2:76: expected an attenuation term of 0 or more, found '-0.5'"
+    );
+    // The fields come in the course's fixed order.
+    assert_eq!(
+        light("color 1 1 1 position 0 0 0"),
+        "s.txt:2:35: expected 'position', found 'color'"
+    );
+    assert_eq!(
+        light("position 0 0 0 color 1 1 1 falloff 2"),
+        "s.txt:2:62: expected attenuation or '}', found 'falloff'"
+    );
+    assert_eq!(
+        light("position 0 0 0 color 1 1 1 attenuation 1 0 0 attenuation 1 0 0"),
+        "s.txt:2:80: expected '}', found 'attenuation'"
     );
 }
 

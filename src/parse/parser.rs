@@ -16,12 +16,7 @@ type Result<T> = std::result::Result<T, Diagnostic>;
 
 /// Words of the course's later assignments (SCENE_FORMAT.md §11): refused by name rather than
 /// as unknown words, so that a user knows the file is fine and raycast is what falls short.
-const LATER_KEYWORDS: &[&str] = &[
-    "Checkerboard",
-    "Noise",
-    "Marble",
-    "Wood",
-];
+const LATER_KEYWORDS: &[&str] = &["Checkerboard", "Noise", "Marble", "Wood"];
 
 const OBJECT: &str = "an object (Group, Transform, Sphere, Plane, Triangle or TriangleMesh)";
 

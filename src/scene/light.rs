@@ -126,7 +126,12 @@ mod tests {
         assert_eq!(at([0.0, 0.0, 0.05]).color, Vec3A::new(0.8, 0.4, 1.0) * 1.25);
         // 1 / (1 + 0.5·4 + 0.25·16) = 1/7
         let mixed = at([1.0, 0.5, 0.25]).color;
-        assert!((mixed - Vec3A::new(0.8, 0.4, 1.0) / 7.0).abs().max_element() < 1e-7);
+        assert!(
+            (mixed - Vec3A::new(0.8, 0.4, 1.0) / 7.0)
+                .abs()
+                .max_element()
+                < 1e-7
+        );
     }
 
     #[test]
