@@ -66,7 +66,14 @@ pub struct Scratch {
 #[derive(Debug, Clone, Copy)]
 struct Pending {
     ray: Ray,
+    branch: Branch,
+}
+
+/// Where a ray stands in the ray tree.
+#[derive(Debug, Clone, Copy)]
+struct Branch {
     bounces_left: u32,
+    /// The course's weight: the product of the magnitudes of the colours on the way here.
     weight: f32,
     /// The product of the colours it was reflected or refracted by: what its colour counts for
     /// in the pixel.
@@ -99,77 +106,76 @@ impl<'a> Tracer<'a> {
     /// The colour seen along `ray`, given what it hits (the camera's rays are cast by the
     /// caller, which also wants the hit for the normal and depth pictures). Unclamped.
     pub fn colour(&self, ray: &Ray, hit: Option<&Hit>, scratch: &mut Scratch) -> Vec3A {
-        let first = Pending {
-            ray: *ray,
+        let from_camera = Branch {
             bounces_left: self.settings.bounces,
             weight: 1.0,
             throughput: Vec3A::ONE,
         };
-        let mut colour = self.visit(&first, hit, scratch);
+        let mut colour = self.visit(ray, from_camera, hit, scratch);
         while let Some(next) = scratch.pending.pop() {
             scratch.counts.secondary += 1;
             let hit = self.scene.world.intersect(&next.ray, SECONDARY_T_MIN);
-            colour += next.throughput * self.visit(&next, hit.as_ref(), scratch);
+            colour +=
+                next.branch.throughput * self.visit(&next.ray, next.branch, hit.as_ref(), scratch);
         }
         colour
     }
 
     /// The light `ray` brings back from `hit` itself (ambient, then each light), queueing the
     /// mirror and glass rays it spawns.
-    #[inline]
-    fn visit(&self, ray: &Pending, hit: Option<&Hit>, scratch: &mut Scratch) -> Vec3A {
+    #[inline(always)]
+    fn visit(&self, ray: &Ray, branch: Branch, hit: Option<&Hit>, scratch: &mut Scratch) -> Vec3A {
         let scene = self.scene;
         let Some(hit) = hit else {
             return scene.background;
         };
-        let direction = ray.ray.direction;
+        let direction = ray.direction;
         let inside = direction.dot(hit.normal) > 0.0;
         if inside && !self.settings.shade_back {
             return Vec3A::ZERO;
         }
         let normal = if inside { -hit.normal } else { hit.normal };
-        let point = ray.ray.at(hit.t);
+        let point = ray.at(hit.t);
         let material = &scene.materials[hit.material as usize];
         let mut colour = scene.ambient * material.diffuse_at(point);
-        if material.is_lit() {
-            let to_eye = -direction.normalize();
-            for light in &scene.lights {
-                let Some(light) = light.illuminate(point) else {
-                    continue;
-                };
-                let shaded = material.shade(
-                    point,
-                    normal,
-                    to_eye,
-                    light.to_light,
-                    light.color,
-                    self.settings.specular,
-                );
+        for light in &scene.lights {
+            let Some(light) = light.illuminate(point) else {
+                continue;
+            };
+            let shaded = material.shade(
+                point,
+                normal,
+                direction,
+                light.to_light,
+                light.color,
+                self.settings.specular,
+            );
+            if self.settings.shadows {
                 // A light that adds nothing here needs no shadow ray.
                 if shaded == Vec3A::ZERO {
                     continue;
                 }
-                if self.settings.shadows {
-                    scratch.counts.shadow += 1;
-                    let shadow = Ray::new(point, light.to_light);
-                    let (near, far) = shadow_range(light.distance);
-                    if scene.world.occluded(&shadow, near, far) {
-                        continue;
-                    }
+                scratch.counts.shadow += 1;
+                let shadow = Ray::new(point, light.to_light);
+                let (near, far) = shadow_range(light.distance);
+                if scene.world.occluded(&shadow, near, far) {
+                    continue;
                 }
-                colour += shaded;
             }
+            colour += shaded;
         }
-        if ray.bounces_left > 0 {
+        if branch.bounces_left > 0 {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, direction: Vec3A| {
-                let weight = ray.weight * colour.length();
+                let weight = branch.weight * colour.length();
                 if weight >= self.settings.cutoff_weight {
                     scratch.pending.push(Pending {
                         ray: Ray::new(point, direction),
-                        bounces_left: ray.bounces_left - 1,
-                        weight,
-                        throughput: ray.throughput * colour,
+                        branch: Branch {
+                            bounces_left: branch.bounces_left - 1,
+                            weight,
+                            throughput: branch.throughput * colour,
+                        },
                     });
                 }
             };

@@ -141,7 +141,7 @@ impl World {
     }
 
     /// The nearest hit with t >= t_min.
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
         let mut nearest = self.nearest_plane(ray, t_min);
         let t_max = nearest.map_or(f32::INFINITY, |n| n.t);

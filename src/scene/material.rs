@@ -57,19 +57,20 @@ impl Material {
     }
 
     /// The light of one light source reflected toward the eye (the course's `Material::Shade`).
-    /// All vectors are unit length; `normal` faces the eye's side of the surface.
+    /// `normal` and `to_light` are unit length, `normal` on the eye's side of the surface;
+    /// `view` is the direction the eye looks along, of any length.
     #[inline]
     pub fn shade(
         &self,
         _point: Vec3A,
         normal: Vec3A,
-        to_eye: Vec3A,
+        view: Vec3A,
         to_light: Vec3A,
         light: Vec3A,
         falloff: SpecularFalloff,
     ) -> Vec3A {
         match self {
-            Material::Phong(phong) => phong.shade(normal, to_eye, to_light, light, falloff),
+            Material::Phong(phong) => phong.shade(normal, view, to_light, light, falloff),
         }
     }
 
@@ -93,25 +94,18 @@ impl Material {
             Material::Phong(phong) => phong.index_of_refraction,
         }
     }
-
-    /// Whether any light source can change this material's colour at all: a black material
-    /// needs no shadow rays.
-    #[inline]
-    pub fn is_lit(&self) -> bool {
-        match self {
-            Material::Phong(phong) => phong.diffuse != Vec3A::ZERO || phong.specular != Vec3A::ZERO,
-        }
-    }
 }
 
 impl Phong {
     /// Diffuse plus Blinn-Torrance specular, k_s (N·H)^q with H = normalize(L + V), as OpenGL
     /// and the course's lecture have it; no distance term (point lights attenuate their colour).
+    /// `view` is the direction the eye looks along, of any length: it is normalised only for a
+    /// highlight, which most of the course's materials do not have.
     #[inline]
     pub fn shade(
         &self,
         normal: Vec3A,
-        to_eye: Vec3A,
+        view: Vec3A,
         to_light: Vec3A,
         light: Vec3A,
         falloff: SpecularFalloff,
@@ -119,6 +113,7 @@ impl Phong {
         let n_dot_l = normal.dot(to_light);
         let mut colour = self.diffuse * n_dot_l.max(0.0);
         if self.specular != Vec3A::ZERO && n_dot_l >= 0.0 {
+            let to_eye = -view.normalize();
             let half = (to_light + to_eye).normalize_or_zero();
             let mut highlight = normal.dot(half).max(0.0).powf(self.exponent);
             if falloff == SpecularFalloff::Fade {
