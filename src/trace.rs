@@ -357,12 +357,18 @@ mod tests {
         // A floor lit by a point light at (3, 0, 2) and a dim directional light from straight
         // above; a small sphere halfway to the point light, off the camera ray, can block it.
         let floor = |blocker: &str| {
+            // A blocker may bring a material of its own: "Material { ... } MaterialIndex 1 ...".
+            let (glass, blocker) = match blocker.split_once(" MaterialIndex") {
+                Some((material, rest)) => (material, format!("MaterialIndex{rest}")),
+                None => ("", blocker.to_string()),
+            };
+            let materials = if glass.is_empty() { 1 } else { 2 };
             scene(&format!(
                 "OrthographicCamera {{ center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }}
                  Background {{ color 0 0 0 ambientLight 0 0 0 }}
                  Lights {{ numLights 2 PointLight {{ position 3 0 2 color 0.5 0.5 0.5 }}
                      DirectionalLight {{ direction 0 0 -1 color 0.1 0.2 0.3 }} }}
-                 Materials {{ numMaterials 1 Material {{ diffuseColor 1 1 1 }} }}
+                 Materials {{ numMaterials {materials} Material {{ diffuseColor 1 1 1 }} {glass} }}
                  Group {{ numObjects 2 MaterialIndex 0 Plane {{ normal 0 0 1 offset 0 }}
                      {blocker} }}"
             ))
@@ -391,6 +397,13 @@ mod tests {
         assert!(close(lit - shadowed, point_share), "{shadowed}");
         // Without -shadows, no shadow rays and no shadow.
         assert_eq!(floor_point(&blocked, false), (lit, 0));
+        // Glass casts the same, opaque shadow (the course's rule).
+        let glass = floor(
+            "Material { diffuseColor 0 0 0 transparentColor 1 1 1 indexOfRefraction 1 }
+             MaterialIndex 1 Sphere { center 1.5 0 1 radius 0.1 }",
+        );
+        let (through_glass, _) = floor_point(&glass, true);
+        assert!(close(through_glass, shadowed), "{through_glass}");
 
         let blocked = scene(
             "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }

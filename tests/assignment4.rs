@@ -13,7 +13,9 @@
 //!   pixel, with d worked out from the camera ray through the pixel;
 //! * glass of index 1 with a black surface shows the scene behind it unbent;
 //! * a mirror floor shows the objects above it upside down;
-//! * one thread and two give the same image.
+//! * one thread and two give the same image;
+//! * the normal and depth pictures show the camera ray's own hit, whatever the tracing
+//!   options, also at a non-square size.
 //!
 //! The course data comes from RAYCAST_LATER_DIR (default ../shared/later-assignments); where
 //! the variable is set, missing data fails the tests.
@@ -429,4 +431,39 @@ fn one_thread_and_two_give_the_same_image() {
         };
         assert!(on("1") == on("2"), "{output}: 1 and 2 threads differ");
     }
+}
+
+#[test]
+fn normals_and_depth_do_not_depend_on_tracing_options() {
+    let Some(dir) = later_dir() else { return };
+    let lines = assignment_4_lines(&dir);
+    let scenes = dir.join("scenes");
+    let args = line_for(&lines, "output4_14f.tga");
+    let scratch = tempfile::tempdir().unwrap();
+    let pictures = |args: &[String], tag: &str| {
+        let normals = scratch.path().join(format!("normals-{tag}.png"));
+        let depth = scratch.path().join(format!("depth-{tag}.png"));
+        let mut args = with_value(args, "-size", "300");
+        let at = args.iter().position(|a| a == "-size").unwrap();
+        args[at + 2] = "150".into();
+        args.extend(
+            ["-normals", normals.to_str().unwrap(), "-depth", "10", "30"].map(String::from),
+        );
+        args.push(depth.to_str().unwrap().to_string());
+        let colour = render(&scenes, &args);
+        assert_eq!(colour.dimensions(), (300, 150));
+        (
+            image::open(&normals).unwrap().to_rgb8(),
+            image::open(&depth).unwrap().to_rgb8(),
+        )
+    };
+    let traced = pictures(args, "traced");
+    let plain_args = with_value(&without(args, "-shadows", 0), "-bounces", "0");
+    let plain = pictures(&plain_args, "plain");
+    assert!(
+        traced == plain,
+        "normals or depth change with -bounces or -shadows"
+    );
+    // A picture that is not all background: the gem is there.
+    assert!(traced.0.pixels().any(|p| p.0 != [0, 0, 0]));
 }

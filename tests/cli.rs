@@ -719,3 +719,105 @@ fn one_thread_and_two_threads_give_identical_images() {
     let background = *colour.get_pixel(0, 0);
     assert!(colour.pixels().filter(|&&p| p != background).count() > 500);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Assignments 3 and 4: the tracer's options
+
+#[test]
+fn bounces_and_weight_values() {
+    for n in ["-1", "two", "1.5", "4294967296"] {
+        assert_eq!(
+            refused(&format!(
+                "-input scene.txt -size 8 8 -output a.tga -bounces {n}"
+            )),
+            format!(
+                "-bounces needs a number of bounces (a whole number from 0 to 4294967295), \
+                 found '{n}'"
+            )
+        );
+    }
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -bounces"),
+        "-bounces needs a number of bounces, found the end of the command line"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -weight -0.5"),
+        "-weight needs a weight of 0 or more, found '-0.5'"
+    );
+    for w in ["NaN", "inf", "heavy"] {
+        assert_eq!(
+            refused(&format!(
+                "-input scene.txt -size 8 8 -output a.tga -weight {w}"
+            )),
+            format!("-weight needs a weight, a number, found '{w}'")
+        );
+    }
+    let args = "-input scene.txt -size 8 8 -output a.tga -bounces 4294967295 -weight 0.01 \
+                -shadows -specular_fix -shade_back";
+    match raycast::cli::parse_args(args.split_whitespace().map(Into::into).collect()) {
+        Ok(raycast::cli::Command::Render(options)) => {
+            let trace = options.trace;
+            assert_eq!(trace.bounces, u32::MAX);
+            assert_eq!(trace.cutoff_weight, 0.01);
+            assert!(trace.shadows && trace.shade_back);
+            assert_eq!(trace.specular, raycast::scene::SpecularFalloff::Fade);
+            assert!(!options.preview);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn the_opengl_preview_options_are_accepted_and_change_nothing() {
+    let dir = workspace();
+    succeeds(dir.path(), "-input scene.txt -size 16 16 -output plain.tga");
+    let line =
+        "-input scene.txt -size 16 16 -output preview.tga -gui -tessellation 100 50 -gouraud";
+    let output = raycast(dir.path(), &line.split(' ').collect::<Vec<_>>());
+    assert_eq!(output.status.code(), Some(0));
+    // Said once, however many of the three are given.
+    assert_eq!(
+        stderr(&output),
+        "raycast: -gui, -tessellation and -gouraud drive the course's OpenGL preview, which \
+         raycast does not have; they are ignored (the image is the same)\n"
+    );
+    assert_eq!(
+        std::fs::read(dir.path().join("plain.tga")).unwrap(),
+        std::fs::read(dir.path().join("preview.tga")).unwrap()
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -tessellation 10 -gouraud"),
+        "-tessellation needs PHI (a whole number above 0), found '-gouraud'"
+    );
+}
+
+#[test]
+fn stats_count_shadow_and_mirror_rays() {
+    // A 2x2 picture of a mirror filling the view, lit by two lights: each camera ray hits the
+    // mirror (2 shadow rays, one per light, and 1 reflected ray, which escapes to the
+    // background and so sends no shadow ray of its own).
+    let dir = workspace();
+    std::fs::write(
+        dir.path().join("mirror.txt"),
+        "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+         Lights { numLights 2
+             DirectionalLight { direction 0 0 -1 color 0.5 0.5 0.5 }
+             PointLight { position 0 0 5 color 0.5 0.5 0.5 attenuation 1 0 0 } }
+         Materials { numMaterials 1 Material { reflectiveColor 0.5 0.5 0.5 } }
+         Group { numObjects 1 MaterialIndex 0 Plane { normal 0 0 1 offset 0 } }",
+    )
+    .unwrap();
+    let output = raycast(
+        dir.path(),
+        &"-input mirror.txt -size 2 2 -output m.tga -shadows -bounces 3 -stats"
+            .split(' ')
+            .collect::<Vec<_>>(),
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let err = stderr(&output);
+    assert!(
+        err.lines()
+            .any(|l| l == "raycast: rays: 4 primary, 4 reflected or refracted, 8 shadow"),
+        "{err}"
+    );
+}

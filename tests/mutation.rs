@@ -48,14 +48,15 @@ PerspectiveCamera {
 }
 Background { color 0.1 0.2 0.3 ambientLight 0.2 0.2 0.2 }
 Lights {
-    numLights 2
+    numLights 3
     DirectionalLight { direction -1 -1 -1 color 0.8 0.7 0.6 }
     DirectionalLight { direction 0.5 -0.2 -1 color 0.2 0.3 0.4 }
+    PointLight { position 0 4 3 color 0.9 0.9 0.9 attenuation 0.5 0.1 0.02 }
 }
 Materials {
     numMaterials 3
-    Material { diffuseColor 1 0 0 }
-    PhongMaterial { diffuseColor 0 1 0 }
+    Material { diffuseColor 1 0 0 specularColor 0.5 0.5 0.5 exponent 20 reflectiveColor 0.3 0.3 0.3 }
+    PhongMaterial { diffuseColor 0 1 0 transparentColor 0.6 0.6 0.6 indexOfRefraction 1.4 }
     Material { }
 }
 Group {
@@ -147,22 +148,51 @@ struct Input {
     bytes: Vec<u8>,
 }
 
-/// The course's scenes, or None (with a warning) where they are not to be found.
-fn course_scenes() -> Option<PathBuf> {
-    let root = match std::env::var_os("RAYCAST_CONFORMANCE_DIR") {
+/// A folder of the course's scenes, or None (with a warning) where it is not to be found.
+fn course_folder(variable: &str, default: &str) -> Option<PathBuf> {
+    let root = match std::env::var_os(variable) {
         Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/conformance"),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join(default),
     };
     let scenes = root.join("scenes");
     if scenes.is_dir() {
         Some(scenes)
     } else {
         eprintln!(
-            "\n*** mutation: no course scenes at {}; mutating the built-in inputs only ***\n",
+            "\n*** mutation: no course scenes at {}; mutating the other inputs only ***\n",
             scenes.display()
         );
         None
     }
+}
+
+/// The files of the course to mutate: every scene and mesh of assignments 1 and 2, and the
+/// scenes of assignments 3 and 4 (Phong materials, point lights, mirrors and glass) with the
+/// meshes they name.
+fn course_files() -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    if let Some(scenes) = course_folder("RAYCAST_CONFORMANCE_DIR", "../shared/conformance") {
+        files.extend(
+            std::fs::read_dir(&scenes)
+                .unwrap()
+                .map(|e| e.unwrap().path()),
+        );
+    }
+    if let Some(scenes) = course_folder("RAYCAST_LATER_DIR", "../shared/later-assignments") {
+        let wanted = |name: &str| {
+            name.starts_with("scene3_")
+                || name.starts_with("scene4_")
+                || ["cube.obj", "bunny_200.obj", "bunny_1k.obj", "diamond.obj"].contains(&name)
+        };
+        files.extend(
+            std::fs::read_dir(&scenes)
+                .unwrap()
+                .map(|e| e.unwrap().path())
+                .filter(|p| p.file_name().is_some_and(|n| wanted(&n.to_string_lossy()))),
+        );
+    }
+    files.sort();
+    files
 }
 
 /// The inputs, and a folder holding every mesh they name (where mutated scenes are loaded).
@@ -182,25 +212,18 @@ fn inputs() -> (Vec<Input>, tempfile::TempDir) {
         bytes: text.as_bytes().to_vec(),
     })
     .collect();
-    if let Some(scenes) = course_scenes() {
-        let mut entries: Vec<PathBuf> = std::fs::read_dir(&scenes)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .collect();
-        entries.sort();
-        for path in entries {
-            let name = path.file_name().unwrap().to_string_lossy().into_owned();
-            let kind = match path.extension().and_then(|e| e.to_str()) {
-                Some("txt") => Kind::Scene,
-                Some("obj") => Kind::Obj,
-                _ => continue,
-            };
-            let bytes = std::fs::read(&path).unwrap();
-            if kind == Kind::Obj {
-                std::fs::write(folder.path().join(&name), &bytes).unwrap();
-            }
-            inputs.push(Input { name, kind, bytes });
+    for path in course_files() {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let kind = match path.extension().and_then(|e| e.to_str()) {
+            Some("txt") => Kind::Scene,
+            Some("obj") => Kind::Obj,
+            _ => continue,
+        };
+        let bytes = std::fs::read(&path).unwrap();
+        if kind == Kind::Obj {
+            std::fs::write(folder.path().join(&name), &bytes).unwrap();
         }
+        inputs.push(Input { name, kind, bytes });
     }
     (inputs, folder)
 }
@@ -227,7 +250,8 @@ const KEYWORDS: &[&str] = &[
     "MaterialIndex", "Sphere", "radius", "Plane", "normal", "offset", "Triangle", "vertex0",
     "vertex1", "vertex2", "TriangleMesh", "obj_file", "Transform", "Scale", "UniformScale",
     "Translate", "XRotate", "YRotate", "ZRotate", "Rotate", "Matrix", "{", "}", "specularColor",
-    "exponent", "PointLight", "Checkerboard", "v", "f", "vn", "vt", "g", "o", "s", "usemtl",
+    "exponent", "PointLight", "position", "attenuation", "reflectiveColor", "transparentColor",
+    "indexOfRefraction", "Checkerboard", "v", "f", "vn", "vt", "g", "o", "s", "usemtl",
     "mtllib", "#", "1/2/3", "1//1", "-1", "cube.obj", "bunny_200.obj", "real.obj", "missing.obj",
 ];
 
