@@ -40,7 +40,8 @@ Renders a scene of MIT 6.837's ray tracing assignments (1 to 4).
   -gui, -tessellation THETA PHI, -gouraud
                          the course's OpenGL preview: accepted, and ignored
   -threads N             render on N threads (default: one per core)
-  -stats                 after the render, print the time of each phase and the scene's size
+  -stats                 after the render, print the time of each phase, the rays cast
+                         and the scene's size
   -help                  print this text
   -version               print the version
 

@@ -1,10 +1,11 @@
-//! raycast: a ray caster for the scene format of MIT 6.837's assignments 1 and 2, exact to the
+//! raycast: a ray tracer for the scene format of MIT 6.837's assignments 1 to 4, exact to the
 //! course's reference images.
 //!
 //! The stages, each a module that knows only those before it:
 //! scene text ([`parse`]) → scene description ([`scene::model`]) → render-ready [`Scene`]
-//! (geometry in [`geometry`], trees in [`accel`]) → rays from the [`camera`] → [`shade`] →
-//! [`render`] → files ([`image_io`]). [`cli`] is the course's command line on top.
+//! (lights and materials in [`scene`], geometry in [`geometry`], trees in [`accel`]) → rays
+//! from the [`camera`] → the pixel loop ([`render`]) → the ray tracer ([`trace`]) and pixel
+//! values ([`shade`]) → files ([`image_io`]). [`cli`] is the course's command line on top.
 //!
 //! ```
 //! use std::path::Path;

@@ -353,6 +353,36 @@ mod tests {
     }
 
     #[test]
+    fn glass_without_shade_back_is_dark_inside() {
+        // A clear glass slab seen head on in front of a white wall: the glass ray meets the
+        // slab's back face from inside, which is black unless back faces are shaded.
+        let scene = scene(
+            "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+             Background { color 0 0 0 ambientLight 1 1 1 }
+             Materials { numMaterials 2
+                 Material { diffuseColor 0 0 0 transparentColor 0.5 0.5 0.5 indexOfRefraction 1.5 }
+                 Material { diffuseColor 1 1 1 } }
+             Group { numObjects 3
+                 MaterialIndex 0
+                 Triangle { vertex0 -5 -5 1 vertex1 5 -5 1 vertex2 0 5 1 }
+                 Triangle { vertex0 -5 -5 -1 vertex1 0 5 -1 vertex2 5 -5 -1 }
+                 MaterialIndex 1 Plane { normal 0 0 1 offset -5 } }",
+        );
+        let ray = Ray::new(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z);
+        let colour = |shade_back| {
+            let settings = TraceSettings {
+                shade_back,
+                bounces: 5,
+                ..TraceSettings::default()
+            };
+            Tracer::new(&scene, settings).trace(&ray, 0.0, &mut Scratch::default())
+        };
+        assert_eq!(colour(false), Vec3A::ZERO);
+        // In, out, and onto the wall: 0.5 · 0.5 · white.
+        assert_eq!(colour(true), Vec3A::splat(0.25));
+    }
+
+    #[test]
     fn shadow_ray_epsilon_and_light_distance() {
         // A floor lit by a point light at (3, 0, 2) and a dim directional light from straight
         // above; a small sphere halfway to the point light, off the camera ray, can block it.

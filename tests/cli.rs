@@ -765,6 +765,18 @@ fn bounces_and_weight_values() {
         }
         other => panic!("{other:?}"),
     }
+    // The defaults: camera rays only, no cut-off, no shadows, the course's highlights.
+    let args = "-input scene.txt -size 8 8 -output a.tga";
+    match raycast::cli::parse_args(args.split_whitespace().map(Into::into).collect()) {
+        Ok(raycast::cli::Command::Render(options)) => {
+            assert_eq!(options.trace, raycast::trace::TraceSettings::default());
+            assert_eq!(options.trace.bounces, 0);
+            assert_eq!(options.trace.cutoff_weight, 0.0);
+            assert!(!options.trace.shadows && !options.trace.shade_back);
+            assert_eq!(options.trace.specular, raycast::scene::SpecularFalloff::Cut);
+        }
+        other => panic!("{other:?}"),
+    }
 }
 
 #[test]
@@ -795,14 +807,16 @@ fn the_opengl_preview_options_are_accepted_and_change_nothing() {
 fn stats_count_shadow_and_mirror_rays() {
     // A 2x2 picture of a mirror filling the view, lit by two lights: each camera ray hits the
     // mirror (2 shadow rays, one per light, and 1 reflected ray, which escapes to the
-    // background and so sends no shadow ray of its own).
+    // background and so sends no shadow ray of its own). A third light shines on the mirror's
+    // back: it could add nothing, so it gets no shadow rays.
     let dir = workspace();
     std::fs::write(
         dir.path().join("mirror.txt"),
         "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
-         Lights { numLights 2
+         Lights { numLights 3
              DirectionalLight { direction 0 0 -1 color 0.5 0.5 0.5 }
-             PointLight { position 0 0 5 color 0.5 0.5 0.5 attenuation 1 0 0 } }
+             PointLight { position 0 0 5 color 0.5 0.5 0.5 attenuation 1 0 0 }
+             DirectionalLight { direction 0 0 1 color 1 1 1 } }
          Materials { numMaterials 1 Material { reflectiveColor 0.5 0.5 0.5 } }
          Group { numObjects 1 MaterialIndex 0 Plane { normal 0 0 1 offset 0 } }",
     )
