@@ -136,13 +136,15 @@ impl<'a> Tracer<'a> {
         }
         let normal = if inside { -hit.normal } else { hit.normal };
         let point = ray.at(hit.t);
-        let material = &scene.materials[hit.material as usize];
-        let mut colour = scene.ambient * material.diffuse_at(point);
+        let materials = &scene.materials;
+        let material = hit.material;
+        let mut colour = scene.ambient * materials.diffuse_at(material, point);
         for light in &scene.lights {
             let Some(light) = light.illuminate(point) else {
                 continue;
             };
-            let shaded = material.shade(
+            let shaded = materials.shade(
+                material,
                 point,
                 normal,
                 direction,
@@ -179,14 +181,14 @@ impl<'a> Tracer<'a> {
                     });
                 }
             };
-            let reflective = material.reflective_at(point);
+            let reflective = materials.reflective_at(material, point);
             if reflective != Vec3A::ZERO {
                 spawn(reflective, reflect(unit, normal));
             }
-            let transparent = material.transparent_at(point);
+            let transparent = materials.transparent_at(material, point);
             if transparent != Vec3A::ZERO {
                 // Outside is air (index 1); which side the ray is on says which way it crosses.
-                let index = material.index_of_refraction_at(point);
+                let index = materials.index_of_refraction_at(material, point);
                 let ratio = if inside { index } else { 1.0 / index };
                 if let Some(refracted) = refract(unit, normal, ratio) {
                     spawn(transparent, refracted);

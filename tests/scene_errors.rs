@@ -335,16 +335,6 @@ fn an_object_before_any_material_index() {
     );
 }
 
-#[test]
-fn keywords_of_later_assignments_are_named() {
-    assert_eq!(
-        parse_error(&format!(
-            "{CAMERA}\nMaterials {{ numMaterials 2 Material {{ }} Checkerboard {{ }} }}\n"
-        )),
-        "s.txt:2:41: 'Checkerboard' is not supported yet: it belongs to a later assignment of the course"
-    );
-}
-
 // ---------------------------------------------------------------------------------------------
 // Assignment 4's materials and lights
 
@@ -362,7 +352,7 @@ fn materials_and_lights(
 #[test]
 fn phong_fields_are_optional_and_in_any_order() {
     use glam::Vec3;
-    use raycast::scene::model::Material;
+    use raycast::scene::model::{Material, Phong};
     let (materials, _) = materials_and_lights(
         "Materials { numMaterials 3
             PhongMaterial { }
@@ -370,31 +360,34 @@ fn phong_fields_are_optional_and_in_any_order() {
                 reflectiveColor 0.4 0.5 0.6 specularColor 0.7 0.8 0.9 diffuseColor 0 0.5 1 }
             PhongMaterial { exponent 0 exponent 3 } }",
     );
-    assert_eq!(materials[0], Material::default());
+    assert_eq!(materials[0], Material::Phong(Phong::default()));
     assert_eq!(
         materials[0],
-        Material {
+        Material::Phong(Phong {
             diffuse: Vec3::ONE,
             specular: Vec3::ZERO,
             exponent: 1.0,
             reflective: Vec3::ZERO,
             transparent: Vec3::ZERO,
             index_of_refraction: 1.0,
-        }
+        })
     );
     assert_eq!(
         materials[1],
-        Material {
+        Material::Phong(Phong {
             diffuse: Vec3::new(0.0, 0.5, 1.0),
             specular: Vec3::new(0.7, 0.8, 0.9),
             exponent: 20.0,
             reflective: Vec3::new(0.4, 0.5, 0.6),
             transparent: Vec3::new(0.1, 0.2, 0.3),
             index_of_refraction: 1.5,
-        }
+        })
     );
     // As the course's parser: a field given twice keeps its last value.
-    assert_eq!(materials[2].exponent, 3.0);
+    assert!(matches!(
+        materials[2],
+        Material::Phong(Phong { exponent: 3.0, .. })
+    ));
 }
 
 #[test]
@@ -1218,5 +1211,154 @@ fn transform_values_keep_full_precision() {
     assert_eq!(
         matrix_of("Scale 0.1 0.1 0.1"),
         matrix_of("UniformScale 0.1")
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Assignment 6's solid textures
+
+/// The message for a third material `texture` after a white and a red Phong material.
+fn texture_error(texture: &str) -> String {
+    parse_error(&format!(
+        "{CAMERA}\nMaterials {{ numMaterials 3 Material {{ }} Material {{ diffuseColor 1 0 0 }} {texture} }}\n"
+    ))
+}
+
+#[test]
+fn textures_in_the_course_grammar() {
+    use raycast::scene::model::{Material, Pattern};
+    let (materials, _) = materials_and_lights(
+        "Materials { numMaterials 6 Material { } Material { diffuseColor 1 0 0 }
+            Checkerboard { materialIndex 0 materialIndex 1 }
+            Noise { Transform { UniformScale 2 Translate 1 0 0 } materialIndex 1 materialIndex 0
+                octaves 4 }
+            Marble { materialIndex 2 materialIndex 3 octaves 0 frequency 3 amplitude -2.5 }
+            Wood { Transform { ZRotate 90 } materialIndex 4 materialIndex 0 octaves 5
+                frequency 7 amplitude 2 } }",
+    );
+    let texture = |i: usize| match materials[i] {
+        Material::Texture(t) => t,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(texture(2).pattern, Pattern::Checkerboard);
+    assert_eq!(texture(2).materials, [0, 1]);
+    assert_eq!(texture(2).to_texture, glam::DMat4::IDENTITY);
+    assert_eq!(texture(3).pattern, Pattern::Noise { octaves: 4 });
+    assert_eq!(texture(3).materials, [1, 0]);
+    // The ops compose as an object Transform's: the one listed last applies first.
+    let p = texture(3)
+        .to_texture
+        .transform_point3(glam::DVec3::new(1.0, 1.0, 1.0));
+    assert_eq!(p, glam::DVec3::new(4.0, 2.0, 2.0));
+    assert_eq!(
+        texture(4).pattern,
+        Pattern::Marble {
+            octaves: 0,
+            frequency: 3.0,
+            amplitude: -2.5
+        }
+    );
+    assert_eq!(texture(4).materials, [2, 3]);
+    assert!(matches!(
+        texture(5).pattern,
+        Pattern::Wood { octaves: 5, .. }
+    ));
+}
+
+#[test]
+fn texture_mistakes() {
+    assert_eq!(
+        texture_error("Checkerboard { materialIndex 0 materialIndex 2 }"),
+        "s.txt:2:118: expected a material index from 0 to 1 (a texture uses materials listed \
+         before it), found '2', the texture itself"
+    );
+    assert_eq!(
+        texture_error("Checkerboard { materialIndex 0 materialIndex 3 }"),
+        "s.txt:2:118: expected a material index from 0 to 1 (a texture uses materials listed \
+         before it), found '3'"
+    );
+    assert_eq!(
+        parse_error(&format!(
+            "{CAMERA}\nMaterials {{ numMaterials 1 Checkerboard {{ materialIndex 0 materialIndex 0 }} }}\n"
+        )),
+        "s.txt:2:57: expected a material listed before this texture (it is the first material, \
+         so there is none), found '0', the texture itself"
+    );
+    assert_eq!(
+        texture_error("Checkerboard { materialIndex 1 }"),
+        "s.txt:2:104: expected 'materialIndex', found '}'"
+    );
+    assert_eq!(
+        texture_error("Checkerboard { materialIndex 0 materialIndex 1 octaves 3 }"),
+        "s.txt:2:120: expected '}', found 'octaves'"
+    );
+    assert_eq!(
+        texture_error("Noise { materialIndex 0 materialIndex 1 }"),
+        "s.txt:2:113: expected 'octaves', found '}'"
+    );
+    for octaves in ["-1", "31", "1e9", "two"] {
+        assert_eq!(
+            texture_error(&format!(
+                "Noise {{ materialIndex 0 materialIndex 1 octaves {octaves} }}"
+            )),
+            format!("s.txt:2:121: expected a number of octaves from 0 to 30, found '{octaves}'")
+        );
+    }
+    // The fields come in the course's fixed order.
+    assert_eq!(
+        texture_error(
+            "Marble { materialIndex 0 materialIndex 1 octaves 3 amplitude 2 frequency 1 }"
+        ),
+        "s.txt:2:124: expected 'frequency', found 'amplitude'"
+    );
+    assert_eq!(
+        texture_error("Noise { octaves 2 materialIndex 0 materialIndex 1 }"),
+        "s.txt:2:81: expected Transform or materialIndex, found 'octaves'"
+    );
+    // A texture's Transform holds ops only.
+    assert_eq!(
+        texture_error(
+            "Wood { Transform { Scale 1 2 1 Sphere { center 0 0 0 radius 1 } } \
+             materialIndex 0 materialIndex 1 octaves 3 frequency 1 amplitude 2 }"
+        ),
+        "s.txt:2:104: expected a transformation (Scale, UniformScale, Translate, XRotate, \
+         YRotate, ZRotate, Rotate or Matrix) or '}' (a texture's Transform holds no object), \
+         found 'Sphere'"
+    );
+    assert_eq!(
+        texture_error(
+            "Noise { Transform { UniformScale 0 } materialIndex 0 materialIndex 1 octaves 2 }"
+        ),
+        "s.txt:2:106: expected an invertible transformation, found one that flattens space (a \
+         scale of zero)"
+    );
+    assert_eq!(
+        texture_error(
+            "Noise { Transform { UniformScale 1e5 UniformScale 1e5 } materialIndex 0 \
+             materialIndex 1 octaves 2 }"
+        ),
+        "s.txt:2:81: expected a texture transformation whose matrix has entries between -1e9 \
+         and 1e9, found an entry of 1e10"
+    );
+}
+
+#[test]
+fn textures_nest_at_most_eight_deep() {
+    let chain = |levels: usize| {
+        let mut materials = vec!["Material { }".to_string()];
+        materials.extend(
+            (0..levels).map(|i| format!("Checkerboard {{ materialIndex {i} materialIndex 0 }}")),
+        );
+        format!(
+            "{CAMERA}\nMaterials {{ numMaterials {} {} }}\n",
+            materials.len(),
+            materials.join(" ")
+        )
+    };
+    assert!(parse_scene(Path::new("s.txt"), &chain(8)).is_ok());
+    let error = parse_error(&chain(9));
+    assert!(
+        error.ends_with("expected textures nested at most 8 deep, found one nested 9 deep"),
+        "{error}"
     );
 }

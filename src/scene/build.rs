@@ -9,7 +9,7 @@ use glam::{DMat4, DVec3, Vec3};
 
 use super::model::{PlacedObject, SceneDescription, Shape};
 use super::obj::parse_obj;
-use super::{Light, LoadStats, Material, Scene};
+use super::{Light, LoadStats, Material, Materials, Scene};
 use crate::accel::{Item, TriangleMesh, World};
 use crate::camera::Camera;
 use crate::error::{Diagnostic, Error};
@@ -164,7 +164,7 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
         background: description.background.into(),
         ambient: description.ambient.into(),
         lights: description.lights.iter().map(Light::new).collect(),
-        materials: description.materials.iter().map(Material::new).collect(),
+        materials: Materials::new(description.materials.iter().map(Material::new).collect()),
         world,
     };
     let stats = LoadStats {

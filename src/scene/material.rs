@@ -1,16 +1,19 @@
-//! Materials as shading uses them. Every question takes the world-space hit point: the course's
-//! assignment 6 adds solid textures, which choose between two earlier materials by that point
-//! (and blend their shaded colours); they will join [`Material`] as variants without changing
-//! what the tracer asks.
+//! Materials as shading uses them: Phong materials and the course's solid textures, which
+//! choose, or blend, between two earlier materials by where the hit point lies in texture
+//! space. Every question takes the world-space point; a texture answers it by asking its two
+//! materials and interpolating their answers (the handout's 11/2 update: the shaded colours
+//! are interpolated, and so are the ambient, reflective and transparent terms).
 
-use glam::Vec3A;
+use glam::{DAffine3, DVec3, Vec3A};
 
-use super::model;
+use super::model::{self, Pattern};
+use super::perlin::octave_noise;
 
-/// A material of the scene.
+/// A material of the scene; a texture refers to others by their index in [`Materials`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Material {
     Phong(Phong),
+    Texture(Texture),
 }
 
 /// Blinn-Phong shading plus the mirror and glass terms of assignment 4.
@@ -22,6 +25,16 @@ pub struct Phong {
     pub reflective: Vec3A,
     pub transparent: Vec3A,
     pub index_of_refraction: f32,
+}
+
+/// A solid texture between two materials listed before it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Texture {
+    pub pattern: Pattern,
+    /// World space to texture space.
+    pub to_texture: DAffine3,
+    /// The material where the pattern is 0, and where it is 1.
+    pub materials: [u32; 2],
 }
 
 /// How the specular highlight fades where the light comes from behind the surface.
@@ -36,63 +49,156 @@ pub enum SpecularFalloff {
     Fade,
 }
 
+/// The scene's materials, asked by index.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Materials {
+    list: Vec<Material>,
+}
+
 impl Material {
     pub fn new(spec: &model::Material) -> Material {
-        Material::Phong(Phong {
-            diffuse: spec.diffuse.into(),
-            specular: spec.specular.into(),
-            exponent: spec.exponent,
-            reflective: spec.reflective.into(),
-            transparent: spec.transparent.into(),
-            index_of_refraction: spec.index_of_refraction,
-        })
+        match spec {
+            model::Material::Phong(phong) => Material::Phong(Phong {
+                diffuse: phong.diffuse.into(),
+                specular: phong.specular.into(),
+                exponent: phong.exponent,
+                reflective: phong.reflective.into(),
+                transparent: phong.transparent.into(),
+                index_of_refraction: phong.index_of_refraction,
+            }),
+            model::Material::Texture(texture) => Material::Texture(Texture {
+                pattern: texture.pattern,
+                to_texture: DAffine3::from_mat4(texture.to_texture),
+                materials: texture.materials,
+            }),
+        }
+    }
+}
+
+impl Texture {
+    /// Where `point` (world space) falls between the first material (0) and the second (1).
+    pub fn weight(&self, point: Vec3A) -> f32 {
+        let p = self
+            .to_texture
+            .transform_point3(DVec3::from(point.as_dvec3()));
+        let weight = match self.pattern {
+            // Unit cubes alternate; the one at the origin (0 ≤ x, y, z < 1) is the first
+            // material's.
+            Pattern::Checkerboard => {
+                let parity = p.x.floor() + p.y.floor() + p.z.floor();
+                if parity.rem_euclid(2.0) == 0.0 {
+                    0.0
+                } else {
+                    1.0
+                }
+            }
+            // Noise of about -1…1 mapped onto 0…1.
+            Pattern::Noise { octaves } => 0.5 * (octave_noise(p.x, p.y, p.z, octaves) + 1.0),
+            Pattern::Marble {
+                octaves,
+                frequency,
+                amplitude,
+            } => {
+                let n = octave_noise(p.x, p.y, p.z, octaves);
+                0.5 * ((frequency * p.x + amplitude * n).sin() + 1.0)
+            }
+            // Rings about the y axis: sharp-edged bands of late wood, perturbed by the noise.
+            Pattern::Wood {
+                octaves,
+                frequency,
+                amplitude,
+            } => {
+                let n = octave_noise(p.x, p.y, p.z, octaves);
+                let radius = (p.x * p.x + p.z * p.z).sqrt();
+                let ring = 0.5 * ((frequency * radius + amplitude * n).sin() + 1.0);
+                ring * ring * ring
+            }
+        };
+        weight.clamp(0.0, 1.0) as f32
+    }
+}
+
+impl Materials {
+    pub fn new(list: Vec<Material>) -> Materials {
+        Materials { list }
+    }
+
+    pub fn len(&self) -> usize {
+        self.list.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.list.is_empty()
+    }
+
+    pub fn get(&self, index: u32) -> &Material {
+        &self.list[index as usize]
+    }
+
+    /// `ask` of the material at `point`: for a texture, its two materials' answers interpolated
+    /// (only one is asked where the pattern is all one or the other, as everywhere on a
+    /// checkerboard).
+    #[inline]
+    fn blend(&self, index: u32, point: Vec3A, ask: &impl Fn(&Phong) -> Vec3A) -> Vec3A {
+        match self.get(index) {
+            Material::Phong(phong) => ask(phong),
+            Material::Texture(texture) => {
+                let [first, second] = texture.materials;
+                match texture.weight(point) {
+                    0.0 => self.blend(first, point, ask),
+                    1.0 => self.blend(second, point, ask),
+                    w => {
+                        let a = self.blend(first, point, ask);
+                        let b = self.blend(second, point, ask);
+                        a + w * (b - a)
+                    }
+                }
+            }
+        }
     }
 
     /// The colour that ambient light is multiplied by.
     #[inline]
-    pub fn diffuse_at(&self, _point: Vec3A) -> Vec3A {
-        match self {
-            Material::Phong(phong) => phong.diffuse,
-        }
+    pub fn diffuse_at(&self, index: u32, point: Vec3A) -> Vec3A {
+        self.blend(index, point, &|phong| phong.diffuse)
     }
 
     /// The light of one light source reflected toward the eye (the course's `Material::Shade`).
     /// `normal` and `to_light` are unit length, `normal` on the eye's side of the surface;
     /// `view` is the direction the eye looks along, of any length.
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     pub fn shade(
         &self,
-        _point: Vec3A,
+        index: u32,
+        point: Vec3A,
         normal: Vec3A,
         view: Vec3A,
         to_light: Vec3A,
         light: Vec3A,
         falloff: SpecularFalloff,
     ) -> Vec3A {
-        match self {
-            Material::Phong(phong) => phong.shade(normal, view, to_light, light, falloff),
-        }
+        self.blend(index, point, &|phong| {
+            phong.shade(normal, view, to_light, light, falloff)
+        })
     }
 
     #[inline]
-    pub fn reflective_at(&self, _point: Vec3A) -> Vec3A {
-        match self {
-            Material::Phong(phong) => phong.reflective,
-        }
+    pub fn reflective_at(&self, index: u32, point: Vec3A) -> Vec3A {
+        self.blend(index, point, &|phong| phong.reflective)
     }
 
     #[inline]
-    pub fn transparent_at(&self, _point: Vec3A) -> Vec3A {
-        match self {
-            Material::Phong(phong) => phong.transparent,
-        }
+    pub fn transparent_at(&self, index: u32, point: Vec3A) -> Vec3A {
+        self.blend(index, point, &|phong| phong.transparent)
     }
 
     #[inline]
-    pub fn index_of_refraction_at(&self, _point: Vec3A) -> f32 {
-        match self {
-            Material::Phong(phong) => phong.index_of_refraction,
-        }
+    pub fn index_of_refraction_at(&self, index: u32, point: Vec3A) -> f32 {
+        self.blend(index, point, &|phong| {
+            Vec3A::splat(phong.index_of_refraction)
+        })
+        .x
     }
 }
 
@@ -122,5 +228,129 @@ impl Phong {
             colour += self.specular * highlight;
         }
         colour * light
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DMat4, DVec3};
+
+    use super::*;
+    use crate::scene::perlin::noise;
+
+    fn texture(pattern: Pattern, to_texture: DMat4) -> Texture {
+        Texture {
+            pattern,
+            to_texture: DAffine3::from_mat4(to_texture),
+            materials: [0, 1],
+        }
+    }
+
+    #[test]
+    fn checkerboard_cells_alternate_from_the_origin() {
+        let checker = texture(Pattern::Checkerboard, DMat4::IDENTITY);
+        let at = |x, y, z| checker.weight(Vec3A::new(x, y, z));
+        assert_eq!(at(0.5, 0.5, 0.5), 0.0);
+        assert_eq!(at(1.5, 0.5, 0.5), 1.0);
+        assert_eq!(at(1.5, 1.5, 0.5), 0.0);
+        assert_eq!(at(1.5, 1.5, 1.5), 1.0);
+        assert_eq!(at(-0.5, 0.5, 0.5), 1.0);
+        assert_eq!(at(-0.5, -0.5, -0.5), 1.0);
+        // Scaled by 2, cells are half a unit wide in the world.
+        let small = texture(Pattern::Checkerboard, DMat4::from_scale(DVec3::splat(2.0)));
+        assert_eq!(small.weight(Vec3A::new(0.75, 0.25, 0.25)), 1.0);
+    }
+
+    #[test]
+    fn noise_marble_and_wood_by_hand() {
+        let p = Vec3A::new(0.3, 1.7, -2.2);
+        let (x, y, z) = (0.3f32 as f64, 1.7f32 as f64, -2.2f32 as f64);
+        let n1 = noise(x, y, z);
+        let n2 = n1 + noise(2.0 * x, 2.0 * y, 2.0 * z) / 2.0;
+        let noise_texture = texture(Pattern::Noise { octaves: 2 }, DMat4::IDENTITY);
+        assert_eq!(noise_texture.weight(p), (0.5 * (n2 + 1.0)) as f32);
+        let marble = texture(
+            Pattern::Marble {
+                octaves: 1,
+                frequency: 3.0,
+                amplitude: 2.0,
+            },
+            DMat4::IDENTITY,
+        );
+        assert_eq!(
+            marble.weight(p),
+            (0.5 * ((3.0 * x + 2.0 * n1).sin() + 1.0)) as f32
+        );
+        // No octaves: plain stripes across x.
+        let stripes = texture(
+            Pattern::Marble {
+                octaves: 0,
+                frequency: 1.0,
+                amplitude: 5.0,
+            },
+            DMat4::IDENTITY,
+        );
+        let quarter = std::f32::consts::FRAC_PI_2;
+        assert!((stripes.weight(Vec3A::new(quarter, 9.0, 9.0)) - 1.0).abs() < 1e-6);
+        assert!(stripes.weight(Vec3A::new(-quarter, 9.0, 9.0)).abs() < 1e-6);
+        let wood = texture(
+            Pattern::Wood {
+                octaves: 0,
+                frequency: 1.0,
+                amplitude: 0.0,
+            },
+            DMat4::IDENTITY,
+        );
+        // Rings about y: the same at every height and angle for one radius.
+        let ring = (0.5 * (2f64.sin() + 1.0)).powi(3) as f32;
+        assert!((wood.weight(Vec3A::new(2.0, 5.0, 0.0)) - ring).abs() < 1e-6);
+        assert!((wood.weight(Vec3A::new(0.0, -3.0, 2.0)) - ring).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_texture_interpolates_its_materials_answers() {
+        let phong = |diffuse: Vec3A, reflective: Vec3A| {
+            Material::Phong(Phong {
+                diffuse,
+                specular: Vec3A::ZERO,
+                exponent: 1.0,
+                reflective,
+                transparent: Vec3A::ZERO,
+                index_of_refraction: 1.0,
+            })
+        };
+        let materials = Materials::new(vec![
+            phong(Vec3A::X, Vec3A::ZERO),
+            phong(Vec3A::Y, Vec3A::ONE),
+            Material::Texture(texture(Pattern::Noise { octaves: 1 }, DMat4::IDENTITY)),
+            Material::Texture(Texture {
+                materials: [2, 0],
+                ..texture(Pattern::Checkerboard, DMat4::IDENTITY)
+            }),
+        ]);
+        let p = Vec3A::new(0.3, 0.7, 0.4);
+        let w = match materials.get(2) {
+            Material::Texture(t) => t.weight(p),
+            _ => unreachable!(),
+        };
+        assert!(w > 0.0 && w < 1.0);
+        let blended = materials.diffuse_at(2, p);
+        assert!((blended - Vec3A::new(1.0 - w, w, 0.0)).abs().max_element() < 1e-6);
+        assert_eq!(materials.reflective_at(2, p), Vec3A::splat(w));
+        // The shaded colour interpolates too (a light straight on: N·L = 1).
+        let shaded = materials.shade(
+            2,
+            p,
+            Vec3A::Z,
+            -Vec3A::Z,
+            Vec3A::Z,
+            Vec3A::ONE,
+            SpecularFalloff::Cut,
+        );
+        assert!((shaded - blended).abs().max_element() < 1e-6);
+        // A checkerboard of the noise texture and red: the noise in the origin's cube, red next
+        // to it.
+        assert_eq!(materials.diffuse_at(3, p), blended);
+        assert_eq!(materials.diffuse_at(3, p + Vec3A::X), Vec3A::X);
     }
 }

@@ -5,6 +5,7 @@ pub mod light;
 pub mod material;
 pub mod model;
 pub mod obj;
+pub mod perlin;
 
 use std::path::Path;
 use std::time::Duration;
@@ -12,7 +13,7 @@ use std::time::Duration;
 use glam::Vec3A;
 
 pub use light::{Illumination, Light};
-pub use material::{Material, Phong, SpecularFalloff};
+pub use material::{Material, Materials, Phong, SpecularFalloff, Texture};
 pub use model::SceneDescription;
 
 use crate::accel::{World, WorldStats};
@@ -26,7 +27,7 @@ pub struct Scene {
     pub background: Vec3A,
     pub ambient: Vec3A,
     pub lights: Vec<Light>,
-    pub materials: Vec<Material>,
+    pub materials: Materials,
     pub world: World,
 }
 

@@ -57,9 +57,49 @@ pub enum LightSpec {
     },
 }
 
+/// A material as the file gives it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Material {
+    Phong(Phong),
+    /// A solid texture (assignment 6) over two earlier materials.
+    Texture(Texture),
+}
+
+/// A solid texture: a pattern in texture space that chooses, or blends, between two materials
+/// listed before it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Texture {
+    pub pattern: Pattern,
+    /// World space to texture space (the identity when the file gives no `Transform`).
+    pub to_texture: DMat4,
+    /// Indices of the two materials: where the pattern is 0, and where it is 1.
+    pub materials: [u32; 2],
+}
+
+/// The course's four solid textures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Pattern {
+    /// Unit cubes in texture space, alternating.
+    Checkerboard,
+    /// Perlin noise summed over `octaves`.
+    Noise { octaves: u32 },
+    /// sin(frequency·x + amplitude·noise): veins.
+    Marble {
+        octaves: u32,
+        frequency: f64,
+        amplitude: f64,
+    },
+    /// Rings about texture space's y axis, perturbed by noise.
+    Wood {
+        octaves: u32,
+        frequency: f64,
+        amplitude: f64,
+    },
+}
+
 /// A Phong material (assignment 4's `PhongMaterial`, every field optional).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Material {
+pub struct Phong {
     pub diffuse: Vec3,
     pub specular: Vec3,
     /// The specular exponent, at least 0.
@@ -70,10 +110,10 @@ pub struct Material {
     pub index_of_refraction: f32,
 }
 
-impl Default for Material {
+impl Default for Phong {
     /// The staff parser's defaults: white diffuse, nothing else, exponent 1, index 1.
-    fn default() -> Material {
-        Material {
+    fn default() -> Phong {
+        Phong {
             diffuse: Vec3::ONE,
             specular: Vec3::ZERO,
             exponent: 1.0,
