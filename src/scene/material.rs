@@ -4,7 +4,7 @@
 //! materials and interpolating their answers (the handout's 11/2 update: the shaded colours
 //! are interpolated, and so are the ambient, reflective and transparent terms).
 
-use glam::{DAffine3, DVec3, Vec3A};
+use glam::{DAffine3, Vec3A};
 
 use super::model::{self, Pattern};
 use super::perlin::octave_noise;
@@ -80,7 +80,7 @@ impl Texture {
     pub fn weight(&self, point: Vec3A) -> f32 {
         let p = self
             .to_texture
-            .transform_point3(DVec3::from(point.as_dvec3()));
+            .transform_point3(point.as_dvec3());
         let weight = match self.pattern {
             // Unit cubes alternate; the one at the origin (0 ≤ x, y, z < 1) is the first
             // material's.
