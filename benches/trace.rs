@@ -145,6 +145,8 @@ fn trace(bencher: Bencher, name: &str, threads: usize) {
         depth: None,
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
+        sampling: Default::default(),
+        keep_film: false,
     };
     let pool = pool(threads);
     bencher

@@ -73,9 +73,16 @@ impl Camera {
 /// left and j from the bottom. The square spans the image's longer side; the shorter is cropped.
 #[inline]
 pub fn pixel_to_screen(i: u32, j: u32, width: u32, height: u32) -> (f32, f32) {
+    film_to_screen(i as f32 + 0.5, j as f32 + 0.5, width, height)
+}
+
+/// The point of the camera's square view at (x, y) of the image, in pixels from its lower-left
+/// corner (a pixel's centre is at i + ½, j + ½).
+#[inline]
+pub fn film_to_screen(x: f32, y: f32, width: u32, height: u32) -> (f32, f32) {
     let side = width.max(height) as f32;
-    let u = (i as f32 + 0.5 - width as f32 / 2.0) / side + 0.5;
-    let v = (j as f32 + 0.5 - height as f32 / 2.0) / side + 0.5;
+    let u = (x - width as f32 / 2.0) / side + 0.5;
+    let v = (y - height as f32 / 2.0) / side + 0.5;
     (u, v)
 }
 

@@ -16,6 +16,7 @@ use std::time::Instant;
 use crate::error::Error;
 use crate::image_io::{self, ImageFormat, PendingOutputs};
 use crate::render::{RenderSettings, render};
+use crate::sample::{self, Filter, Sampler, Sampling};
 use crate::scene::{Scene, SpecularFalloff};
 use crate::trace::TraceSettings;
 
@@ -24,7 +25,7 @@ usage: raycast -input SCENE.txt -size WIDTH HEIGHT [-output IMAGE] [-normals IMA
                [-depth TMIN TMAX IMAGE] [-shade_back] [-shadows] [-bounces N] [-weight W]
                [-specular_fix] [-threads N] [-stats]
 
-Renders a scene of MIT 6.837's ray tracing assignments (1 to 4).
+Renders a scene of MIT 6.837's ray tracing assignments (1 to 7).
 
   -input FILE            the scene file
   -size W H              the image size in pixels
@@ -37,6 +38,17 @@ Renders a scene of MIT 6.837's ray tracing assignments (1 to 4).
   -bounces N             reflect and refract rays up to N times (default 0)
   -weight W              trace no mirror or glass ray whose weight is below W (default 0)
   -specular_fix          fade highlights by N.L (the handout's optional fix)
+  -random_samples N, -uniform_samples N, -jittered_samples N
+                         N samples a pixel: anywhere, on a grid, or one in each cell of a grid
+                         (uniform and jittered: N a square number); default one at the centre
+  -box_filter R, -tent_filter R, -gaussian_filter SIGMA
+                         how samples are weighed into pixels, R and SIGMA in pixels
+                         (default with samples: -box_filter 0.5, each pixel its own samples)
+  -seed S                seed of the random and jittered samples (default 6837)
+  -render_samples FILE ZOOM
+                         a picture of where the samples fall, each pixel ZOOM x ZOOM
+  -render_filter FILE ZOOM
+                         a picture of the filter's weights about the centre pixel
   -gui, -tessellation THETA PHI, -gouraud
                          the course's OpenGL preview: accepted, and ignored
   -threads N             render on N threads (default: one per core)
@@ -60,6 +72,14 @@ const _: () = assert!(MAX_SIDE <= image_io::TGA_MAX_SIDE);
 /// that starting them cannot exhaust the system's threads or memory (each has its own stack).
 pub const MAX_THREADS: usize = 1024;
 
+/// The most samples a pixel: far more than any picture needs (the course goes to 36).
+pub const MAX_SAMPLES: u32 = 1024;
+/// The most samples an image may keep (width × height × samples a pixel): about 3 GiB of them.
+pub const MAX_FILM_SAMPLES: u64 = 1 << 26;
+/// The largest filter: a box or tent of 16 pixels, a Gaussian of σ 8 (reaching 16), so each
+/// pixel weighs at most 33 × 33 pixels' samples.
+pub const MAX_FILTER_REACH: f32 = 16.0;
+
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Options {
     pub input: PathBuf,
@@ -69,6 +89,11 @@ pub struct Options {
     pub normals: Option<PathBuf>,
     pub depth: Option<(f32, f32, PathBuf)>,
     pub trace: TraceSettings,
+    pub sampling: Sampling,
+    /// `-render_samples FILE ZOOM`.
+    pub render_samples: Option<(PathBuf, u32)>,
+    /// `-render_filter FILE ZOOM`.
+    pub render_filter: Option<(PathBuf, u32)>,
     /// The course's OpenGL preview was asked for (`-gui`, `-tessellation`, `-gouraud`).
     pub preview: bool,
     pub threads: Option<usize>,
@@ -77,7 +102,7 @@ pub struct Options {
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
-    Render(Options),
+    Render(Box<Options>),
     Help,
     Version,
 }
@@ -128,6 +153,8 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
     let mut options = Options::default();
     let mut input = None;
     let mut size = None;
+    let mut sampler = None;
+    let mut filter = None;
     let mut seen: Vec<String> = Vec::new();
     let mut args = args.into_iter();
     while let Some(arg) = args.next() {
@@ -212,6 +239,97 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
                 options.preview = true;
             }
             "stats" => options.stats = true,
+            "random_samples" | "uniform_samples" | "jittered_samples" => {
+                let arg = value("a number of samples")?;
+                let n = match arg.to_str().and_then(|s| s.parse::<u32>().ok()) {
+                    Some(n) if (1..=MAX_SAMPLES).contains(&n) => n,
+                    _ => {
+                        return Err(format!(
+                            "-{name} needs a number of samples (a whole number from 1 to \
+                             {MAX_SAMPLES}), found '{}'",
+                            arg.to_string_lossy()
+                        ));
+                    }
+                };
+                if name != "random_samples" && n.isqrt() * n.isqrt() != n {
+                    let below = n.isqrt() * n.isqrt();
+                    let above = (n.isqrt() + 1) * (n.isqrt() + 1);
+                    return Err(format!(
+                        "-{name} needs a square number of samples (they lie on a square grid), \
+                         found {n}: try {below} or {above}"
+                    ));
+                }
+                if sampler.is_some() {
+                    return Err("give only one of -random_samples, -uniform_samples and \
+                                -jittered_samples"
+                        .into());
+                }
+                sampler = Some(match name {
+                    "random_samples" => Sampler::Random(n),
+                    "uniform_samples" => Sampler::Uniform(n),
+                    _ => Sampler::Jittered(n),
+                });
+            }
+            "box_filter" | "tent_filter" | "gaussian_filter" => {
+                let what = if name == "gaussian_filter" {
+                    "SIGMA"
+                } else {
+                    "a radius"
+                };
+                let size = finite(
+                    &value(what)?,
+                    &format!("-{name}"),
+                    &format!("{what}, a number of pixels"),
+                )?;
+                let reach = if name == "gaussian_filter" {
+                    2.0 * size
+                } else {
+                    size
+                };
+                if size <= 0.0 || reach > MAX_FILTER_REACH {
+                    return Err(format!(
+                        "-{name} needs {what} above 0 and at most {} pixels, found {size}",
+                        if name == "gaussian_filter" {
+                            MAX_FILTER_REACH / 2.0
+                        } else {
+                            MAX_FILTER_REACH
+                        }
+                    ));
+                }
+                if filter.is_some() {
+                    return Err(
+                        "give only one of -box_filter, -tent_filter and -gaussian_filter".into(),
+                    );
+                }
+                filter = Some(match name {
+                    "box_filter" => Filter::Box(size),
+                    "tent_filter" => Filter::Tent(size),
+                    _ => Filter::Gaussian(size),
+                });
+            }
+            "seed" => {
+                let arg = value("a seed")?;
+                match arg.to_str().and_then(|s| s.parse::<u64>().ok()) {
+                    Some(seed) => options.sampling.seed = seed,
+                    None => {
+                        return Err(format!(
+                            "-seed needs a whole number from 0 to {}, found '{}'",
+                            u64::MAX,
+                            arg.to_string_lossy()
+                        ));
+                    }
+                }
+            }
+            "render_samples" | "render_filter" => {
+                let what = "an image file and a zoom";
+                let file = PathBuf::from(value(what)?);
+                let zoom = positive(&value(what)?, &format!("-{name}"), "a zoom")?;
+                if name == "render_samples" {
+                    options.render_samples = Some((file, zoom));
+                } else {
+                    options.render_filter = Some((file, zoom));
+                }
+            }
             "threads" => {
                 let arg = value("a number of threads")?;
                 match arg.to_str().and_then(|s| s.parse::<usize>().ok()) {
@@ -237,9 +355,41 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         ));
     }
     (options.width, options.height) = (width, height);
+    // Samples without a filter: each pixel its own samples. A filter without samples: the
+    // pixels' centres, filtered.
+    options.sampling.sampler = sampler.unwrap_or(Sampler::Uniform(1));
+    options.sampling.filter = filter.unwrap_or(Filter::Box(0.5));
+    let kept = u64::from(width) * u64::from(height) * u64::from(options.sampling.sampler.samples());
+    if kept > MAX_FILM_SAMPLES && !options.sampling.is_plain() {
+        return Err(format!(
+            "{width}x{height} pixels of {} samples is too many samples to keep ({kept}); at \
+             most {MAX_FILM_SAMPLES} (width x height x samples a pixel)",
+            options.sampling.sampler.samples()
+        ));
+    }
+    for (flag, picture) in [
+        ("-render_samples", &options.render_samples),
+        ("-render_filter", &options.render_filter),
+    ] {
+        let Some((_, zoom)) = picture else { continue };
+        let extra = u64::from(flag == "-render_filter");
+        let (w, h) = (
+            u64::from(width) * u64::from(*zoom) + extra,
+            u64::from(height) * u64::from(*zoom) + extra,
+        );
+        if w > u64::from(MAX_SIDE) || h > u64::from(MAX_SIDE) || w * h > MAX_PIXELS {
+            return Err(format!(
+                "{flag} with zoom {zoom} would make a {w}x{h} picture; each side may be at most \
+                 {MAX_SIDE} pixels, and the picture at most {MAX_PIXELS} pixels"
+            ));
+        }
+    }
     let outputs = options.outputs();
     if outputs.is_empty() {
-        return Err("nothing to write: give -output, -normals or -depth".into());
+        return Err(
+            "nothing to write: give -output, -normals, -depth, -render_samples or -render_filter"
+                .into(),
+        );
     }
     for (i, &(flag, path)) in outputs.iter().enumerate() {
         // Found now rather than when the finished image is renamed into place, after the render.
@@ -271,7 +421,7 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
             ));
         }
     }
-    Ok(Command::Render(options))
+    Ok(Command::Render(Box::new(options)))
 }
 
 impl Options {
@@ -286,6 +436,12 @@ impl Options {
         }
         if let Some((_, _, path)) = &self.depth {
             outputs.push(("-depth", path.as_path()));
+        }
+        if let Some((path, _)) = &self.render_samples {
+            outputs.push(("-render_samples", path.as_path()));
+        }
+        if let Some((path, _)) = &self.render_filter {
+            outputs.push(("-render_filter", path.as_path()));
         }
         outputs
     }
@@ -343,19 +499,47 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     let settings = RenderSettings {
         width: options.width,
         height: options.height,
-        colour: options.output.is_some(),
+        // The samples picture shows the samples' colours.
+        colour: options.output.is_some() || options.render_samples.is_some(),
         normals: options.normals.is_some(),
         depth: options.depth.as_ref().map(|&(near, far, _)| (near, far)),
         trace: options.trace,
+        sampling: options.sampling,
+        keep_film: options.render_samples.is_some(),
         progress: std::io::stderr().is_terminal(),
     };
+    // Only the filter picture asked for: nothing to trace.
+    let traced = options.output.is_some()
+        || options.normals.is_some()
+        || options.depth.is_some()
+        || options.render_samples.is_some();
     let render_start = Instant::now();
-    let rendered = render(&scene, &settings);
+    let mut rendered = if traced {
+        render(&scene, &settings)
+    } else {
+        crate::render::Rendered::default()
+    };
     let threads = rayon::current_num_threads();
     let render_time = render_start.elapsed();
 
     let write_start = Instant::now();
-    let images = [&rendered.colour, &rendered.normals, &rendered.depth];
+    let samples_picture = options.render_samples.as_ref().map(|&(_, zoom)| {
+        let film = rendered.film.take().expect("kept for -render_samples");
+        sample::render_samples_picture(&film, zoom)
+    });
+    let filter_picture = options.render_filter.as_ref().map(|&(_, zoom)| {
+        sample::render_filter_picture(options.width, options.height, options.sampling.filter, zoom)
+    });
+    if options.output.is_none() {
+        rendered.colour = None;
+    }
+    let images = [
+        &rendered.colour,
+        &rendered.normals,
+        &rendered.depth,
+        &samples_picture,
+        &filter_picture,
+    ];
     let contents = images
         .into_iter()
         .flatten()

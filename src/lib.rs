@@ -20,7 +20,8 @@
 //! let (scene, _stats) = Scene::from_description(&description)?;
 //! let settings = RenderSettings {
 //!     width: 20, height: 20, colour: true, normals: false, depth: None,
-//!     trace: Default::default(), progress: false,
+//!     trace: Default::default(), sampling: Default::default(), keep_film: false,
+//!     progress: false,
 //! };
 //! let image = render(&scene, &settings).colour.unwrap();
 //! assert_eq!(image.pixels[10 * 20 + 10], [255, 0, 0]); // the sphere, flat red
@@ -38,6 +39,7 @@ pub mod geometry;
 pub mod image_io;
 pub mod parse;
 pub mod render;
+pub mod sample;
 pub mod scene;
 pub mod shade;
 pub mod trace;

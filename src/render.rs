@@ -9,8 +9,9 @@ use std::time::{Duration, Instant};
 use glam::Vec3A;
 use rayon::prelude::*;
 
-use crate::camera::pixel_to_screen;
+use crate::camera::{film_to_screen, pixel_to_screen};
 use crate::image_io::Image;
+use crate::sample::{Film, FilmSample, Sampling};
 use crate::scene::Scene;
 use crate::shade;
 use crate::trace::{RayCounts, Scratch, TraceSettings, Tracer};
@@ -28,19 +29,26 @@ pub struct RenderSettings {
     pub depth: Option<(f32, f32)>,
     /// Shadows, bounces and the rest of the tracer's switches.
     pub trace: TraceSettings,
+    /// Samples per pixel and the filter (assignment 7); the default is one sample at each
+    /// pixel's centre.
+    pub sampling: Sampling,
+    /// Keep every sample (for `-render_samples`), even where one a pixel would do.
+    pub keep_film: bool,
     /// Show a progress bar on stderr if the render outlasts about a second (and stderr is a
     /// terminal).
     pub progress: bool,
 }
 
 /// The rendered pictures; those not asked for are `None`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Rendered {
     pub colour: Option<Image>,
     pub normals: Option<Image>,
     pub depth: Option<Image>,
     /// The rays cast to make them.
     pub rays: RayCounts,
+    /// Every sample, where they were kept.
+    pub film: Option<Film>,
 }
 
 #[derive(Clone, Copy, Default)]
@@ -52,6 +60,15 @@ struct Sample {
 
 /// Renders on the current rayon pool (wrap in `ThreadPool::install` to choose the threads).
 pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
+    if settings.sampling.is_plain() && !settings.keep_film {
+        render_centres(scene, settings)
+    } else {
+        render_film(scene, settings)
+    }
+}
+
+/// One ray through each pixel's centre, straight to bytes: assignments 1 to 6.
+fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
     let (width, height) = (settings.width, settings.height);
     let mut samples = vec![Sample::default(); width as usize * height as usize];
     // Bands of TILE rows, thinner when the image is too short to give every thread several
@@ -103,6 +120,79 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
         normals: picture(settings.normals, |s| s.normal),
         depth: picture(settings.depth.is_some(), |s| [s.depth; 3]),
         rays,
+        film: None,
+    }
+}
+
+/// Every sample of every pixel kept on a film, then filtered into pixels: assignment 7.
+fn render_film(scene: &Scene, settings: &RenderSettings) -> Rendered {
+    let (width, height) = (settings.width, settings.height);
+    let Sampling {
+        sampler,
+        filter,
+        seed,
+    } = settings.sampling;
+    let n = sampler.samples() as usize;
+    let row_len = width as usize * n;
+    let mut film = Film {
+        width,
+        height,
+        samples: n as u32,
+        entries: vec![FilmSample::default(); row_len * height as usize],
+    };
+    let tracer = Tracer::new(scene, settings.trace);
+    let background = scene.background;
+    let progress = Progress::new(settings.progress, height as usize);
+    let rays = film
+        .entries
+        .par_chunks_mut(row_len)
+        .enumerate()
+        .map(|(j, row)| {
+            let mut scratch = Scratch::default();
+            let mut positions = vec![glam::Vec2::ZERO; n];
+            for (i, pixel) in row.chunks_mut(n).enumerate() {
+                let index = j as u64 * u64::from(width) + i as u64;
+                sampler.positions(seed, index, &mut positions);
+                for (sample, &position) in pixel.iter_mut().zip(&positions) {
+                    let (u, v) =
+                        film_to_screen(i as f32 + position.x, j as f32 + position.y, width, height);
+                    let ray = scene.camera.ray(u, v);
+                    scratch.counts.primary += 1;
+                    let hit = scene.world.intersect(&ray, scene.camera.t_min());
+                    *sample = FilmSample {
+                        position,
+                        colour: match (&hit, settings.colour) {
+                            (_, false) => Vec3A::ZERO,
+                            (None, true) => background,
+                            (Some(hit), true) => tracer.colour(&ray, Some(hit), &mut scratch),
+                        },
+                        normal: match (&hit, settings.normals) {
+                            (Some(hit), true) => shade::normal_colour(hit),
+                            _ => Vec3A::ZERO,
+                        },
+                        depth: match (&hit, settings.depth) {
+                            (Some(hit), Some((near, far))) => {
+                                shade::depth_grey(hit.t * ray.direction.length(), near, far)
+                            }
+                            _ => 0.0,
+                        },
+                    };
+                }
+            }
+            progress.advance();
+            scratch.counts
+        })
+        .reduce(RayCounts::default, |a, b| a + b);
+    progress.finish();
+    let picture = |wanted: bool, value: fn(&FilmSample) -> Vec3A| {
+        wanted.then(|| film.picture(filter, value, shade::to_rgb))
+    };
+    Rendered {
+        colour: picture(settings.colour, |s| s.colour),
+        normals: picture(settings.normals, |s| s.normal),
+        depth: picture(settings.depth.is_some(), |s| Vec3A::splat(s.depth)),
+        rays,
+        film: settings.keep_film.then_some(film),
     }
 }
 

@@ -207,7 +207,7 @@ fn missing_input() {
 fn no_output_named() {
     assert_eq!(
         refused("-input scene.txt -size 8 8"),
-        "nothing to write: give -output, -normals or -depth"
+        "nothing to write: give -output, -normals, -depth, -render_samples or -render_filter"
     );
 }
 

@@ -455,6 +455,8 @@ fn render(scene: &Scene, shade_back: bool) -> Result<(), TestCaseError> {
             ..Default::default()
         },
         progress: false,
+        sampling: Default::default(),
+        keep_film: false,
     };
     let rendered = raycast::render::render(scene, &settings);
     prop_assert_eq!(rendered.colour.unwrap().pixels.len(), 16);

@@ -1027,6 +1027,8 @@ fn render_scene(scene: &Scene, size: u32) -> raycast::Rendered {
         depth: Some((0.0, 20.0)),
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
+        sampling: Default::default(),
+        keep_film: false,
     };
     raycast::render::render(scene, &settings)
 }
@@ -1177,6 +1179,8 @@ fn surfaces_too_small_for_f32_still_face_the_ray() {
         depth: None,
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
+        sampling: Default::default(),
+        keep_film: false,
     };
     let rendered = raycast::render::render(&scene, &settings);
     assert_eq!(rendered.colour.unwrap().pixels, vec![[255, 0, 0]]);

@@ -1192,6 +1192,8 @@ fn check_case(index: usize, case: &Case, folder: &Path, failures: &mut Vec<Strin
             ..Default::default()
         },
         progress: false,
+        sampling: Default::default(),
+        keep_film: false,
     };
     let fail = |failures: &mut Vec<String>, what: String| {
         if failures

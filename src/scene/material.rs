@@ -78,9 +78,7 @@ impl Material {
 impl Texture {
     /// Where `point` (world space) falls between the first material (0) and the second (1).
     pub fn weight(&self, point: Vec3A) -> f32 {
-        let p = self
-            .to_texture
-            .transform_point3(point.as_dvec3());
+        let p = self.to_texture.transform_point3(point.as_dvec3());
         let weight = match self.pattern {
             // Unit cubes alternate; the one at the origin (0 ≤ x, y, z < 1) is the first
             // material's.

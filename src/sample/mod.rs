@@ -1,0 +1,43 @@
+//! Assignment 7: several samples per pixel, placed by a sampler, and combined into each pixel by
+//! a filter that may reach into the neighbouring pixels; and the course's two debugging pictures
+//! of where the samples fall and what the filter weighs.
+
+mod film;
+mod filter;
+mod sampler;
+
+pub use film::{Film, FilmSample, render_filter_picture, render_samples_picture};
+pub use filter::Filter;
+pub use sampler::Sampler;
+
+/// How pixels are sampled and filtered; the default is the course's: one sample at each pixel's
+/// centre, no filter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sampling {
+    pub sampler: Sampler,
+    pub filter: Filter,
+    /// Seeds the random and jittered samplers: the same seed gives the same image on any
+    /// number of threads.
+    pub seed: u64,
+}
+
+/// The seed used when none is given.
+pub const DEFAULT_SEED: u64 = 6837;
+
+impl Default for Sampling {
+    fn default() -> Sampling {
+        Sampling {
+            sampler: Sampler::Uniform(1),
+            filter: Filter::Box(0.5),
+            seed: DEFAULT_SEED,
+        }
+    }
+}
+
+impl Sampling {
+    /// One sample at the centre and a box of half a pixel: each pixel is its own centre's colour,
+    /// as in assignments 1 to 6.
+    pub fn is_plain(&self) -> bool {
+        self.sampler == Sampler::Uniform(1) && self.filter.support_radius() == 0
+    }
+}
