@@ -45,6 +45,10 @@ Renders a scene of MIT 6.837's ray tracing assignments (1 to 7).
                          how samples are weighed into pixels, R and SIGMA in pixels
                          (default with samples: -box_filter 0.5, each pixel its own samples)
   -seed S                seed of the random and jittered samples (default 6837)
+  -grid NX NY NZ         search the course's uniform grid of NX x NY x NZ cells instead of
+                         raycast's BVH (the same image)
+  -visualize_grid        show the grid's occupied cells, coloured by how many primitives
+                         each lists, instead of the scene
   -render_samples FILE ZOOM
                          a picture of where the samples fall, each pixel ZOOM x ZOOM
   -render_filter FILE ZOOM
@@ -52,8 +56,8 @@ Renders a scene of MIT 6.837's ray tracing assignments (1 to 7).
   -gui, -tessellation THETA PHI, -gouraud
                          the course's OpenGL preview: accepted, and ignored
   -threads N             render on N threads (default: one per core)
-  -stats                 after the render, print the time of each phase, the rays cast
-                         and the scene's size
+  -stats                 print the course's ray tracing statistics (stdout), and the time
+                         of each phase and the scene's size (stderr)
   -help                  print this text
   -version               print the version
 
@@ -90,6 +94,8 @@ pub struct Options {
     pub depth: Option<(f32, f32, PathBuf)>,
     pub trace: TraceSettings,
     pub sampling: Sampling,
+    /// `-grid NX NY NZ`.
+    pub grid: Option<[u32; 3]>,
     /// `-render_samples FILE ZOOM`.
     pub render_samples: Option<(PathBuf, u32)>,
     /// `-render_filter FILE ZOOM`.
@@ -307,6 +313,26 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
                     _ => Filter::Gaussian(size),
                 });
             }
+            "grid" => {
+                let what = "NX NY NZ, the numbers of cells";
+                let mut cells = [0; 3];
+                for (axis, n) in ["NX", "NY", "NZ"].iter().zip(&mut cells) {
+                    *n = positive(&value(what)?, "-grid", axis)?;
+                }
+                let count = cells.iter().map(|&n| u64::from(n)).product::<u64>();
+                if count > crate::accel::grid::MAX_CELLS {
+                    return Err(format!(
+                        "-grid {} {} {} is {count} cells, more than the {} that raycast keeps \
+                         in memory",
+                        cells[0],
+                        cells[1],
+                        cells[2],
+                        crate::accel::grid::MAX_CELLS
+                    ));
+                }
+                options.grid = Some(cells);
+            }
+            "visualize_grid" => options.trace.visualize_grid = true,
             "seed" => {
                 let arg = value("a seed")?;
                 match arg.to_str().and_then(|s| s.parse::<u64>().ok()) {
@@ -355,6 +381,10 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         ));
     }
     (options.width, options.height) = (width, height);
+    if options.trace.visualize_grid && options.grid.is_none() {
+        return Err("-visualize_grid needs -grid NX NY NZ: which grid should it show?".into());
+    }
+    options.trace.tally = options.stats;
     // Samples without a filter: each pixel its own samples. A filter without samples: the
     // pixels' centres, filtered.
     options.sampling.sampler = sampler.unwrap_or(Sampler::Uniform(1));
@@ -385,7 +415,9 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         }
     }
     let outputs = options.outputs();
-    if outputs.is_empty() {
+    // The course's preview-only lines (`-gui` and no image): the scene is still read and
+    // checked, and raycast says it has no preview.
+    if outputs.is_empty() && !options.preview {
         return Err(
             "nothing to write: give -output, -normals, -depth, -render_samples or -render_filter"
                 .into(),
@@ -494,7 +526,18 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     // Before any work: a folder that is missing or unwritable fails the run now.
     let pending = PendingOutputs::reserve(&paths)?;
 
-    let (scene, load) = Scene::load(&options.input)?;
+    let (mut scene, mut load) = Scene::load(&options.input)?;
+    if outputs.is_empty() {
+        return Ok(());
+    }
+    if let Some([nx, ny, nz]) = options.grid {
+        let start = Instant::now();
+        scene
+            .world
+            .use_grid(glam::UVec3::new(nx, ny, nz))
+            .map_err(|e| Error::Refused(format!("{}: {e}", options.input.display())))?;
+        load.build += start.elapsed();
+    }
 
     let settings = RenderSettings {
         width: options.width,
@@ -554,6 +597,7 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     let write_time = write_start.elapsed();
 
     if options.stats {
+        print_course_statistics(options, &scene, &rendered.rays, render_time);
         let w = load.world;
         let rays = rendered.rays;
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
@@ -593,4 +637,67 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
         );
     }
     Ok(())
+}
+
+/// The course's `RayTracingStats::PrintStatistics`, line for line: the render's time in whole
+/// seconds (at least 1), the image, the scene's box and the grid, then the rays cast (camera,
+/// mirror and glass rays are the course's "non-shadow" rays), the primitives tested and the grid
+/// cells entered, and their rates.
+fn print_course_statistics(
+    options: &Options,
+    scene: &Scene,
+    rays: &crate::trace::RayCounts,
+    render_time: std::time::Duration,
+) {
+    let seconds = render_time.as_secs().max(1);
+    let non_shadow = rays.primary + rays.secondary;
+    let all = non_shadow + rays.shadow;
+    let pixels = u64::from(options.width) * u64::from(options.height);
+    // As the course's floats: no rays at all give nan.
+    let per = |count: u64, of: u64| count as f32 / of as f32;
+    let bounds = match scene.world.bounds() {
+        Some(b) => format!(
+            "{:.6} {:.6} {:.6}  -> {:.6} {:.6} {:.6}",
+            b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z
+        ),
+        None => "NULL".to_string(),
+    };
+    let cells = match options.grid {
+        Some([x, y, z]) => format!(
+            "{} ({x}x{y}x{z})",
+            u64::from(x) * u64::from(y) * u64::from(z)
+        ),
+        None => "NULL".to_string(),
+    };
+    let stars = "*".repeat(44);
+    let text = format!(
+        "{stars}
+RAY TRACING STATISTICS
+  total time                 {}:{:02}:{:02}
+  num pixels                 {pixels} ({}x{})
+  scene bounds               {bounds}
+  num grid cells             {cells}
+  num non-shadow rays        {non_shadow}
+  num shadow rays            {}
+  total intersections        {}
+  total cells traversed      {}
+  rays per second            {:.1}
+  rays per pixel             {:.1}
+  intersections per ray      {:.1}
+  cells traversed per ray    {:.1}
+{stars}",
+        seconds / 3600,
+        (seconds / 60) % 60,
+        seconds % 60,
+        options.width,
+        options.height,
+        rays.shadow,
+        rays.tallies.intersections,
+        rays.tallies.cells,
+        per(all, seconds),
+        per(all, pixels),
+        per(rays.tallies.intersections, all),
+        per(rays.tallies.cells, all),
+    );
+    say(std::io::stdout(), &text);
 }

@@ -141,7 +141,6 @@ fn render_film(scene: &Scene, settings: &RenderSettings) -> Rendered {
         entries: vec![FilmSample::default(); row_len * height as usize],
     };
     let tracer = Tracer::new(scene, settings.trace);
-    let background = scene.background;
     let progress = Progress::new(settings.progress, height as usize);
     let rays = film
         .entries
@@ -157,15 +156,10 @@ fn render_film(scene: &Scene, settings: &RenderSettings) -> Rendered {
                     let (u, v) =
                         film_to_screen(i as f32 + position.x, j as f32 + position.y, width, height);
                     let ray = scene.camera.ray(u, v);
-                    scratch.counts.primary += 1;
-                    let hit = scene.world.intersect(&ray, scene.camera.t_min());
+                    let (colour, hit) = tracer.camera_ray(&ray, settings.colour, &mut scratch);
                     *sample = FilmSample {
                         position,
-                        colour: match (&hit, settings.colour) {
-                            (_, false) => Vec3A::ZERO,
-                            (None, true) => background,
-                            (Some(hit), true) => tracer.colour(&ray, Some(hit), &mut scratch),
-                        },
+                        colour,
                         normal: match (&hit, settings.normals) {
                             (Some(hit), true) => shade::normal_colour(hit),
                             _ => Vec3A::ZERO,
@@ -208,17 +202,12 @@ fn sample(
     let scene = tracer.scene();
     let (u, v) = pixel_to_screen(i, j, settings.width, settings.height);
     let ray = scene.camera.ray(u, v);
-    scratch.counts.primary += 1;
-    let Some(hit) = scene.world.intersect(&ray, scene.camera.t_min()) else {
+    let (colour, hit) = tracer.camera_ray(&ray, settings.colour, scratch);
+    let Some(hit) = hit else {
         return Sample {
-            colour: background,
+            colour: if settings.colour { background } else { [0; 3] },
             ..Sample::default()
         };
-    };
-    let colour = if settings.colour {
-        tracer.colour(&ray, Some(&hit), scratch)
-    } else {
-        Vec3A::ZERO
     };
     let depth = match settings.depth {
         Some((near, far)) => {

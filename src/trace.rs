@@ -9,7 +9,9 @@
 
 use glam::Vec3A;
 
-use crate::accel::Hit;
+use std::ops::ControlFlow;
+
+use crate::accel::{Hit, Tallies};
 use crate::geometry::Ray;
 use crate::scene::{Scene, SpecularFalloff};
 
@@ -31,6 +33,10 @@ pub struct TraceSettings {
     /// Mirror and glass rays whose weight falls below this are not traced.
     pub cutoff_weight: f32,
     pub specular: SpecularFalloff,
+    /// Count primitives tested and grid cells entered (for the course's `-stats`).
+    pub tally: bool,
+    /// Show the grid's occupied cells as opaque cubes instead of the scene (`-visualize_grid`).
+    pub visualize_grid: bool,
 }
 
 /// Rays cast, for `-stats`.
@@ -41,6 +47,8 @@ pub struct RayCounts {
     /// Reflected and refracted rays.
     pub secondary: u64,
     pub shadow: u64,
+    /// Primitives tested and grid cells entered, when counted.
+    pub tallies: Tallies,
 }
 
 impl std::ops::Add for RayCounts {
@@ -50,6 +58,10 @@ impl std::ops::Add for RayCounts {
             primary: self.primary + other.primary,
             secondary: self.secondary + other.secondary,
             shadow: self.shadow + other.shadow,
+            tallies: Tallies {
+                intersections: self.tallies.intersections + other.tallies.intersections,
+                cells: self.tallies.cells + other.tallies.cells,
+            },
         }
     }
 }
@@ -99,8 +111,90 @@ impl<'a> Tracer<'a> {
     /// The colour seen along `ray` from its own start (the course's `traceRay` with weight 1 and
     /// every bounce left).
     pub fn trace(&self, ray: &Ray, t_min: f32, scratch: &mut Scratch) -> Vec3A {
-        let hit = self.scene.world.intersect(ray, t_min);
+        let hit = self.intersect(ray, t_min, scratch);
         self.colour(ray, hit.as_ref(), scratch)
+    }
+
+    /// A camera ray: what it hits (for the normal and depth pictures) and, if `colour`, the
+    /// colour it sees; under `-visualize_grid`, the grid's first occupied cell instead.
+    #[inline]
+    pub fn camera_ray(
+        &self,
+        ray: &Ray,
+        colour: bool,
+        scratch: &mut Scratch,
+    ) -> (Vec3A, Option<Hit>) {
+        scratch.counts.primary += 1;
+        let t_min = self.scene.camera.t_min();
+        if self.settings.visualize_grid {
+            return self.grid_cell(ray, t_min, scratch);
+        }
+        let hit = self.intersect(ray, t_min, scratch);
+        let seen = match &hit {
+            _ if !colour => Vec3A::ZERO,
+            None => self.scene.background,
+            Some(hit) => self.colour(ray, Some(hit), scratch),
+        };
+        (seen, hit)
+    }
+
+    /// The nearest hit, counted when `-stats` asks.
+    #[inline(always)]
+    fn intersect(&self, ray: &Ray, t_min: f32, scratch: &mut Scratch) -> Option<Hit> {
+        let world = &self.scene.world;
+        if self.settings.tally {
+            world.intersect_with(ray, t_min, &mut scratch.counts.tallies)
+        } else {
+            world.intersect(ray, t_min)
+        }
+    }
+
+    #[inline(always)]
+    fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32, scratch: &mut Scratch) -> bool {
+        let world = &self.scene.world;
+        if self.settings.tally {
+            world.occluded_with(ray, t_min, t_max, &mut scratch.counts.tallies)
+        } else {
+            world.occluded(ray, t_min, t_max)
+        }
+    }
+
+    /// `-visualize_grid`: the first cell along the ray that lists a primitive, as an opaque
+    /// cube coloured by how many it lists ([`grid_palette`]), lit by the scene's lights (no
+    /// shadows) with the normal of the face the ray came in by.
+    fn grid_cell(&self, ray: &Ray, t_min: f32, scratch: &mut Scratch) -> (Vec3A, Option<Hit>) {
+        let scene = self.scene;
+        let Some(grid) = scene.world.grid() else {
+            return (scene.background, None);
+        };
+        let mut found = None;
+        grid.walk(ray, t_min, f32::INFINITY, |cell| {
+            scratch.counts.tallies.cells += u64::from(self.settings.tally);
+            if cell.primitives.is_empty() {
+                return ControlFlow::Continue(());
+            }
+            let mut normal = Vec3A::ZERO;
+            normal[cell.entered_axis] = cell.entered_sign;
+            found = Some((cell.t_enter, normal, cell.primitives.len()));
+            ControlFlow::Break(())
+        });
+        let Some((t, normal, count)) = found else {
+            return (scene.background, None);
+        };
+        let point = ray.at(t);
+        let colour = grid_palette(count);
+        let mut seen = scene.ambient * colour;
+        for light in &scene.lights {
+            if let Some(light) = light.illuminate(point) {
+                seen += colour * normal.dot(light.to_light).max(0.0) * light.color;
+            }
+        }
+        let hit = Hit {
+            t,
+            normal,
+            material: 0,
+        };
+        (seen, Some(hit))
     }
 
     /// The colour seen along `ray`, given what it hits (the camera's rays are cast by the
@@ -114,7 +208,7 @@ impl<'a> Tracer<'a> {
         let mut colour = self.visit(ray, from_camera, hit, scratch);
         while let Some(next) = scratch.pending.pop() {
             scratch.counts.secondary += 1;
-            let hit = self.scene.world.intersect(&next.ray, SECONDARY_T_MIN);
+            let hit = self.intersect(&next.ray, SECONDARY_T_MIN, scratch);
             colour +=
                 next.branch.throughput * self.visit(&next.ray, next.branch, hit.as_ref(), scratch);
         }
@@ -160,7 +254,7 @@ impl<'a> Tracer<'a> {
                 scratch.counts.shadow += 1;
                 let shadow = Ray::new(point, light.to_light);
                 let (near, far) = shadow_range(light.distance);
-                if scene.world.occluded(&shadow, near, far) {
+                if self.occluded(&shadow, near, far, scratch) {
                     continue;
                 }
             }
@@ -197,6 +291,23 @@ impl<'a> Tracer<'a> {
         }
         colour
     }
+}
+
+/// `-visualize_grid`'s colours by the number of primitives a cell lists: white for one, then
+/// purple, blue, cyan, green, yellow and orange, and red for eight or more (the handout's
+/// example runs from white through purple to red and leaves the scale free).
+pub fn grid_palette(count: usize) -> Vec3A {
+    const PALETTE: [[f32; 3]; 8] = [
+        [1.0, 1.0, 1.0],
+        [0.75, 0.35, 1.0],
+        [0.3, 0.35, 1.0],
+        [0.2, 0.85, 0.95],
+        [0.3, 0.9, 0.3],
+        [1.0, 0.95, 0.25],
+        [1.0, 0.6, 0.15],
+        [1.0, 0.15, 0.1],
+    ];
+    Vec3A::from(PALETTE[count.clamp(1, 8) - 1])
 }
 
 /// The t range in which a hit blocks a shadow ray: `SHADOW_EPSILON < t < distance`, both ends

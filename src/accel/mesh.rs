@@ -1,6 +1,6 @@
 use glam::{Vec3, Vec3A};
 
-use super::{Bvh, LeafSize};
+use super::{Bvh, LeafSize, Tally};
 use crate::geometry::{
     Aabb, Ray, Triangle4, TriangleRayLanes, intersect_triangle, triangle_normal,
 };
@@ -63,11 +63,24 @@ impl TriangleMesh {
     /// name the same triangle (and so the same normal) on a shared edge.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
+        self.intersect_with(ray, t_min, t_max, &mut ())
+    }
+
+    /// [`TriangleMesh::intersect`], counting the triangles tested.
+    #[inline(always)]
+    pub fn intersect_with<T: Tally>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> Option<(f32, u32)> {
         let mut found = None;
         // Set up on the first leaf: many rays that enter a mesh's box never reach one.
         let mut lanes: Option<TriangleRayLanes> = None;
         self.bvh.traverse(ray, t_min, t_max, |block, t_max| {
             let block = &self.blocks[block as usize];
+            tally.tested(block.len());
             let lanes = lanes.get_or_insert_with(|| TriangleRayLanes::new(ray));
             let (t, lane) = block.intersect(ray, lanes, t_min, t_max)?;
             let index = block.index[lane];
@@ -82,13 +95,13 @@ impl TriangleMesh {
 
     /// Whether any triangle is hit in [t_min, t_max].
     #[inline(always)]
-    pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
+    pub fn occluded<T: Tally>(&self, ray: &Ray, t_min: f32, t_max: f32, tally: &mut T) -> bool {
         let mut lanes: Option<TriangleRayLanes> = None;
         self.bvh.occluded(ray, t_min, t_max, |block| {
+            let block = &self.blocks[block as usize];
+            tally.tested(block.len());
             let lanes = lanes.get_or_insert_with(|| TriangleRayLanes::new(ray));
-            self.blocks[block as usize]
-                .intersect(ray, lanes, t_min, t_max)
-                .is_some()
+            block.intersect(ray, lanes, t_min, t_max).is_some()
         })
     }
 

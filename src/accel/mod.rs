@@ -2,9 +2,44 @@
 //! over the scene's spheres and mesh instances; unbounded planes are tested beside the trees.
 
 mod bvh;
+pub mod grid;
 mod mesh;
 mod world;
 
 pub use bvh::{Bvh, LeafSize};
+pub use grid::{Grid, GridError};
 pub use mesh::TriangleMesh;
 pub use world::{Hit, Item, World, WorldStats};
+
+/// What a search counts for the course's `-stats`: primitives tested (whether hit or not) and
+/// grid cells entered. The searches are generic over it, so that `()`, which counts nothing,
+/// costs nothing.
+pub trait Tally {
+    fn tested(&mut self, primitives: u32);
+    fn cell(&mut self);
+}
+
+impl Tally for () {
+    #[inline(always)]
+    fn tested(&mut self, _: u32) {}
+    #[inline(always)]
+    fn cell(&mut self) {}
+}
+
+/// The course's counts of intersection tests and grid cells.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Tallies {
+    pub intersections: u64,
+    pub cells: u64,
+}
+
+impl Tally for Tallies {
+    #[inline(always)]
+    fn tested(&mut self, primitives: u32) {
+        self.intersections += u64::from(primitives);
+    }
+    #[inline(always)]
+    fn cell(&mut self) {
+        self.cells += 1;
+    }
+}

@@ -2,9 +2,15 @@
 
 use glam::Vec3A;
 
-use super::{Bvh, LeafSize, TriangleMesh};
+use std::ops::ControlFlow;
+
+use glam::UVec3;
+
+use super::grid::{Extent, Primitive};
+use super::{Bvh, Grid, GridError, LeafSize, Tally, TriangleMesh};
 use crate::geometry::{
-    Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere, unit_normal,
+    Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere, intersect_triangle,
+    unit_normal,
 };
 
 /// An entry of the top-level tree. `transform` indexes [`World::transforms`], or is
@@ -70,6 +76,8 @@ pub struct World {
     pub(crate) items: Vec<Item>,
     pub(crate) top: Bvh,
     pub(crate) planes: Vec<(Plane, u32)>,
+    /// The course's grid, searched instead of the trees when `-grid` asks for it.
+    pub(crate) grid: Option<Grid>,
 }
 
 /// What the search found, before the normal is worked out (only the winner's is).
@@ -102,7 +110,8 @@ impl Nearest {
     fn item(t: f32, item: u32, triangle: u32) -> Nearest {
         Nearest {
             t,
-            key: (1 << 32) | u64::from(item),
+            // Items after planes; within an item, its lower triangle (the meshes' own rule).
+            key: (1 << 63) | (u64::from(item) << 32) | u64::from(triangle),
             found: Found::Item { item, triangle },
         }
     }
@@ -137,16 +146,108 @@ impl World {
             items,
             top,
             planes,
+            grid: None,
         }
+    }
+
+    /// Searches the course's uniform grid of `cells` over the scene's box from now on, instead
+    /// of the trees. Every sphere and triangle is listed in each cell its box reaches (a box of
+    /// the eight corners of its object-space box, under a Transform), a sphere in world space by
+    /// the handout's tighter test; planes stay outside the grid.
+    pub fn use_grid(&mut self, cells: UVec3) -> Result<(), GridError> {
+        let mut primitives = Vec::new();
+        for (i, item) in self.items.iter().enumerate() {
+            let transform = match item.transform() {
+                Item::WORLD_SPACE => None,
+                t => Some(&self.transforms[t as usize]),
+            };
+            let placed = |b: Aabb| match transform {
+                None => b,
+                Some(t) => {
+                    let corners: [glam::Vec3A; 8] = std::array::from_fn(|c| {
+                        let pick =
+                            |bit: usize, lo: f32, hi: f32| if c & bit == 0 { lo } else { hi };
+                        t.object_to_world.transform_point3a(glam::Vec3A::new(
+                            pick(1, b.min.x, b.max.x),
+                            pick(2, b.min.y, b.max.y),
+                            pick(4, b.min.z, b.max.z),
+                        ))
+                    });
+                    Aabb::from_points(&corners)
+                }
+            };
+            match *item {
+                Item::Sphere { sphere, .. } => {
+                    let extent = match transform {
+                        None => Extent::Sphere {
+                            center: sphere.center,
+                            radius: sphere.radius,
+                        },
+                        Some(_) => Extent::Box(placed(sphere.bounds())),
+                    };
+                    let primitive = Primitive {
+                        item: i as u32,
+                        triangle: 0,
+                    };
+                    primitives.push((primitive, extent));
+                }
+                Item::Mesh { mesh, .. } => {
+                    for (k, v) in self.meshes[mesh as usize].triangles().iter().enumerate() {
+                        let b = Aabb::from_points(&[v[0].into(), v[1].into(), v[2].into()]);
+                        let primitive = Primitive {
+                            item: i as u32,
+                            triangle: k as u32,
+                        };
+                        primitives.push((primitive, Extent::Box(placed(b))));
+                    }
+                }
+            }
+        }
+        let bounds = primitives.iter().fold(Aabb::EMPTY, |b, (_, e)| {
+            b.union(match *e {
+                Extent::Box(b) => b,
+                Extent::Sphere { center, radius } => Aabb {
+                    min: center - radius,
+                    max: center + radius,
+                },
+            })
+        });
+        self.grid = Some(Grid::build(bounds, cells, &primitives)?);
+        Ok(())
+    }
+
+    /// The course's grid, when one is in use.
+    pub fn grid(&self) -> Option<&Grid> {
+        self.grid.as_ref()
+    }
+
+    /// The box of everything but the planes (`None` for a scene of planes alone).
+    pub fn bounds(&self) -> Option<Aabb> {
+        let b = match &self.grid {
+            Some(grid) if !self.items.is_empty() => grid.bounds(),
+            _ => self.top.bounds(),
+        };
+        (!self.items.is_empty() && !b.is_empty()).then_some(b)
     }
 
     /// The nearest hit with t >= t_min.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        self.intersect_with(ray, t_min, &mut ())
+    }
+
+    /// [`World::intersect`], counting primitives tested and grid cells entered.
+    #[inline(always)]
+    pub fn intersect_with<T: Tally>(&self, ray: &Ray, t_min: f32, tally: &mut T) -> Option<Hit> {
+        tally.tested(self.planes.len() as u32);
         let mut nearest = self.nearest_plane(ray, t_min);
+        if let Some(grid) = &self.grid {
+            self.grid_nearest(grid, ray, t_min, &mut nearest, tally);
+            return nearest.map(|n| self.hit(ray, n.t, n.found));
+        }
         let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
         let mut test = |i, t_max| {
-            let (t, triangle) = self.intersect_item(i, ray, t_min, t_max)?;
+            let (t, triangle) = self.intersect_item(i, ray, t_min, t_max, tally)?;
             Nearest::item(t, i, triangle)
                 .replaces(&mut nearest)
                 .then_some(t)
@@ -163,21 +264,93 @@ impl World {
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
+    /// The grid's search: cells in the ray's order, every primitive of each, until the nearest
+    /// hit so far lies within the cell just searched (a hit further on may be beaten by a
+    /// primitive of a later cell, so it is kept but not trusted yet).
+    fn grid_nearest<T: Tally>(
+        &self,
+        grid: &Grid,
+        ray: &Ray,
+        t_min: f32,
+        nearest: &mut Option<Nearest>,
+        tally: &mut T,
+    ) {
+        let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+        grid.walk(ray, t_min, t_max, |cell| {
+            tally.cell();
+            for p in cell.primitives {
+                tally.tested(1);
+                let limit = nearest.map_or(f32::INFINITY, |n| n.t);
+                if let Some(t) = self.intersect_primitive(p, ray, t_min, limit) {
+                    Nearest::item(t, p.item, p.triangle).replaces(nearest);
+                }
+            }
+            if nearest.is_some_and(|n| n.t <= cell.t_exit) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+    }
+
+    /// One primitive of the grid: a sphere, or one triangle of a mesh, in its item's space.
+    #[inline]
+    fn intersect_primitive(&self, p: &Primitive, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        let item = &self.items[p.item as usize];
+        let local = self.ray_into(item, ray);
+        match *item {
+            Item::Sphere { sphere, .. } => intersect_sphere(&local, &sphere, t_min, t_max),
+            Item::Mesh { mesh, .. } => {
+                let triangle = &self.meshes[mesh as usize].triangles()[p.triangle as usize];
+                intersect_triangle(&local, triangle, t_min, t_max)
+            }
+        }
+    }
+
     /// Whether anything at all is hit with t in [t_min, t_max]: the shadow ray's question,
     /// answered at the first hit found rather than the nearest.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_min: f32, t_max: f32) -> bool {
-        let on_plane = |(plane, _): &(Plane, u32)| intersect_plane(ray, plane, t_min, t_max);
-        if self.planes.iter().any(|p| on_plane(p).is_some()) {
-            return true;
+        self.occluded_with(ray, t_min, t_max, &mut ())
+    }
+
+    /// [`World::occluded`], counting primitives tested and grid cells entered.
+    #[inline]
+    pub fn occluded_with<T: Tally>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> bool {
+        for (plane, _) in &self.planes {
+            tally.tested(1);
+            if intersect_plane(ray, plane, t_min, t_max).is_some() {
+                return true;
+            }
         }
-        let test = |i: u32| {
+        if let Some(grid) = &self.grid {
+            let mut blocked = false;
+            grid.walk(ray, t_min, t_max, |cell| {
+                tally.cell();
+                for p in cell.primitives {
+                    tally.tested(1);
+                    if self.intersect_primitive(p, ray, t_min, t_max).is_some() {
+                        blocked = true;
+                        return ControlFlow::Break(());
+                    }
+                }
+                ControlFlow::Continue(())
+            });
+            return blocked;
+        }
+        let mut test = |i: u32| {
             let item = &self.items[i as usize];
             match item.transform() {
-                Item::WORLD_SPACE => self.occluded_local(item, ray, t_min, t_max),
+                Item::WORLD_SPACE => self.occluded_local(item, ray, t_min, t_max, tally),
                 t => {
                     let local = self.transforms[t as usize].ray_to_object(ray);
-                    self.occluded_local(item, &local, t_min, t_max)
+                    self.occluded_local(item, &local, t_min, t_max, tally)
                 }
             }
         };
@@ -195,10 +368,22 @@ impl World {
     }
 
     #[inline(always)]
-    fn occluded_local(&self, item: &Item, local: &Ray, t_min: f32, t_max: f32) -> bool {
+    fn occluded_local<T: Tally>(
+        &self,
+        item: &Item,
+        local: &Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> bool {
         match *item {
-            Item::Sphere { sphere, .. } => intersect_sphere(local, &sphere, t_min, t_max).is_some(),
-            Item::Mesh { mesh, .. } => self.meshes[mesh as usize].occluded(local, t_min, t_max),
+            Item::Sphere { sphere, .. } => {
+                tally.tested(1);
+                intersect_sphere(local, &sphere, t_min, t_max).is_some()
+            }
+            Item::Mesh { mesh, .. } => {
+                self.meshes[mesh as usize].occluded(local, t_min, t_max, tally)
+            }
         }
     }
 
@@ -238,31 +423,42 @@ impl World {
     }
 
     #[inline(always)]
-    fn intersect_item(&self, i: u32, ray: &Ray, t_min: f32, t_max: f32) -> Option<(f32, u32)> {
+    fn intersect_item<T: Tally>(
+        &self,
+        i: u32,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> Option<(f32, u32)> {
         let item = &self.items[i as usize];
         match item.transform() {
             // The world ray as it is: no copy of it on the way to the triangles.
-            Item::WORLD_SPACE => self.intersect_local(item, ray, t_min, t_max),
+            Item::WORLD_SPACE => self.intersect_local(item, ray, t_min, t_max, tally),
             t => {
                 let local = self.transforms[t as usize].ray_to_object(ray);
-                self.intersect_local(item, &local, t_min, t_max)
+                self.intersect_local(item, &local, t_min, t_max, tally)
             }
         }
     }
 
     #[inline(always)]
-    fn intersect_local(
+    fn intersect_local<T: Tally>(
         &self,
         item: &Item,
         local: &Ray,
         t_min: f32,
         t_max: f32,
+        tally: &mut T,
     ) -> Option<(f32, u32)> {
         match *item {
             Item::Sphere { sphere, .. } => {
+                tally.tested(1);
                 intersect_sphere(local, &sphere, t_min, t_max).map(|t| (t, 0))
             }
-            Item::Mesh { mesh, .. } => self.meshes[mesh as usize].intersect(local, t_min, t_max),
+            Item::Mesh { mesh, .. } => {
+                self.meshes[mesh as usize].intersect_with(local, t_min, t_max, tally)
+            }
         }
     }
 

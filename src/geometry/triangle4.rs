@@ -65,6 +65,17 @@ impl Triangle4 {
         packed
     }
 
+    /// How many of the four lanes hold a triangle.
+    #[inline(always)]
+    pub fn len(&self) -> u32 {
+        self.used.count_ones()
+    }
+
+    /// Whether no lane holds a triangle.
+    pub fn is_empty(&self) -> bool {
+        self.used == 0
+    }
+
     /// The nearest of the four hits with t_min <= t <= t_max (ties to the lowest lane): its t
     /// and lane.
     #[inline(always)]
