@@ -20,6 +20,16 @@ use crate::scene::{Scene, SpecularFalloff};
 pub const SECONDARY_T_MIN: f32 = 1e-4;
 /// A shadow ray is blocked by a hit with `SHADOW_EPSILON < t < distance to the light`.
 pub const SHADOW_EPSILON: f32 = 1e-4;
+/// A mirror or glass ray whose colour counts for less than this in every channel of the pixel
+/// is not traced: it could not move the pixel by a 256th of a level unless what it saw were
+/// brighter than white. The course's weight cut-off stops far earlier in its scenes; this one
+/// ends what the weight cannot, such as two perfect mirrors facing each other (whose colour's
+/// magnitude, √3, never lets the weight fall).
+pub const NEGLIGIBLE_THROUGHPUT: f32 = 1.0 / 65536.0;
+/// The most mirror and glass rays one camera ray may spawn: the course's deepest scene (four
+/// bounces of glass that both reflects and refracts) needs 62, `-bounces 10` at most 2,046.
+/// Past this the ray tree is cut, so that even `-bounces 1000000` between mirrors ends.
+pub const MAX_RAYS_PER_CAMERA_RAY: u32 = 1 << 14;
 
 /// How rays are traced: the course's assignment-2 to -4 switches.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -206,7 +216,13 @@ impl<'a> Tracer<'a> {
             throughput: Vec3A::ONE,
         };
         let mut colour = self.visit(ray, from_camera, hit, scratch);
+        let mut traced = 0;
         while let Some(next) = scratch.pending.pop() {
+            traced += 1;
+            if traced > MAX_RAYS_PER_CAMERA_RAY {
+                scratch.pending.clear();
+                break;
+            }
             scratch.counts.secondary += 1;
             let hit = self.intersect(&next.ray, SECONDARY_T_MIN, scratch);
             colour +=
@@ -264,13 +280,16 @@ impl<'a> Tracer<'a> {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, direction: Vec3A| {
                 let weight = branch.weight * colour.length();
-                if weight >= self.settings.cutoff_weight {
+                let throughput = branch.throughput * colour;
+                if weight >= self.settings.cutoff_weight
+                    && throughput.abs().max_element() >= NEGLIGIBLE_THROUGHPUT
+                {
                     scratch.pending.push(Pending {
                         ray: Ray::new(point, direction),
                         branch: Branch {
                             bounces_left: branch.bounces_left - 1,
                             weight,
-                            throughput: branch.throughput * colour,
+                            throughput,
                         },
                     });
                 }

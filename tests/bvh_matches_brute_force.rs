@@ -1,5 +1,6 @@
-//! Property test: the BVHs (top level and per mesh, through nested transforms and shared mesh
-//! instances) find exactly the hit that testing every primitive finds.
+//! Property tests: the BVHs (top level and per mesh, through nested transforms and shared mesh
+//! instances), and the course's uniform grid, find exactly the hit that testing every primitive
+//! finds, and the same answer to shadow rays.
 
 use std::fmt::Write;
 use std::path::Path;
@@ -156,8 +157,81 @@ fn ray() -> impl Strategy<Value = (bool, [f32; 3], [f32; 3])> {
     )
 }
 
+/// Rays for the grid: anywhere (many start inside the grid), along the axes and in the planes of
+/// cell boundaries, and from far away.
+fn grid_ray() -> impl Strategy<Value = (bool, [f32; 3], [f32; 3])> {
+    let axis = (0usize..3, any::<bool>()).prop_map(|(a, positive)| {
+        let mut d = [0.0f32; 3];
+        d[a] = if positive { 1.0 } else { -1.0 };
+        d
+    });
+    let grid_line = -4.0f32..4.0;
+    prop_oneof![
+        ray(),
+        (
+            any::<bool>(),
+            [grid_line.clone(), grid_line.clone(), grid_line],
+            axis.clone()
+        )
+            .prop_map(|(f, o, d)| (f, o, d)),
+        // Through whole numbers, on the boundaries of cells of a unit grid over -4…4.
+        (any::<bool>(), [-4i32..4, -4i32..4, -4i32..4], axis).prop_map(|(f, o, d)| (
+            f,
+            o.map(|v| v as f32),
+            d
+        )),
+    ]
+}
+
+fn scene_text(root: &[(u32, Node)], with_plane: bool, meshes: &[String; 2]) -> String {
+    let mut text = String::from(
+        "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }\n\
+         Materials { numMaterials 3 Material { } Material { } Material { } }\n",
+    );
+    let mut objects = root.to_vec();
+    if with_plane {
+        objects.push((2, Node::Plane));
+    }
+    write_node(&Node::Group(objects), meshes, &mut text);
+    text
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn grid_closest_hit_and_occlusion_equal_brute_force(
+        root in prop::collection::vec((0u32..3, node()), 1..8),
+        rays in prop::collection::vec(grid_ray(), 64),
+        with_plane in any::<bool>(),
+        cells in [1u32..12, 1u32..12, 1u32..12],
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let meshes = [0, 1].map(|i| {
+            let path = dir.path().join(format!("m{i}.obj"));
+            std::fs::write(&path, bumpy_mesh_obj(i)).unwrap();
+            path.to_str().unwrap().to_string()
+        });
+        let text = scene_text(&root, with_plane, &meshes);
+        let description = parse_scene(Path::new("generated.txt"), &text)
+            .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
+        let (mut scene, _) = Scene::from_description(&description).unwrap();
+        scene.world.use_grid(glam::UVec3::from(cells)).unwrap();
+        for (from_infinity, origin, direction) in rays {
+            let ray = Ray::new(Vec3A::from(origin), Vec3A::from(direction).normalize());
+            let t_min = if from_infinity { f32::NEG_INFINITY } else { 0.0 };
+            let fast = scene.world.intersect(&ray, t_min);
+            let slow = scene.world.intersect_brute_force(&ray, t_min);
+            prop_assert_eq!(fast, slow, "ray {:?}, grid {:?}, in scene\n{}", ray, cells, text);
+            for t_max in [0.5f32, 3.0, f32::INFINITY] {
+                prop_assert_eq!(
+                    scene.world.occluded(&ray, t_min.max(0.0), t_max),
+                    scene.world.occluded_brute_force(&ray, t_min.max(0.0), t_max),
+                    "shadow ray {:?} to {}, grid {:?}, in scene\n{}", ray, t_max, cells, text
+                );
+            }
+        }
+    }
 
     #[test]
     fn bvh_closest_hit_equals_brute_force(

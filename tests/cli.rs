@@ -825,3 +825,134 @@ fn stats_count_shadow_and_mirror_rays() {
         "{err}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Assignments 5 to 7: grid, samples and filters
+
+#[test]
+fn grid_sampler_and_filter_values_are_checked_before_any_work() {
+    let cases = [
+        (
+            "-grid 0 5 5",
+            "-grid needs NX (a whole number above 0), found '0'",
+        ),
+        (
+            "-grid 5 5",
+            "-grid needs NX NY NZ, the numbers of cells, found the end of the command line",
+        ),
+        (
+            "-grid 1000 1000 1000",
+            "-grid 1000 1000 1000 is 1000000000 cells, more than the 67108864 that raycast \
+             keeps in memory",
+        ),
+        (
+            "-visualize_grid",
+            "-visualize_grid needs -grid NX NY NZ: which grid should it show?",
+        ),
+        (
+            "-uniform_samples 8",
+            "-uniform_samples needs a square number of samples (they lie on a square grid), \
+             found 8: try 4 or 9",
+        ),
+        (
+            "-jittered_samples 0",
+            "-jittered_samples needs a number of samples (a whole number from 1 to 1024), \
+             found '0'",
+        ),
+        (
+            "-random_samples 5000",
+            "-random_samples needs a number of samples (a whole number from 1 to 1024), \
+             found '5000'",
+        ),
+        (
+            "-random_samples 4 -jittered_samples 4",
+            "give only one of -random_samples, -uniform_samples and -jittered_samples",
+        ),
+        (
+            "-box_filter 0",
+            "-box_filter needs a radius above 0 and at most 16 pixels, found 0",
+        ),
+        (
+            "-gaussian_filter 9",
+            "-gaussian_filter needs SIGMA above 0 and at most 8 pixels, found 9",
+        ),
+        (
+            "-tent_filter nan",
+            "-tent_filter needs a radius, a number of pixels, found 'nan'",
+        ),
+        (
+            "-box_filter 1 -tent_filter 1",
+            "give only one of -box_filter, -tent_filter and -gaussian_filter",
+        ),
+        (
+            "-render_filter f.tga 0",
+            "-render_filter needs a zoom (a whole number above 0), found '0'",
+        ),
+        (
+            "-render_filter scene.txt 2",
+            "-render_filter 'scene.txt' would overwrite the scene file",
+        ),
+        (
+            "-render_samples s.tga 5000",
+            "-render_samples with zoom 5000 would make a 40000x40000 picture; each side may be \
+             at most 32768 pixels, and the picture at most 268435456 pixels",
+        ),
+        (
+            "-seed -1",
+            "-seed needs a whole number from 0 to 18446744073709551615, found '-1'",
+        ),
+    ];
+    for (extra, message) in cases {
+        assert_eq!(
+            refused(&format!("-input scene.txt -size 8 8 -output o.tga {extra}")),
+            message,
+            "{extra}"
+        );
+    }
+    assert_eq!(
+        refused("-input scene.txt -size 4096 4096 -output o.tga -random_samples 36"),
+        "4096x4096 pixels of 36 samples is too many samples to keep (603979776); at most \
+         67108864 (width x height x samples a pixel)"
+    );
+}
+
+#[test]
+fn a_preview_only_line_checks_the_scene_and_writes_nothing() {
+    let dir = workspace();
+    let output = raycast(
+        dir.path(),
+        &["-input", "scene.txt", "-size", "8", "8", "-gui"],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert_dir_holds(dir.path(), "bad.txt scene.txt");
+    // A broken scene is still reported.
+    let output = raycast(
+        dir.path(),
+        &["-input", "bad.txt", "-size", "8", "8", "-gui"],
+    );
+    assert_eq!(output.status.code(), Some(1));
+}
+
+#[test]
+fn the_debugging_pictures_have_the_courses_sizes() {
+    let dir = workspace();
+    succeeds_quietly(
+        dir.path(),
+        "-input scene.txt -size 9 7 -render_samples s.png 3 -render_filter f.png 4 -jittered_samples 4 -tent_filter 1.5",
+    );
+    assert_eq!(decode(&dir.path().join("s.png")).dimensions(), (27, 21));
+    assert_eq!(decode(&dir.path().join("f.png")).dimensions(), (37, 29));
+    assert_dir_holds(dir.path(), "bad.txt f.png s.png scene.txt");
+}
+
+/// Like `succeeds`, for a line that may write to stdout (none of these do) or stderr.
+fn succeeds_quietly(dir: &Path, line: &str) {
+    let args: Vec<&str> = line.split_whitespace().collect();
+    let output = raycast(dir, &args);
+    assert_eq!(
+        output.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        stderr(&output)
+    );
+}

@@ -258,7 +258,8 @@ impl Grid {
         };
         let mut t_cell = t_enter;
         loop {
-            // The lecture's choice of the next axis: the smallest next t, x before y before z.
+            // The lecture's choice of the next axis: the smallest next t; its comparisons are
+            // strict, so a tie goes to the later axis.
             let axis = if t_next[0] < t_next[1] {
                 if t_next[0] < t_next[2] { 0 } else { 2 }
             } else if t_next[1] < t_next[2] {
@@ -333,5 +334,141 @@ fn grid_fill(
                 f((x + cells.x * (y + cells.y * z)) as usize);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small generator for test data.
+    fn lcg(state: &mut u64) -> f32 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*state >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    #[test]
+    fn every_cell_a_primitive_touches_lists_it() {
+        let mut seed = 7;
+        for case in 0..40 {
+            let cells = UVec3::new(1 + case % 7, 1 + case % 5, 1 + case % 3);
+            let mut primitives = Vec::new();
+            let mut shapes = Vec::new();
+            for k in 0..20 {
+                let centre = Vec3A::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 8.0 - 4.0;
+                let size = Vec3A::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 2.0;
+                let extent = if k % 3 == 0 {
+                    Extent::Sphere {
+                        center: centre,
+                        radius: size.x,
+                    }
+                } else {
+                    Extent::Box(Aabb {
+                        min: centre - size,
+                        max: centre + size,
+                    })
+                };
+                primitives.push((
+                    Primitive {
+                        item: k,
+                        triangle: 0,
+                    },
+                    extent,
+                ));
+                shapes.push(extent);
+            }
+            let bounds = Aabb {
+                min: Vec3A::splat(-6.5),
+                max: Vec3A::splat(6.5),
+            };
+            let grid = Grid::build(bounds, cells, &primitives).unwrap();
+            for (k, shape) in shapes.iter().enumerate() {
+                // Points inside the shape: the cell holding each must list it.
+                for _ in 0..200 {
+                    let r = Vec3A::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed));
+                    let point = match *shape {
+                        Extent::Box(b) => b.min + r * (b.max - b.min),
+                        Extent::Sphere { center, radius } => {
+                            let d = (r * 2.0 - 1.0).normalize_or_zero();
+                            center + d * radius * lcg(&mut seed)
+                        }
+                    };
+                    let o = (point - grid.bounds.min) / grid.cell_size;
+                    let index = UVec3::new(
+                        (o.x.floor().max(0.0) as u32).min(cells.x - 1),
+                        (o.y.floor().max(0.0) as u32).min(cells.y - 1),
+                        (o.z.floor().max(0.0) as u32).min(cells.z - 1),
+                    );
+                    let c = grid.cell_number(index);
+                    let listed =
+                        &grid.entries[grid.starts[c] as usize..grid.starts[c + 1] as usize];
+                    assert!(
+                        listed.iter().any(|p| p.item == k as u32),
+                        "case {case}: {shape:?} at {point} not in cell {index}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_walk_visits_cells_in_order_along_the_ray() {
+        let grid = Grid::build(
+            Aabb {
+                min: Vec3A::ZERO,
+                max: Vec3A::splat(4.0),
+            },
+            UVec3::splat(4),
+            &[],
+        )
+        .unwrap();
+        // Along x through the middle of row (·, 1, 2): four cells, entered through -x faces.
+        let ray = Ray::new(Vec3A::new(-1.0, 1.5, 2.5), Vec3A::X);
+        let mut visited = Vec::new();
+        grid.walk(&ray, 0.0, f32::INFINITY, |cell| {
+            visited.push((
+                cell.index,
+                cell.t_enter,
+                cell.t_exit,
+                cell.entered_axis,
+                cell.entered_sign,
+            ));
+            ControlFlow::Continue(())
+        });
+        assert_eq!(
+            visited,
+            [
+                (UVec3::new(0, 1, 2), 1.0, 2.0, 0, -1.0),
+                (UVec3::new(1, 1, 2), 2.0, 3.0, 0, -1.0),
+                (UVec3::new(2, 1, 2), 3.0, 4.0, 0, -1.0),
+                (UVec3::new(3, 1, 2), 4.0, 5.0, 0, -1.0),
+            ]
+        );
+        // A diagonal from inside: from (0.5, 0.5, 0.5) along +x+y both boundaries come at
+        // t = 0.5; the lecture's strict comparison steps y first, then x.
+        let ray = Ray::new(Vec3A::splat(0.5), Vec3A::new(1.0, 1.0, 0.0));
+        let mut cells = Vec::new();
+        grid.walk(&ray, 0.0, f32::INFINITY, |cell| {
+            cells.push(cell.index);
+            ControlFlow::Continue(())
+        });
+        assert_eq!(
+            cells[..3],
+            [
+                UVec3::new(0, 0, 0),
+                UVec3::new(0, 1, 0),
+                UVec3::new(1, 1, 0)
+            ]
+        );
+        // A ray that misses the grid visits nothing.
+        let miss = Ray::new(Vec3A::new(-1.0, 9.0, 0.0), Vec3A::X);
+        let mut any = false;
+        grid.walk(&miss, 0.0, f32::INFINITY, |_| {
+            any = true;
+            ControlFlow::Continue(())
+        });
+        assert!(!any);
     }
 }
