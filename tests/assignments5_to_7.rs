@@ -329,3 +329,51 @@ fn sampling_is_reproducible_and_seeded() {
     // the uniform sampler of one sample and the box of half a pixel, said out loud.
     assert!(image("") == image("-uniform_samples 1 -box_filter 0.5"));
 }
+
+#[test]
+fn a_grid_over_a_flat_or_empty_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let camera = "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 4 }
+        Lights { numLights 1 DirectionalLight { direction 0.2 -0.3 -1 color 0.8 0.8 0.8 } }
+        Materials { numMaterials 1 Material { diffuseColor 1 0.5 0 } }";
+    std::fs::write(
+        dir.path().join("flat.txt"),
+        format!(
+            "{camera}\nGroup {{ numObjects 2 MaterialIndex 0
+                Triangle {{ vertex0 -1 -1 0 vertex1 1 -1 0 vertex2 0 1 0 }}
+                Triangle {{ vertex0 -1.5 -1.5 0 vertex1 -0.5 -1.5 0 vertex2 -1 -0.5 0 }} }}"
+        ),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("planes.txt"),
+        format!(
+            "{camera}\nGroup {{ numObjects 1 MaterialIndex 0 Plane {{ normal 0 0.1 1 offset 0 }} }}"
+        ),
+    )
+    .unwrap();
+    let args = |scene: &str, extra: &str| -> Vec<String> {
+        format!("-input {scene} -size 40 40 -output o.tga {extra}")
+            .split_whitespace()
+            .map(String::from)
+            .collect()
+    };
+    for scene in ["flat.txt", "planes.txt"] {
+        let (plain, _) = render(dir.path(), &args(scene, ""));
+        let (grid, stats) = render(dir.path(), &args(scene, "-grid 5 5 5 -stats"));
+        assert!(plain[0] == grid[0], "{scene}: -grid changes the image");
+        assert!(
+            stats.contains("num grid cells             125 (5x5x5)"),
+            "{stats}"
+        );
+        let (cells, _) = render(dir.path(), &args(scene, "-grid 5 5 5 -visualize_grid"));
+        let drawn = cells[0].pixels().filter(|p| p.0 != [127, 127, 127]).count();
+        if scene == "planes.txt" {
+            // No box, no cells: only the background (the course's default grey).
+            assert_eq!(drawn, 0);
+            assert!(stats.contains("scene bounds               NULL"), "{stats}");
+        } else {
+            assert!(drawn > 100, "{drawn} pixels of cells");
+        }
+    }
+}

@@ -166,30 +166,36 @@ fn course_folder(variable: &str, default: &str) -> Option<PathBuf> {
     }
 }
 
-/// The files of the course to mutate: every scene and mesh of assignments 1 and 2, and the
-/// scenes of assignments 3 and 4 (Phong materials, point lights, mirrors and glass) with the
-/// meshes they name.
-fn course_files() -> Vec<PathBuf> {
+/// The files of the course to mutate: every scene and mesh of assignments 1 and 2, the scenes
+/// of assignments 3 to 7 (Phong materials, point lights, mirrors, glass, solid textures) and
+/// their small meshes (scenes that name the big ones are refused at the mesh, still with a
+/// place).
+fn course_files() -> Vec<(PathBuf, bool)> {
     let mut files = Vec::new();
     if let Some(scenes) = course_folder("RAYCAST_CONFORMANCE_DIR", "../shared/conformance") {
         files.extend(
             std::fs::read_dir(&scenes)
                 .unwrap()
-                .map(|e| e.unwrap().path()),
+                .map(|e| (e.unwrap().path(), true)),
         );
     }
     if let Some(scenes) = course_folder("RAYCAST_LATER_DIR", "../shared/later-assignments") {
-        let wanted = |name: &str| {
-            name.starts_with("scene3_")
-                || name.starts_with("scene4_")
-                || ["cube.obj", "bunny_200.obj", "bunny_1k.obj", "diamond.obj"].contains(&name)
+        let scene = |name: &str| {
+            ["scene3_", "scene4_", "scene5_", "scene6_", "scene7_"]
+                .iter()
+                .any(|prefix| name.starts_with(prefix))
         };
-        files.extend(
-            std::fs::read_dir(&scenes)
-                .unwrap()
-                .map(|e| e.unwrap().path())
-                .filter(|p| p.file_name().is_some_and(|n| wanted(&n.to_string_lossy()))),
-        );
+        let small_mesh = |name: &str| {
+            ["cube.obj", "bunny_200.obj", "bunny_1k.obj", "diamond.obj"].contains(&name)
+        };
+        for entry in std::fs::read_dir(&scenes).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            // Big meshes are there for the scenes to load, not to be mutated themselves.
+            if scene(&name) || name.ends_with(".obj") {
+                files.push((path, scene(&name) || small_mesh(&name)));
+            }
+        }
     }
     files.sort();
     files
@@ -212,7 +218,7 @@ fn inputs() -> (Vec<Input>, tempfile::TempDir) {
         bytes: text.as_bytes().to_vec(),
     })
     .collect();
-    for path in course_files() {
+    for (path, mutate) in course_files() {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let kind = match path.extension().and_then(|e| e.to_str()) {
             Some("txt") => Kind::Scene,
@@ -223,7 +229,9 @@ fn inputs() -> (Vec<Input>, tempfile::TempDir) {
         if kind == Kind::Obj {
             std::fs::write(folder.path().join(&name), &bytes).unwrap();
         }
-        inputs.push(Input { name, kind, bytes });
+        if mutate {
+            inputs.push(Input { name, kind, bytes });
+        }
     }
     (inputs, folder)
 }
@@ -251,7 +259,8 @@ const KEYWORDS: &[&str] = &[
     "vertex1", "vertex2", "TriangleMesh", "obj_file", "Transform", "Scale", "UniformScale",
     "Translate", "XRotate", "YRotate", "ZRotate", "Rotate", "Matrix", "{", "}", "specularColor",
     "exponent", "PointLight", "position", "attenuation", "reflectiveColor", "transparentColor",
-    "indexOfRefraction", "Checkerboard", "v", "f", "vn", "vt", "g", "o", "s", "usemtl",
+    "indexOfRefraction", "Checkerboard", "Noise", "Marble", "Wood", "materialIndex", "octaves",
+    "frequency", "amplitude", "v", "f", "vn", "vt", "g", "o", "s", "usemtl",
     "mtllib", "#", "1/2/3", "1//1", "-1", "cube.obj", "bunny_200.obj", "real.obj", "missing.obj",
 ];
 

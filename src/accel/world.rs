@@ -9,7 +9,7 @@ use glam::UVec3;
 use super::grid::{Extent, Primitive};
 use super::{Bvh, Grid, GridError, LeafSize, Tally, TriangleMesh};
 use crate::geometry::{
-    Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere, intersect_triangle,
+    Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere, intersect_triangle_in,
     unit_normal,
 };
 
@@ -78,6 +78,13 @@ pub struct World {
     pub(crate) planes: Vec<(Plane, u32)>,
     /// The course's grid, searched instead of the trees when `-grid` asks for it.
     pub(crate) grid: Option<Grid>,
+}
+
+/// A ray in one item's space, with its watertight frame, kept while the grid tests that item.
+struct LocalRay {
+    item: u32,
+    ray: Ray,
+    frame: glam::Mat3A,
 }
 
 /// What the search found, before the normal is worked out (only the winner's is).
@@ -276,12 +283,13 @@ impl World {
         tally: &mut T,
     ) {
         let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+        let mut local = None;
         grid.walk(ray, t_min, t_max, |cell| {
             tally.cell();
             for p in cell.primitives {
                 tally.tested(1);
                 let limit = nearest.map_or(f32::INFINITY, |n| n.t);
-                if let Some(t) = self.intersect_primitive(p, ray, t_min, limit) {
+                if let Some(t) = self.intersect_primitive(p, ray, t_min, limit, &mut local) {
                     Nearest::item(t, p.item, p.triangle).replaces(nearest);
                 }
             }
@@ -294,15 +302,34 @@ impl World {
     }
 
     /// One primitive of the grid: a sphere, or one triangle of a mesh, in its item's space.
+    /// `local` keeps the ray in the space of the item tested last (with its watertight frame):
+    /// a cell's primitives mostly belong to one mesh, so most tests need no new transform.
     #[inline]
-    fn intersect_primitive(&self, p: &Primitive, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+    fn intersect_primitive(
+        &self,
+        p: &Primitive,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        local: &mut Option<LocalRay>,
+    ) -> Option<f32> {
         let item = &self.items[p.item as usize];
-        let local = self.ray_into(item, ray);
+        let here = match local {
+            Some(l) if l.item == p.item => l,
+            _ => {
+                let ray = self.ray_into(item, ray);
+                local.insert(LocalRay {
+                    item: p.item,
+                    frame: ray.to_ray_space(),
+                    ray,
+                })
+            }
+        };
         match *item {
-            Item::Sphere { sphere, .. } => intersect_sphere(&local, &sphere, t_min, t_max),
+            Item::Sphere { sphere, .. } => intersect_sphere(&here.ray, &sphere, t_min, t_max),
             Item::Mesh { mesh, .. } => {
                 let triangle = &self.meshes[mesh as usize].triangles()[p.triangle as usize];
-                intersect_triangle(&local, triangle, t_min, t_max)
+                intersect_triangle_in(&here.frame, &here.ray, triangle, t_min, t_max)
             }
         }
     }
@@ -331,11 +358,15 @@ impl World {
         }
         if let Some(grid) = &self.grid {
             let mut blocked = false;
+            let mut local = None;
             grid.walk(ray, t_min, t_max, |cell| {
                 tally.cell();
                 for p in cell.primitives {
                     tally.tested(1);
-                    if self.intersect_primitive(p, ray, t_min, t_max).is_some() {
+                    if self
+                        .intersect_primitive(p, ray, t_min, t_max, &mut local)
+                        .is_some()
+                    {
                         blocked = true;
                         return ControlFlow::Break(());
                     }

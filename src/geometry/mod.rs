@@ -14,5 +14,6 @@ pub use plane::{Plane, intersect_plane};
 pub use ray::Ray;
 pub use sphere::{Sphere, intersect_sphere};
 pub use transform::{Transform, unit_normal};
+pub(crate) use triangle::intersect_triangle_in;
 pub use triangle::{intersect_triangle, triangle_normal};
 pub use triangle4::{RayLanes as TriangleRayLanes, Triangle4};
