@@ -530,6 +530,15 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     if outputs.is_empty() {
         return Ok(());
     }
+    for &(flag, path) in &outputs {
+        if let Some(mesh) = load.mesh_files.iter().find(|m| same_file(path, m)) {
+            return Err(Error::Refused(format!(
+                "raycast: {flag} '{}' would overwrite the mesh file '{}' that the scene reads",
+                path.display(),
+                mesh.display()
+            )));
+        }
+    }
     if let Some([nx, ny, nz]) = options.grid {
         let start = Instant::now();
         scene

@@ -956,3 +956,67 @@ fn succeeds_quietly(dir: &Path, line: &str) {
         stderr(&output)
     );
 }
+
+#[test]
+fn no_image_overwrites_a_mesh_the_scene_reads() {
+    let dir = workspace();
+    let mesh = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(dir.path().join("tri.obj"), mesh).unwrap();
+    std::fs::write(
+        dir.path().join("mesh.txt"),
+        "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }
+         Materials { numMaterials 1 Material { } }
+         Group { numObjects 1 MaterialIndex 0 TriangleMesh { obj_file tri.obj } }",
+    )
+    .unwrap();
+    // The image format is chosen by extension, so the clash needs a mesh named like an image.
+    std::fs::copy(dir.path().join("tri.obj"), dir.path().join("tri.ppm")).unwrap();
+    std::fs::write(
+        dir.path().join("mesh2.txt"),
+        "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }
+         Materials { numMaterials 1 Material { } }
+         Group { numObjects 1 MaterialIndex 0 TriangleMesh { obj_file tri.ppm } }",
+    )
+    .unwrap();
+    assert_eq!(
+        fails(
+            dir.path(),
+            "-input mesh2.txt -size 8 8 -render_samples ./tri.ppm 2"
+        ),
+        "raycast: -render_samples './tri.ppm' would overwrite the mesh file '".to_string()
+            + &dir
+                .path()
+                .canonicalize()
+                .unwrap()
+                .join("tri.ppm")
+                .display()
+                .to_string()
+            + "' that the scene reads"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("tri.ppm")).unwrap(),
+        mesh
+    );
+}
+
+#[test]
+fn samples_and_filters_with_normals_depth_and_a_grid() {
+    let dir = workspace();
+    let line = "-input scene.txt -size 30 20 -output c.png -normals n.png -depth 9 11 d.png \
+                -jittered_samples 4 -tent_filter 1 -grid 4 4 4";
+    succeeds_quietly(dir.path(), line);
+    let plain = "-input scene.txt -size 30 20 -output c0.png -normals n0.png -depth 9 11 d0.png";
+    succeeds_quietly(dir.path(), plain);
+    for (sampled, centre) in [("c", "c0"), ("n", "n0"), ("d", "d0")] {
+        let a = decode(&dir.path().join(format!("{sampled}.png")));
+        let b = decode(&dir.path().join(format!("{centre}.png")));
+        assert_eq!(a.dimensions(), (30, 20));
+        // The same picture, softened: far from the sphere (a corner) the filtered value is the
+        // plain one, and so is the flat red in the sphere's middle; the sphere's edge differs.
+        assert_eq!(a.get_pixel(0, 0), b.get_pixel(0, 0), "{sampled}");
+        if sampled == "c" {
+            assert_eq!(a.get_pixel(15, 10), b.get_pixel(15, 10));
+        }
+        assert_ne!(a, b, "{sampled}: no softening at all");
+    }
+}

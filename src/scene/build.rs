@@ -144,6 +144,8 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
     let parse = start.elapsed();
 
     let build_start = Instant::now();
+    let mut mesh_files: Vec<PathBuf> = meshes.by_path.keys().cloned().collect();
+    mesh_files.sort();
     let mut meshes = meshes.build();
     if !loose_triangles.is_empty() {
         let (mesh, order) = TriangleMesh::new(loose_triangles);
@@ -171,6 +173,7 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
         parse,
         build,
         world: scene.world.stats(),
+        mesh_files,
     };
     Ok((scene, stats))
 }

@@ -32,13 +32,15 @@ pub struct Scene {
 }
 
 /// How long loading took and what it made, for `-stats`.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct LoadStats {
     /// Reading and parsing the scene and its mesh files.
     pub parse: Duration,
     /// Building the acceleration structures.
     pub build: Duration,
     pub world: WorldStats,
+    /// The mesh files read, as found on disk (so that no output overwrites one).
+    pub mesh_files: Vec<std::path::PathBuf>,
 }
 
 impl Scene {
