@@ -5,6 +5,7 @@ use glam::Vec3A;
 use crate::geometry::Ray;
 use crate::scene::model::{CameraSpec, Projection};
 
+/// A camera ready to cast rays: its unit frame, worked out once, and its projection.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     center: Vec3A,
@@ -19,6 +20,8 @@ pub struct Camera {
 }
 
 impl Camera {
+    /// The course's frame: `direction` normalised, horizontal = normalize(direction × up), and
+    /// up' = horizontal × direction (the file's up need be neither unit nor perpendicular).
     pub fn new(spec: &CameraSpec) -> Camera {
         let direction = Vec3A::from(spec.direction).normalize();
         let horizontal = direction.cross(spec.up.into()).normalize();

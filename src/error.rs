@@ -8,12 +8,16 @@ use crate::parse::Span;
 /// A problem at one place in an input file: `file:line:column: message`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Diagnostic {
+    /// The file as messages name it: as the user gave it, or where a mesh was found.
     pub path: PathBuf,
+    /// Where in the file: line and column, both from 1.
     pub span: Span,
+    /// What is wrong, without the place: usually "expected …, found …".
     pub message: String,
 }
 
 impl Diagnostic {
+    /// A diagnostic with a message of any form; [`Diagnostic::expected`] is the usual one.
     pub fn new(path: &Path, span: Span, message: impl Into<String>) -> Self {
         Diagnostic {
             path: path.to_path_buf(),
@@ -52,12 +56,19 @@ pub enum Error {
     /// A file that could not be read.
     #[error("{}: cannot read: {source}", path.display())]
     Read {
+        /// What could not be read, as messages name it.
         path: PathBuf,
+        /// Why it could not be read.
         source: std::io::Error,
     },
     /// An image that could not be written.
     #[error("{}: cannot write image: {message}", path.display())]
-    Write { path: PathBuf, message: String },
+    Write {
+        /// Where the image was going, as messages name it.
+        path: PathBuf,
+        /// Why it could not be written, in words fit for the user.
+        message: String,
+    },
     /// A request that cannot be met, found before any work is done.
     #[error("{0}")]
     Refused(String),

@@ -13,21 +13,30 @@ use crate::error::Error;
 /// An 8-bit RGB picture, top row first.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Image {
+    /// In pixels.
     pub width: u32,
+    /// In pixels.
     pub height: u32,
+    /// `width × height` pixels as R, G, B bytes: rows top first, each from the left.
     pub pixels: Vec<[u8; 3]>,
 }
 
+/// A picture file's format, chosen by the extension of its name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ImageFormat {
+    /// Uncompressed 24-bit Targa in the course's layout: top-left origin, B, G, R bytes.
     Tga,
+    /// Binary PPM (P6).
     Ppm,
+    /// PNG, encoded by the `image` crate.
     Png,
 }
 
 impl ImageFormat {
+    /// The extensions [`ImageFormat::from_path`] knows, as a message lists them.
     pub const EXTENSIONS: &str = ".tga, .ppm or .png";
 
+    /// The format a path's extension names, in any case; `None` for another extension or none.
     pub fn from_path(path: &Path) -> Option<ImageFormat> {
         let extension = path.extension()?.to_str()?.to_ascii_lowercase();
         match extension.as_str() {
@@ -39,6 +48,8 @@ impl ImageFormat {
     }
 }
 
+/// The whole file for `image` in `format`. A TGA's sides must be at most [`TGA_MAX_SIDE`]
+/// (the command line sees to that).
 pub fn encode(image: &Image, format: ImageFormat) -> Vec<u8> {
     let (w, h) = (image.width, image.height);
     match format {
@@ -101,6 +112,8 @@ pub struct PendingOutputs {
 }
 
 impl PendingOutputs {
+    /// A temporary file beside each of `paths`, in their order; an error names the first that
+    /// cannot be made (and those already made vanish).
     pub fn reserve(paths: &[&Path]) -> Result<PendingOutputs, Error> {
         let mut files = Vec::new();
         for &path in paths {

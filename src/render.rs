@@ -21,9 +21,13 @@ const TILE: u32 = 16;
 /// What to render and how.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
+    /// Of every picture, in pixels.
     pub width: u32,
+    /// Of every picture, in pixels.
     pub height: u32,
+    /// Make the shaded picture; without it, camera rays find their hits but nothing is shaded.
     pub colour: bool,
+    /// Make the picture of each hit's |normal| (`-normals`).
     pub normals: bool,
     /// The t that maps to white and the t that maps to black.
     pub depth: Option<(f32, f32)>,
@@ -42,8 +46,11 @@ pub struct RenderSettings {
 /// The rendered pictures; those not asked for are `None`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Rendered {
+    /// The shaded picture: the background where nothing is hit.
     pub colour: Option<Image>,
+    /// Each hit's |normal| as a colour; black where nothing is hit.
     pub normals: Option<Image>,
+    /// Grey by distance, white near and black far; black where nothing is hit.
     pub depth: Option<Image>,
     /// The rays cast to make them.
     pub rays: RayCounts,

@@ -26,6 +26,7 @@ pub fn to_byte(value: f32) -> u8 {
     ((value * 255.0) as i32).clamp(0, 255) as u8
 }
 
+/// A colour as three bytes, each channel by [`to_byte`]'s rule.
 #[inline]
 pub fn to_rgb(colour: Vec3A) -> [u8; 3] {
     [to_byte(colour.x), to_byte(colour.y), to_byte(colour.z)]

@@ -42,6 +42,7 @@ pub struct TraceSettings {
     pub bounces: u32,
     /// Mirror and glass rays whose weight falls below this are not traced.
     pub cutoff_weight: f32,
+    /// How highlights end where the light grazes the surface (`-specular_fix` fades them).
     pub specular: SpecularFalloff,
     /// Count primitives tested and grid cells entered (for the course's `-stats`).
     pub tally: bool,
@@ -56,6 +57,7 @@ pub struct RayCounts {
     pub primary: u64,
     /// Reflected and refracted rays.
     pub secondary: u64,
+    /// Rays toward lights, under `-shadows`: one for each light that adds to a lit point.
     pub shadow: u64,
     /// Primitives tested and grid cells entered, when counted.
     pub tallies: Tallies,
@@ -81,6 +83,7 @@ impl std::ops::Add for RayCounts {
 #[derive(Debug, Default)]
 pub struct Scratch {
     pending: Vec<Pending>,
+    /// The rays cast with this scratch; the pixel loop sums those of every band at the end.
     pub counts: RayCounts,
 }
 
@@ -110,10 +113,12 @@ pub struct Tracer<'a> {
 }
 
 impl<'a> Tracer<'a> {
+    /// Traces through `scene` under `settings`; cheap to make, as it only borrows the scene.
     pub fn new(scene: &'a Scene, settings: TraceSettings) -> Self {
         Tracer { scene, settings }
     }
 
+    /// The scene it traces through (the pixel loop takes the camera from it).
     pub fn scene(&self) -> &'a Scene {
         self.scene
     }

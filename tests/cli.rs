@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use raycast::cli::USAGE;
+use raycast::cli::usage;
 
 const SCENE: &str = "\
 OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }
@@ -64,7 +64,7 @@ fn refused(line: &str) -> String {
     let (message, rest) = message.split_once('\n').expect("a message line");
     assert_eq!(
         rest,
-        format!("\n{USAGE}\n"),
+        format!("\n{}\n", usage()),
         "{args:?}: the usage should follow"
     );
     assert_dir_holds(dir.path(), "bad.txt scene.txt");
@@ -131,11 +131,11 @@ fn no_arguments() {
 fn unknown_option() {
     assert_eq!(
         refused("-input scene.txt -size 8 8 -output a.tga -bogus"),
-        "unknown option '-bogus'"
+        "unknown option '-bogus' (raycast -help lists them all)"
     );
     assert_eq!(
         refused("-input scene.txt -size 8 8 -output a.tga -"),
-        "unknown option '-'"
+        "unknown option '-' (raycast -help lists them all)"
     );
     assert_eq!(
         refused("-input scene.txt -size 8 8 -output a.tga stray"),
@@ -168,7 +168,7 @@ fn size_must_be_two_whole_numbers_above_zero() {
     );
     assert_eq!(
         refused("-input scene.txt -size 8 -output a.tga"),
-        "-size needs a height in pixels (a whole number above 0), found '-output'"
+        "-size needs a width and a height in pixels, found the option '-output'"
     );
     assert_eq!(
         refused("-input scene.txt -output a.tga"),
@@ -215,11 +215,13 @@ fn no_output_named() {
 fn unknown_output_extension() {
     assert_eq!(
         refused("-input scene.txt -size 8 8 -output a.jpg"),
-        "-output 'a.jpg': unknown image type; name it .tga, .ppm or .png"
+        "-output 'a.jpg': unknown image type; name it .tga, .ppm or .png, or give -format png, \
+         ppm or tga"
     );
     assert_eq!(
         refused("-input scene.txt -size 8 8 -normals n"),
-        "-normals 'n': unknown image type; name it .tga, .ppm or .png"
+        "-normals 'n': unknown image type; name it .tga, .ppm or .png, or give -format png, ppm \
+         or tga"
     );
 }
 
@@ -264,7 +266,10 @@ fn an_output_that_names_a_folder() {
         let name = args.last().unwrap();
         assert_eq!(
             stderr(&output),
-            format!("raycast: {flag} '{name}' names a folder, not an image file\n\n{USAGE}\n")
+            format!(
+                "raycast: {flag} '{name}' names a folder, not an image file\n\n{}\n",
+                usage()
+            )
         );
     }
     assert_dir_holds(dir.path(), "bad.txt picture.png scene.txt");
@@ -353,7 +358,7 @@ fn help_and_version_go_to_stdout_and_succeed() {
     for flag in ["-help", "--help", "-h"] {
         let output = raycast(dir.path(), &[flag]);
         assert_eq!(output.status.code(), Some(0), "{flag}");
-        assert_eq!(stdout(&output), format!("{USAGE}\n"), "{flag}");
+        assert_eq!(stdout(&output), format!("{}\n", usage()), "{flag}");
         assert!(output.stderr.is_empty(), "{flag}");
     }
     for flag in ["-version", "--version", "-V"] {
@@ -789,7 +794,7 @@ fn the_opengl_preview_options_are_accepted_and_change_nothing() {
     );
     assert_eq!(
         refused("-input scene.txt -size 8 8 -output a.tga -tessellation 10 -gouraud"),
-        "-tessellation needs PHI (a whole number above 0), found '-gouraud'"
+        "-tessellation needs the preview's THETA and PHI steps, found the option '-gouraud'"
     );
 }
 
@@ -1019,4 +1024,246 @@ fn samples_and_filters_with_normals_depth_and_a_grid() {
         }
         assert_ne!(a, b, "{sampled}: no softening at all");
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// A newcomer's slips
+
+#[test]
+fn an_option_without_its_value_says_so_and_not_what_followed() {
+    assert_eq!(
+        refused("-input -size 200 200 -output a.tga"),
+        "-input needs a scene file, found the option '-size'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output -normals n.tga"),
+        "-output needs an image file, found the option '-normals'"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -bounces -shadows"),
+        "-bounces needs a number of bounces, found the option '-shadows'"
+    );
+    // Negative numbers and a lone '-' are values, not options.
+    let args = "-input scene.txt -size 8 8 -depth -3 5 d.tga";
+    assert!(raycast::cli::parse_args(args.split(' ').map(Into::into).collect()).is_ok());
+}
+
+#[test]
+fn a_misspelt_option_gets_the_nearest_real_one() {
+    for (typed, meant) in [
+        ("-inptu", "-input"),
+        ("-shadow", "-shadows"),
+        ("--outptu", "-output"),
+        ("-jittered_sample", "-jittered_samples"),
+        ("-gird", "-grid"),
+    ] {
+        assert_eq!(
+            refused(&format!(
+                "-input scene.txt -size 8 8 -output a.tga {typed} x"
+            )),
+            format!("unknown option '{typed}' (did you mean {meant}?)")
+        );
+    }
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 --output=o.tga"),
+        "'--output=o.tga': raycast takes an option's values as the words after it: write \
+         '-output o.tga'"
+    );
+}
+
+#[test]
+fn every_option_in_the_table_is_taken_and_in_the_help() {
+    use raycast::cli::{Command, OPTIONS, parse_args, usage};
+    let help = usage();
+    for option in OPTIONS {
+        assert!(
+            help.contains(&format!("  -{}", option.name)),
+            "-{} not in -help",
+            option.name
+        );
+        // Values of the right shape for each kind of option.
+        let values: Vec<&str> = match option.name {
+            "input" | "output" | "normals" => vec!["x.png"],
+            "size" | "tessellation" => vec!["4", "4"],
+            "depth" => vec!["1", "2", "d.png"],
+            "grid" => vec!["2", "2", "2"],
+            "render_samples" | "render_filter" => vec!["r.png", "2"],
+            "format" => vec!["png"],
+            "uniform_samples" | "jittered_samples" => vec!["4"],
+            _ if option.values.is_empty() => vec![],
+            _ => vec!["1"],
+        };
+        let mut args = vec!["-input", "scene.txt", "-size", "4", "4", "-output", "o.png"];
+        args.retain(|a| {
+            !(option.name == "input" && (*a == "-input" || *a == "scene.txt")
+                || option.name == "size" && (*a == "-size" || *a == "4")
+                || option.name == "output" && (*a == "-output" || *a == "o.png"))
+        });
+        if option.name == "visualize_grid" {
+            args.extend(["-grid", "2", "2", "2"]);
+        }
+        args.push(&*Box::leak(format!("-{}", option.name).into_boxed_str()));
+        args.extend(values);
+        let parsed = parse_args(args.iter().map(Into::into).collect());
+        assert!(
+            matches!(
+                parsed,
+                Ok(Command::Render(_) | Command::Help | Command::Version)
+            ),
+            "-{}: {parsed:?}",
+            option.name
+        );
+    }
+}
+
+#[test]
+fn images_to_standard_output_and_scenes_from_standard_input() {
+    use std::io::Write as _;
+    use std::process::Stdio;
+    let dir = workspace();
+    // -output - with -format: the image's bytes, and nothing else, on stdout.
+    let output = raycast(
+        dir.path(),
+        &[
+            "-input",
+            "scene.txt",
+            "-size",
+            "8",
+            "6",
+            "-output",
+            "-",
+            "-format",
+            "ppm",
+        ],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(output.stdout.starts_with(b"P6\n8 6\n255\n"));
+    assert_eq!(output.stdout.len(), "P6\n8 6\n255\n".len() + 8 * 6 * 3);
+    assert_dir_holds(dir.path(), "bad.txt scene.txt");
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output -"),
+        "-output - (standard output) needs -format png, ppm or tga"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output - -normals - -format png"),
+        "-output and -normals both name standard output (-); only one image can go there"
+    );
+    // -format also names the format of a file without an extension.
+    succeeds(
+        dir.path(),
+        "-input scene.txt -size 8 8 -output picture -format tga",
+    );
+    assert_eq!(
+        decode_as(&dir.path().join("picture"), image::ImageFormat::Tga).dimensions(),
+        (8, 8)
+    );
+    // -input -: the scene from stdin; errors name <stdin>.
+    let run = |scene: &str| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raycast"))
+            .args([
+                "-input",
+                "-",
+                "-size",
+                "8",
+                "8",
+                "-output",
+                "from_stdin.png",
+            ])
+            .current_dir(dir.path())
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(scene.as_bytes())
+            .unwrap();
+        child.wait_with_output().unwrap()
+    };
+    let output = run(SCENE);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert_eq!(
+        decode(&dir.path().join("from_stdin.png")).dimensions(),
+        (8, 8)
+    );
+    let output = run(BAD_SCENE);
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        stderr(&output),
+        "<stdin>:4:47: expected 'center', found 'centre'\n"
+    );
+}
+
+fn decode_as(path: &Path, format: image::ImageFormat) -> image::RgbImage {
+    image::load(
+        std::io::BufReader::new(std::fs::File::open(path).unwrap()),
+        format,
+    )
+    .unwrap()
+    .to_rgb8()
+}
+
+#[test]
+fn a_full_or_closed_stream_never_panics() {
+    use std::process::Stdio;
+    let dir = workspace();
+    for (stdout_full, stderr_full) in [(true, false), (false, true), (true, true)] {
+        let full = || Stdio::from(std::fs::File::create("/dev/full").unwrap());
+        let mut command = Command::new(env!("CARGO_BIN_EXE_raycast"));
+        command
+            .args([
+                "-input",
+                "scene.txt",
+                "-size",
+                "8",
+                "8",
+                "-output",
+                "a.png",
+                "-stats",
+                "-gui",
+            ])
+            .current_dir(dir.path());
+        if stdout_full {
+            command.stdout(full());
+        }
+        if stderr_full {
+            command.stderr(full());
+        }
+        let status = command.status().unwrap();
+        assert_eq!(
+            status.code(),
+            Some(0),
+            "stdout full {stdout_full}, stderr full {stderr_full}"
+        );
+    }
+}
+
+#[test]
+fn shell_completions() {
+    let dir = workspace();
+    let output = raycast(dir.path(), &["completions", "bash"]);
+    assert_eq!(output.status.code(), Some(0));
+    let script = stdout(&output);
+    for option in raycast::cli::OPTIONS {
+        assert!(script.contains(&format!("-{}", option.name)));
+    }
+    // bash itself checks the script's syntax.
+    let path = dir.path().join("raycast.bash");
+    std::fs::write(&path, &script).unwrap();
+    let check = Command::new("bash").arg("-n").arg(&path).status().unwrap();
+    assert!(check.success());
+    for shell in ["zsh", "fish"] {
+        let output = raycast(dir.path(), &["completions", shell]);
+        assert_eq!(output.status.code(), Some(0));
+        assert!(stdout(&output).contains("shade_back"));
+    }
+    let output = raycast(dir.path(), &["completions", "tcsh"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        stderr(&output)
+            .starts_with("raycast: completions: unknown shell 'tcsh': bash, zsh or fish\n")
+    );
 }

@@ -92,6 +92,7 @@ struct Pending {
     t: f32,
 }
 
+/// A four-wide BVH over boxes; the default is the tree over nothing, which every ray misses.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
@@ -112,6 +113,7 @@ pub struct LeafSize {
 }
 
 impl LeafSize {
+    /// Up to eight triangles a leaf, tested as blocks of four.
     pub const TRIANGLES: LeafSize = LeafSize {
         min_split: 4,
         max: 8,
@@ -172,14 +174,17 @@ impl Bvh {
         }
     }
 
+    /// How many four-wide nodes the tree has.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
 
+    /// The box around every primitive; [`Aabb::EMPTY`] for a tree over nothing.
     pub fn bounds(&self) -> Aabb {
         self.bounds.unwrap_or(Aabb::EMPTY)
     }
 
+    /// Memory the nodes take.
     pub fn size_in_bytes(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Node>()
     }

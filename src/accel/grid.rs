@@ -19,7 +19,9 @@ pub const MAX_ENTRIES: u64 = 1 << 28;
 /// One primitive as the grid lists it: an item of the world, and for a mesh, its triangle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Primitive {
+    /// Index into the world's items, in their stored order.
     pub item: u32,
+    /// The triangle's index in the item's mesh; 0 for a sphere.
     pub triangle: u32,
 }
 
@@ -31,13 +33,21 @@ pub enum Extent {
     /// The handout's tighter test for a sphere: every cell whose centre is within the radius
     /// plus half the cell's diagonal of the sphere's centre (no cell the sphere touches is
     /// missed).
-    Sphere { center: Vec3A, radius: f32 },
+    Sphere {
+        /// In world space.
+        center: Vec3A,
+        /// In world units.
+        radius: f32,
+    },
 }
 
 /// A grid that cannot be built.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum GridError {
+    /// More cells than [`MAX_CELLS`]: the number asked for.
     TooManyCells(u64),
+    /// More (cell, primitive) entries than [`MAX_ENTRIES`]: the count when the build gave up
+    /// (the whole grid would list at least that many).
     TooManyEntries(u64),
 }
 
@@ -56,6 +66,8 @@ impl std::fmt::Display for GridError {
     }
 }
 
+/// The scene's box cut into nx × ny × nz equal cells, each listing the primitives that reach
+/// into it, in one flat array (compressed sparse rows).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
     /// The cells' box: the scene's, with flat sides given some thickness.
@@ -70,14 +82,18 @@ pub struct Grid {
 /// A cell the walk has reached.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cell<'a> {
+    /// Which cell: its place on each axis, counted from the grid's lowest corner.
     pub index: UVec3,
+    /// What the cell lists, in the order the primitives were given to [`Grid::build`].
     pub primitives: &'a [Primitive],
-    /// The ray's t where it enters and leaves the cell (clipped to the walk's range).
+    /// The ray's t where it enters the cell (clipped to the walk's range).
     pub t_enter: f32,
+    /// The ray's t where it leaves the cell (clipped to the walk's range).
     pub t_exit: f32,
-    /// The axis of the face the ray came in through, and the face's outward normal's sign on
-    /// it (for the first cell, the face the ray would have entered by).
+    /// The axis (0 to 2 for x to z) of the face the ray came in through; for the first cell,
+    /// the face the ray would have entered by.
     pub entered_axis: usize,
+    /// The sign, -1 or 1, of that face's outward normal on its axis.
     pub entered_sign: f32,
 }
 
@@ -165,10 +181,12 @@ impl Grid {
         Ok(grid)
     }
 
+    /// The cells' box: the scene's, with flat sides given some thickness.
     pub fn bounds(&self) -> Aabb {
         self.bounds
     }
 
+    /// How many cells the grid has along x, y and z.
     pub fn cells(&self) -> UVec3 {
         self.cells
     }

@@ -1,3 +1,6 @@
+//! A triangle mesh with its own BVH, built once per mesh file and shared by every placement of
+//! it.
+
 use glam::{Vec3, Vec3A};
 
 use super::{Bvh, LeafSize, Tally};
@@ -46,14 +49,17 @@ impl TriangleMesh {
         )
     }
 
+    /// The triangles in the tree's leaf order, which the indices of hits count in.
     pub fn triangles(&self) -> &[[Vec3; 3]] {
         &self.triangles
     }
 
+    /// The tree over the triangles; its leaves point at blocks of four.
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
     }
 
+    /// The box around every triangle, in the mesh's own space; empty for a mesh of none.
     pub fn bounds(&self) -> Aabb {
         self.bvh.bounds()
     }
@@ -128,6 +134,8 @@ impl TriangleMesh {
         )
     }
 
+    /// The front side of triangle `i` (the one its vertices run counter-clockwise from), in the
+    /// mesh's own space and not normalised.
     pub fn normal(&self, i: u32) -> Vec3A {
         triangle_normal(&self.triangles[i as usize])
     }

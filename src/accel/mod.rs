@@ -15,7 +15,9 @@ pub use world::{Hit, Item, World, WorldStats};
 /// grid cells entered. The searches are generic over it, so that `()`, which counts nothing,
 /// costs nothing.
 pub trait Tally {
+    /// Counts `primitives` more intersection tests, hit or not.
     fn tested(&mut self, primitives: u32);
+    /// Counts one more grid cell entered.
     fn cell(&mut self);
 }
 
@@ -29,7 +31,10 @@ impl Tally for () {
 /// The course's counts of intersection tests and grid cells.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Tallies {
+    /// Primitives tested, hit or not, over all the rays counted (a block of triangles counts
+    /// as many as it holds).
     pub intersections: u64,
+    /// Grid cells entered, over all the rays counted; 0 without a grid.
     pub cells: u64,
 }
 

@@ -17,22 +17,31 @@ use crate::geometry::{
 /// [`Item::WORLD_SPACE`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Item {
+    /// One sphere of the scene.
     Sphere {
+        /// In the item's own space.
         sphere: Sphere,
+        /// Index into the scene's materials.
         material: u32,
+        /// Index of the sphere's Transform, or [`Item::WORLD_SPACE`].
         transform: u32,
     },
     /// A placement of a shared mesh; `material` is [`Item::PER_TRIANGLE`] for the mesh of the
     /// scene's loose triangles, whose materials are in [`World::loose_materials`].
     Mesh {
+        /// Index into the world's meshes, which each mesh file is loaded into once.
         mesh: u32,
+        /// Index into the scene's materials, or [`Item::PER_TRIANGLE`].
         material: u32,
+        /// Index of the placement's Transform, or [`Item::WORLD_SPACE`].
         transform: u32,
     },
 }
 
 impl Item {
+    /// The `transform` of an item under no Transform: rays reach it as they are.
     pub const WORLD_SPACE: u32 = u32::MAX;
+    /// The `material` of the loose triangles' mesh, each of whose triangles has its own.
     pub const PER_TRIANGLE: u32 = u32::MAX;
 
     fn transform(&self) -> u32 {
@@ -49,25 +58,36 @@ pub struct Hit {
     pub t: f32,
     /// The geometric normal in world space, unit length, not flipped toward the ray.
     pub normal: Vec3A,
+    /// Index into the scene's materials.
     pub material: u32,
 }
 
 /// Sizes of the world, for `-stats`.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct WorldStats {
+    /// Meshes stored: each mesh file once, and the scene's loose triangles as one more.
     pub meshes: usize,
+    /// Placements of meshes, the loose triangles' included.
     pub instances: usize,
     /// Triangles stored (a mesh placed many times counts once).
     pub triangles: usize,
     /// Triangles placed in the scene (a mesh placed many times counts each time).
     pub triangles_placed: usize,
+    /// Spheres, under a Transform or not.
     pub spheres: usize,
+    /// Planes, which are tested beside the trees rather than in them.
     pub planes: usize,
+    /// Four-wide tree nodes: the top-level tree's, and each mesh's once.
     pub nodes: usize,
+    /// Memory the shapes take: triangles (twice: as listed and in blocks of four), items,
+    /// transforms and planes.
     pub geometry_bytes: usize,
+    /// Memory the trees take; the grid is not counted.
     pub acceleration_bytes: usize,
 }
 
+/// Everything a ray can hit: the shared meshes and their placements, the spheres, the planes,
+/// and the top-level tree over all but the planes (or the course's grid, when one is in use).
 #[derive(Debug, Clone, Default)]
 pub struct World {
     pub(crate) meshes: Vec<TriangleMesh>,
@@ -546,6 +566,7 @@ impl World {
         }
     }
 
+    /// What the world holds and what its trees take, for `-stats`.
     pub fn stats(&self) -> WorldStats {
         let mut stats = WorldStats {
             meshes: self.meshes.len(),

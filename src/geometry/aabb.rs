@@ -1,3 +1,5 @@
+//! Axis-aligned boxes: what the trees and the grid are built from.
+
 use glam::Vec3A;
 
 #[cfg(test)]
@@ -6,7 +8,9 @@ use super::Ray;
 /// An axis-aligned box; the empty box has min = +inf and max = -inf so that growing it works.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Aabb {
+    /// The lowest corner: the least coordinate on each axis.
     pub min: Vec3A,
+    /// The highest corner: the greatest coordinate on each axis.
     pub max: Vec3A,
 }
 
@@ -17,15 +21,18 @@ impl Default for Aabb {
 }
 
 impl Aabb {
+    /// The box of nothing: grown by a point, it becomes that point's box.
     pub const EMPTY: Aabb = Aabb {
         min: Vec3A::INFINITY,
         max: Vec3A::NEG_INFINITY,
     };
 
+    /// The smallest box around `points`; [`Aabb::EMPTY`] for none.
     pub fn from_points(points: &[Vec3A]) -> Aabb {
         points.iter().fold(Aabb::EMPTY, |b, &p| b.grow(p))
     }
 
+    /// The box stretched to take in `p`.
     pub fn grow(self, p: Vec3A) -> Aabb {
         Aabb {
             min: self.min.min(p),
@@ -33,6 +40,7 @@ impl Aabb {
         }
     }
 
+    /// The smallest box around both boxes.
     pub fn union(self, other: Aabb) -> Aabb {
         Aabb {
             min: self.min.min(other.min),
@@ -40,6 +48,7 @@ impl Aabb {
         }
     }
 
+    /// Whether the box holds no point (min above max on some axis), as [`Aabb::EMPTY`] does.
     pub fn is_empty(&self) -> bool {
         self.min.cmpgt(self.max).any()
     }

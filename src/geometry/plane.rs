@@ -1,3 +1,5 @@
+//! Infinite planes and the ray-plane test.
+
 use glam::Vec3A;
 
 use super::Ray;
@@ -5,10 +7,14 @@ use super::Ray;
 /// The points P with P · normal = offset; `normal` is unit length and is the front side.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Plane {
+    /// Unit length, toward the front side.
     pub normal: Vec3A,
+    /// The plane's signed distance from the origin along `normal`.
     pub offset: f32,
 }
 
+/// The t in [t_min, t_max] where the ray meets the plane, from either side; `None` for a ray
+/// parallel to it. The direction need not be unit length.
 #[inline(always)]
 pub fn intersect_plane(ray: &Ray, plane: &Plane, t_min: f32, t_max: f32) -> Option<f32> {
     let t = (plane.offset - plane.normal.dot(ray.origin)) / plane.normal.dot(ray.direction);

@@ -1,3 +1,5 @@
+//! Rays, with the reciprocals the box tests need and the frame the triangle test needs.
+
 use glam::{Mat3A, Vec3A};
 
 /// A ray, with what every box test against it would otherwise recompute.
@@ -6,13 +8,16 @@ use glam::{Mat3A, Vec3A};
 /// world's parameter t that way (SCENE_FORMAT.md §8).
 #[derive(Debug, Clone, Copy)]
 pub struct Ray {
+    /// Where the ray starts: the point at t = 0.
     pub origin: Vec3A,
+    /// The way the ray goes, of any length: t counts in lengths of it.
     pub direction: Vec3A,
     /// 1/direction, kept finite (a zero component gives ±f32::MAX) so slab tests never make NaN.
     pub inv_direction: Vec3A,
 }
 
 impl Ray {
+    /// A ray from `origin` along `direction`, with its reciprocal worked out once.
     pub fn new(origin: Vec3A, direction: Vec3A) -> Self {
         let inv = Vec3A::ONE / direction;
         let inv_direction = Vec3A::select(
@@ -59,6 +64,7 @@ impl Ray {
         Mat3A::from_cols(rows[0], rows[1], rows[2]).transpose()
     }
 
+    /// The point at parameter `t`: origin + t·direction.
     pub fn at(&self, t: f32) -> Vec3A {
         self.origin + t * self.direction
     }

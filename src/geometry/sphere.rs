@@ -1,14 +1,20 @@
+//! Spheres and the ray-sphere test.
+
 use glam::Vec3A;
 
 use super::{Aabb, Ray};
 
+/// A sphere in its own space: the world's, or its Transform's object space.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sphere {
+    /// The centre, in the sphere's own space.
     pub center: Vec3A,
+    /// Above 0.
     pub radius: f32,
 }
 
 impl Sphere {
+    /// The box around the sphere, in its own space.
     pub fn bounds(&self) -> Aabb {
         Aabb {
             min: self.center - self.radius,

@@ -1,3 +1,5 @@
+//! Transforms: an object's placement in the world, and the way rays and normals cross it.
+
 use glam::{Affine3A, DMat4, Mat3A, Vec3A};
 
 use super::Ray;
@@ -6,8 +8,12 @@ use super::Ray;
 /// come out through its inverse transpose.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Transform {
+    /// The Transform's matrix, nesting included: object points to world points.
     pub object_to_world: Affine3A,
+    /// Its inverse, which carries rays into object space.
     pub world_to_object: Affine3A,
+    /// The inverse's linear part transposed, which carries normals out to the world (their
+    /// length is not kept).
     pub normal_to_world: Mat3A,
 }
 

@@ -1,3 +1,5 @@
+//! The watertight ray-triangle test, and the triangle's front-side normal.
+
 use glam::{Mat3A, Vec3, Vec3A};
 
 use super::Ray;

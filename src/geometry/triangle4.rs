@@ -19,6 +19,7 @@ pub struct RayLanes {
 }
 
 impl RayLanes {
+    /// The ray's frame, worked out once for every block of triangles the ray meets.
     #[inline(always)]
     pub fn new(ray: &Ray) -> RayLanes {
         let m = ray.to_ray_space();
@@ -153,6 +154,7 @@ impl Triangle4 {
         best
     }
 
+    /// The vertices of the triangle in `lane` (a zero-area triangle in an unused lane).
     pub fn triangle(&self, lane: usize) -> [Vec3; 3] {
         self.vertices
             .map(|v| Vec3::new(v[0][lane], v[1][lane], v[2][lane]))

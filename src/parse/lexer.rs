@@ -6,22 +6,29 @@
 /// A place in a text file, both counted from 1; columns count characters, not bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Span {
+    /// From 1.
     pub line: u32,
+    /// From 1, in characters.
     pub column: u32,
 }
 
 impl Span {
+    /// The place at `line` and `column`, both counted from 1.
     pub fn new(line: u32, column: u32) -> Self {
         Span { line, column }
     }
 }
 
+/// One word of the text and where it starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Token<'a> {
+    /// The word itself: never empty, and free of ASCII whitespace.
     pub text: &'a str,
+    /// Where the word's first character is.
     pub span: Span,
 }
 
+/// Walks a text word by word, counting lines and columns on the way; a clone looks ahead.
 #[derive(Clone)]
 pub struct Lexer<'a> {
     text: &'a str,
@@ -31,6 +38,7 @@ pub struct Lexer<'a> {
 }
 
 impl<'a> Lexer<'a> {
+    /// A lexer at the start of `text`.
     pub fn new(text: &'a str) -> Self {
         Lexer {
             text,
@@ -46,6 +54,7 @@ impl<'a> Lexer<'a> {
         Span::new(self.line, self.column)
     }
 
+    /// The next word, or `None` once the text is used up.
     pub fn next_token(&mut self) -> Option<Token<'a>> {
         let bytes = self.text.as_bytes();
         while let Some(&b) = bytes.get(self.pos) {

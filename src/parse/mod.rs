@@ -7,4 +7,4 @@ mod parser;
 pub(crate) use lexer::column_after;
 pub use lexer::{Span, Token, describe};
 pub(crate) use parser::show_number;
-pub use parser::{MAX_MAGNITUDE, NUMBER_IN_RANGE, parse_scene, read_scene};
+pub use parser::{MAX_MAGNITUDE, NUMBER_IN_RANGE, parse_scene, parse_scene_bytes, read_scene};

@@ -46,12 +46,18 @@ pub fn read_scene(path: &Path) -> std::result::Result<SceneDescription, Error> {
         path: path.to_path_buf(),
         source,
     })?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| {
-        let span = invalid_utf8_span(&bytes, e.valid_up_to());
+    Ok(parse_scene_bytes(path, &bytes)?)
+}
+
+/// Parses a scene's bytes (read from standard input, say), which must be UTF-8; `path` names
+/// the scene in messages and is where meshes are looked for first.
+pub fn parse_scene_bytes(path: &Path, bytes: &[u8]) -> Result<SceneDescription> {
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let span = invalid_utf8_span(bytes, e.valid_up_to());
         let found = format!("byte 0x{:02x}", bytes[e.valid_up_to()]);
         Diagnostic::expected(path, span, "UTF-8 text", &found)
     })?;
-    Ok(parse_scene(path, text)?)
+    parse_scene(path, text)
 }
 
 /// Parses scene text; `path` is only used to name the file in messages and to find meshes later.

@@ -12,9 +12,13 @@ use crate::shade::to_rgb;
 /// sample k, entry `(j·width + i)·samples + k`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Film {
+    /// In pixels.
     pub width: u32,
+    /// In pixels.
     pub height: u32,
+    /// Samples per pixel.
     pub samples: u32,
+    /// `width × height × samples` of them: rows from the bottom, each pixel's samples together.
     pub entries: Vec<FilmSample>,
 }
 

@@ -14,7 +14,9 @@ pub use sampler::Sampler;
 /// centre, no filter.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sampling {
+    /// Where in each pixel its samples fall, and how many there are.
     pub sampler: Sampler,
+    /// How the samples near each pixel are weighed into it.
     pub filter: Filter,
     /// Seeds the random and jittered samplers: the same seed gives the same image on any
     /// number of threads.

@@ -16,6 +16,7 @@ pub enum Sampler {
 }
 
 impl Sampler {
+    /// How many samples each pixel gets.
     pub fn samples(&self) -> u32 {
         match *self {
             Sampler::Random(n) | Sampler::Uniform(n) | Sampler::Jittered(n) => n,

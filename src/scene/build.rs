@@ -16,12 +16,15 @@ use crate::error::{Diagnostic, Error};
 use crate::geometry::{Aabb, Plane, Sphere, Transform, triangle_normal};
 use crate::parse::{MAX_MAGNITUDE, show_number};
 
+/// [`Scene::load`]: reads the scene file, then builds it; the parse time includes the reading.
 pub fn load(path: &Path) -> Result<(Scene, LoadStats), Error> {
     let start = Instant::now();
     let description = crate::parse::read_scene(path)?;
     build(&description, start)
 }
 
+/// [`Scene::from_description`]; `start` is when reading began, so that the parse time in the
+/// stats counts the scene file as well as the meshes.
 pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, LoadStats), Error> {
     let transforms: Vec<Transform> = description
         .transforms
@@ -223,7 +226,6 @@ fn ellipsoid_extent(sphere: &Sphere, matrix: &DMat4) -> (DVec3, DVec3) {
     (centre, reach)
 }
 
-/// The exact box of a sphere after an affine map.
 /// The corners of a box, placed by `matrix`, in f64.
 fn box_corners(b: &Aabb, matrix: &DMat4) -> [DVec3; 8] {
     std::array::from_fn(|corner| {
@@ -253,6 +255,7 @@ fn outward_box(points: &[DVec3]) -> Aabb {
     }
 }
 
+/// The box of a sphere after an affine map: exact in f64, then padded outward to f32.
 fn ellipsoid_bounds(sphere: &Sphere, matrix: &DMat4) -> Aabb {
     let (centre, reach) = ellipsoid_extent(sphere, matrix);
     outward_box(&[centre - reach, centre + reach])

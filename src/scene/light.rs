@@ -12,11 +12,14 @@ pub enum Light {
     Directional {
         /// Unit vector toward the light: the opposite of the way its light travels.
         to_light: Vec3A,
+        /// The colour that arrives everywhere, not clamped.
         color: Vec3A,
     },
     /// Light from a point, dimmed with distance d by 1 / (c + l·d + q·d²).
     Point {
+        /// Where the light is, in world space.
         position: Vec3A,
+        /// The colour at the light itself, before attenuation; not clamped.
         color: Vec3A,
         /// The constant, linear and quadratic terms c, l and q.
         attenuation: [f32; 3],
@@ -35,6 +38,8 @@ pub struct Illumination {
 }
 
 impl Light {
+    /// A light as the file gives it, in the form shading uses: a directional light turned to
+    /// point toward the light.
     pub fn new(spec: &LightSpec) -> Light {
         match *spec {
             LightSpec::Directional { direction, color } => Light::Directional {

@@ -12,24 +12,35 @@ use super::perlin::octave_noise;
 /// A material of the scene; a texture refers to others by their index in [`Materials`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Material {
+    /// Shaded by its own colours.
     Phong(Phong),
+    /// Shaded by two earlier materials, chosen or blended by where the point lies.
     Texture(Texture),
 }
 
 /// Blinn-Phong shading plus the mirror and glass terms of assignment 4.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Phong {
+    /// The colour a lit surface scatters in every direction, which ambient light is also
+    /// multiplied by.
     pub diffuse: Vec3A,
+    /// The highlight's colour; black skips the highlight's work altogether.
     pub specular: Vec3A,
+    /// How tight the highlight is: the power N·H is raised to; at least 0.
     pub exponent: f32,
+    /// What the mirror ray's colour is multiplied by; black spawns no mirror ray.
     pub reflective: Vec3A,
+    /// What the refracted ray's colour is multiplied by; black spawns no refracted ray.
     pub transparent: Vec3A,
+    /// Relative to the air outside (index 1); which side a ray hits from says whether it
+    /// enters or leaves.
     pub index_of_refraction: f32,
 }
 
 /// A solid texture between two materials listed before it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Texture {
+    /// Which of the course's textures, with its parameters.
     pub pattern: Pattern,
     /// World space to texture space.
     pub to_texture: DAffine3,
@@ -56,6 +67,8 @@ pub struct Materials {
 }
 
 impl Material {
+    /// A material as the file gives it, in the form shading uses: colours as SIMD vectors, the
+    /// texture's matrix as an affine map.
     pub fn new(spec: &model::Material) -> Material {
         match spec {
             model::Material::Phong(phong) => Material::Phong(Phong {
@@ -117,18 +130,23 @@ impl Texture {
 }
 
 impl Materials {
+    /// `list` in the file's order. A texture may refer only to materials before it (the parser
+    /// sees to that), so that answering a question never loops.
     pub fn new(list: Vec<Material>) -> Materials {
         Materials { list }
     }
 
+    /// How many materials the scene has.
     pub fn len(&self) -> usize {
         self.list.len()
     }
 
+    /// Whether the scene has none, which it may only when it has no objects either.
     pub fn is_empty(&self) -> bool {
         self.list.is_empty()
     }
 
+    /// The material at `index`; panics past the end (the parser checks every index).
     pub fn get(&self, index: u32) -> &Material {
         &self.list[index as usize]
     }
@@ -181,16 +199,19 @@ impl Materials {
         })
     }
 
+    /// What the mirror ray's colour is multiplied by at `point`.
     #[inline]
     pub fn reflective_at(&self, index: u32, point: Vec3A) -> Vec3A {
         self.blend(index, point, &|phong| phong.reflective)
     }
 
+    /// What the refracted ray's colour is multiplied by at `point`.
     #[inline]
     pub fn transparent_at(&self, index: u32, point: Vec3A) -> Vec3A {
         self.blend(index, point, &|phong| phong.transparent)
     }
 
+    /// The index of refraction at `point` (a texture's is its two materials' interpolated).
     #[inline]
     pub fn index_of_refraction_at(&self, index: u32, point: Vec3A) -> f32 {
         self.blend(index, point, &|phong| {

@@ -23,11 +23,18 @@ use crate::error::Error;
 /// A scene ready to render.
 #[derive(Debug, Clone)]
 pub struct Scene {
+    /// Where each pixel's ray starts and which way it goes.
     pub camera: Camera,
+    /// The colour of rays that hit nothing.
     pub background: Vec3A,
+    /// The light everywhere, multiplied by each surface's diffuse colour; white in a scene
+    /// without lights, so that its objects show their flat diffuse colour.
     pub ambient: Vec3A,
+    /// In the file's order.
     pub lights: Vec<Light>,
+    /// Asked by the material index a hit carries.
     pub materials: Materials,
+    /// Everything a ray can hit, and the trees (or the grid) that find it.
     pub world: World,
 }
 
@@ -38,6 +45,7 @@ pub struct LoadStats {
     pub parse: Duration,
     /// Building the acceleration structures.
     pub build: Duration,
+    /// What the world holds, and the size of its trees.
     pub world: WorldStats,
     /// The mesh files read, as found on disk (so that no output overwrites one).
     pub mesh_files: Vec<std::path::PathBuf>,

@@ -17,7 +17,10 @@ use crate::parse::{MAX_MAGNITUDE, NUMBER_IN_RANGE, Span, describe};
 /// A triangle soup: vertex positions and, per triangle, three indices into them.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ObjMesh {
+    /// The `v` lines in the file's order; a w or a vertex colour after x, y and z is dropped.
     pub positions: Vec<Vec3>,
+    /// 0-based indices into `positions`, all in range; a face of more than three corners is
+    /// split into a fan about its first.
     pub triangles: Vec<[u32; 3]>,
 }
 
@@ -30,6 +33,8 @@ const SKIPPED: &[&[u8]] = &[
     b"scrv", b"sp", b"end", b"con", b"ctech", b"stech", b"call", b"csh",
 ];
 
+/// Reads an .obj file's bytes; `path` only names the file in messages. A face may use only the
+/// vertices defined above it, and every error carries a line and column.
 pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
     let mut mesh = ObjMesh::default();
     let mut face: Vec<u32> = Vec::new();

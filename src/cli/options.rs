@@ -1,69 +1,279 @@
-//! The course's command line: `raycast -input scene.txt -size 200 200 -output out.tga
-//! [-normals n.tga] [-depth 9 11 d.tga] [-shade_back] [-shadows] [-bounces N] [-weight W]`,
-//! assignment 3's OpenGL-preview switches (accepted, without effect), plus `-specular_fix`,
-//! `-threads N` and `-stats`.
+//! The command line: one table of options feeds the parser's names, the help text and the
+//! shell completions, so that they cannot drift apart.
 //!
 //! Parsed by hand rather than with `clap`: the course's options are single-dash words
 //! (`-input`, `-shade_back`) and `-depth` takes three values of two kinds, which clap can only
 //! imitate with workarounds, and users paste the course's command lines verbatim.
 
 use std::ffi::{OsStr, OsString};
-use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
-use std::time::Instant;
 
-use crate::error::Error;
-use crate::image_io::{self, ImageFormat, PendingOutputs};
-use crate::render::{RenderSettings, render};
-use crate::sample::{self, Filter, Sampler, Sampling};
-use crate::scene::{Scene, SpecularFalloff};
+use crate::image_io::{self, ImageFormat};
+use crate::sample::{Filter, Sampler, Sampling};
+use crate::scene::SpecularFalloff;
 use crate::trace::TraceSettings;
 
-pub const USAGE: &str = "\
-usage: raycast -input SCENE.txt -size WIDTH HEIGHT [-output IMAGE] [-normals IMAGE]
-               [-depth TMIN TMAX IMAGE] [-shade_back] [-shadows] [-bounces N] [-weight W]
-               [-specular_fix] [-threads N] [-stats]
+/// The part of the course an option comes from, which groups the help text.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Group {
+    /// Assignments 1 and 2.
+    Casting,
+    /// Assignment 3.
+    Phong,
+    /// Assignment 4.
+    Tracing,
+    /// Assignments 5 and 6.
+    Grid,
+    /// Assignment 7.
+    Sampling,
+    /// raycast's own.
+    Own,
+}
 
-Renders a scene of MIT 6.837's ray tracing assignments (1 to 7).
+impl Group {
+    const ALL: [Group; 6] = [
+        Group::Casting,
+        Group::Phong,
+        Group::Tracing,
+        Group::Grid,
+        Group::Sampling,
+        Group::Own,
+    ];
 
-  -input FILE            the scene file
-  -size W H              the image size in pixels
-  -output FILE           the shaded picture
-  -normals FILE          the surface normals as colours (|x|, |y|, |z|)
-  -depth TMIN TMAX FILE  distance as grey: TMIN and nearer white, TMAX and farther black
-  -shade_back            shade back faces like front faces (otherwise they are black);
-                         needed to see through glass
-  -shadows               one shadow ray toward each light
-  -bounces N             reflect and refract rays up to N times (default 0)
-  -weight W              trace no mirror or glass ray whose weight is below W (default 0)
-  -specular_fix          fade highlights by N.L (the handout's optional fix)
-  -random_samples N, -uniform_samples N, -jittered_samples N
-                         N samples a pixel: anywhere, on a grid, or one in each cell of a grid
-                         (uniform and jittered: N a square number); default one at the centre
-  -box_filter R, -tent_filter R, -gaussian_filter SIGMA
-                         how samples are weighed into pixels, R and SIGMA in pixels
-                         (default with samples: -box_filter 0.5, each pixel its own samples)
-  -seed S                seed of the random and jittered samples (default 6837)
-  -grid NX NY NZ         search the course's uniform grid of NX x NY x NZ cells instead of
-                         raycast's BVH (the same image)
-  -visualize_grid        show the grid's occupied cells, coloured by how many primitives
-                         each lists, instead of the scene
-  -render_samples FILE ZOOM
-                         a picture of where the samples fall, each pixel ZOOM x ZOOM
-  -render_filter FILE ZOOM
-                         a picture of the filter's weights about the centre pixel
-  -gui, -tessellation THETA PHI, -gouraud
-                         the course's OpenGL preview: accepted, and ignored
-  -threads N             render on N threads (default: one per core)
-  -stats                 print the course's ray tracing statistics (stdout), and the time
-                         of each phase and the scene's size (stderr)
-  -help                  print this text
-  -version               print the version
+    fn title(self) -> &'static str {
+        match self {
+            Group::Casting => "Assignments 1 and 2: ray casting",
+            Group::Phong => "Assignment 3: Phong shading",
+            Group::Tracing => "Assignment 4: shadows, mirrors and glass",
+            Group::Grid => "Assignments 5 and 6: the grid and statistics",
+            Group::Sampling => "Assignment 7: samples and filters",
+            Group::Own => "raycast's own",
+        }
+    }
+}
 
-Images are written as TGA, PPM or PNG, by their extension (.tga, .ppm, .png).
-At least one of -output, -normals and -depth is needed. Options may come in any order,
-and may also be written with two dashes (--input).";
+/// One option: its name (without the dash), what follows it, and one line of help.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OptionSpec {
+    pub name: &'static str,
+    /// The values that follow, as the help text shows them (empty for a switch).
+    pub values: &'static str,
+    pub group: Group,
+    pub help: &'static str,
+}
+
+const fn spec(
+    name: &'static str,
+    values: &'static str,
+    group: Group,
+    help: &'static str,
+) -> OptionSpec {
+    OptionSpec {
+        name,
+        values,
+        group,
+        help,
+    }
+}
+
+/// Every option raycast takes.
+pub const OPTIONS: &[OptionSpec] = &[
+    spec(
+        "input",
+        "FILE",
+        Group::Casting,
+        "the scene file (- reads it from standard input)",
+    ),
+    spec(
+        "size",
+        "W H",
+        Group::Casting,
+        "the image's width and height in pixels",
+    ),
+    spec(
+        "output",
+        "FILE",
+        Group::Casting,
+        "the picture (- writes it to standard output)",
+    ),
+    spec(
+        "normals",
+        "FILE",
+        Group::Casting,
+        "the surface normals as colours (|x|, |y|, |z|)",
+    ),
+    spec(
+        "depth",
+        "TMIN TMAX FILE",
+        Group::Casting,
+        "distance as grey: TMIN and nearer white, TMAX and farther black",
+    ),
+    spec(
+        "shade_back",
+        "",
+        Group::Casting,
+        "shade back faces too (otherwise black); glass needs it",
+    ),
+    spec(
+        "specular_fix",
+        "",
+        Group::Phong,
+        "fade highlights by N.L (the handout's optional fix)",
+    ),
+    spec(
+        "gui",
+        "",
+        Group::Phong,
+        "the course's OpenGL preview: accepted and ignored",
+    ),
+    spec(
+        "tessellation",
+        "THETA PHI",
+        Group::Phong,
+        "the preview's sphere steps: accepted and ignored",
+    ),
+    spec(
+        "gouraud",
+        "",
+        Group::Phong,
+        "the preview's smooth shading: accepted and ignored",
+    ),
+    spec(
+        "shadows",
+        "",
+        Group::Tracing,
+        "one shadow ray toward each light",
+    ),
+    spec(
+        "bounces",
+        "N",
+        Group::Tracing,
+        "reflect and refract rays up to N times (default 0)",
+    ),
+    spec(
+        "weight",
+        "W",
+        Group::Tracing,
+        "trace no mirror or glass ray of weight below W (default 0)",
+    ),
+    spec(
+        "grid",
+        "NX NY NZ",
+        Group::Grid,
+        "search the course's grid of cells instead of the BVH",
+    ),
+    spec(
+        "visualize_grid",
+        "",
+        Group::Grid,
+        "show the grid's occupied cells instead of the scene",
+    ),
+    spec(
+        "stats",
+        "",
+        Group::Grid,
+        "the course's statistics (stdout) and phase times (stderr)",
+    ),
+    spec(
+        "random_samples",
+        "N",
+        Group::Sampling,
+        "N samples a pixel, anywhere in it",
+    ),
+    spec(
+        "uniform_samples",
+        "N",
+        Group::Sampling,
+        "N samples a pixel on a square grid (N a square)",
+    ),
+    spec(
+        "jittered_samples",
+        "N",
+        Group::Sampling,
+        "N samples a pixel, one in each cell of a square grid",
+    ),
+    spec(
+        "box_filter",
+        "R",
+        Group::Sampling,
+        "weigh samples within R of a pixel's centre alike (default 0.5)",
+    ),
+    spec(
+        "tent_filter",
+        "R",
+        Group::Sampling,
+        "weigh samples by 1 - d/R",
+    ),
+    spec(
+        "gaussian_filter",
+        "SIGMA",
+        Group::Sampling,
+        "weigh samples by exp(-d^2/2 SIGMA^2), to 2 SIGMA",
+    ),
+    spec(
+        "render_samples",
+        "FILE ZOOM",
+        Group::Sampling,
+        "a picture of where the samples fall",
+    ),
+    spec(
+        "render_filter",
+        "FILE ZOOM",
+        Group::Sampling,
+        "a picture of the filter's weights",
+    ),
+    spec(
+        "seed",
+        "S",
+        Group::Own,
+        "seed of the random and jittered samples (default 6837)",
+    ),
+    spec(
+        "format",
+        "png|ppm|tga",
+        Group::Own,
+        "the format of images named - or without an extension",
+    ),
+    spec(
+        "threads",
+        "N",
+        Group::Own,
+        "use N threads (default: one per core)",
+    ),
+    spec("help", "", Group::Own, "print this text"),
+    spec("version", "", Group::Own, "print the version"),
+];
+
+/// The help text, from [`OPTIONS`].
+pub fn usage() -> String {
+    let mut text = String::from(
+        "usage: raycast -input SCENE -size WIDTH HEIGHT -output IMAGE [options]
+       raycast completions bash|zsh|fish
+
+Renders a scene of MIT 6.837's ray tracing assignments (Fall 2004) as the course's
+renderer does. Options may come in any order, with one dash or two (--input).
+",
+    );
+    for group in Group::ALL {
+        text.push('\n');
+        text.push_str(group.title());
+        text.push('\n');
+        for option in OPTIONS.iter().filter(|o| o.group == group) {
+            let left = format!("  -{} {}", option.name, option.values);
+            if left.trim_end().len() < 24 {
+                text.push_str(&format!("{:<25}{}\n", left.trim_end(), option.help));
+            } else {
+                text.push_str(&format!("{}\n{:<25}{}\n", left.trim_end(), "", option.help));
+            }
+        }
+    }
+    text.push_str(
+        "
+Images are TGA (the course's layout), PPM or PNG, by their extension or -format. At least
+one of -output, -normals, -depth, -render_samples and -render_filter is needed.",
+    );
+    text
+}
 
 /// The largest side accepted, and the most pixels: about 270 million, which at 7 bytes a pixel
 /// while rendering and up to three 3-byte pictures after is about 4.5 GB at the peak.
@@ -84,8 +294,10 @@ pub const MAX_FILM_SAMPLES: u64 = 1 << 26;
 /// pixel weighs at most 33 × 33 pixels' samples.
 pub const MAX_FILTER_REACH: f32 = 16.0;
 
+/// A command line, understood.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Options {
+    /// The scene file; `-` is standard input.
     pub input: PathBuf,
     pub width: u32,
     pub height: u32,
@@ -104,6 +316,8 @@ pub struct Options {
     pub preview: bool,
     pub threads: Option<usize>,
     pub stats: bool,
+    /// `-format`: for images named `-` or without an extension.
+    pub format: Option<ImageFormat>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -113,48 +327,7 @@ pub enum Command {
     Version,
 }
 
-/// Runs the program on its arguments (without the program name); returns the exit status:
-/// 0 done, 1 the scene or a file is at fault, 2 the command line is.
-pub fn run(args: Vec<OsString>) -> ExitCode {
-    match parse_args(args) {
-        Ok(Command::Help) => {
-            say(std::io::stdout(), USAGE);
-            ExitCode::SUCCESS
-        }
-        Ok(Command::Version) => {
-            let version = concat!("raycast ", env!("CARGO_PKG_VERSION"));
-            say(std::io::stdout(), version);
-            ExitCode::SUCCESS
-        }
-        Ok(Command::Render(options)) => {
-            if options.preview {
-                say(
-                    std::io::stderr(),
-                    "raycast: -gui, -tessellation and -gouraud drive the course's OpenGL preview, \
-                     which raycast does not have; they are ignored (the image is the same)",
-                );
-            }
-            match execute(&options) {
-                Ok(()) => ExitCode::SUCCESS,
-                Err(error) => {
-                    say(std::io::stderr(), &error.to_string());
-                    ExitCode::from(1)
-                }
-            }
-        }
-        Err(message) => {
-            say(std::io::stderr(), &format!("raycast: {message}\n\n{USAGE}"));
-            ExitCode::from(2)
-        }
-    }
-}
-
-/// Writes a line, unlike `println!` without panicking (exit status 101) when the reader has
-/// gone, as in `raycast -help | head -1`: the exit status must stay the one documented.
-fn say(mut to: impl Write, text: &str) {
-    let _ = writeln!(to, "{text}");
-}
-
+/// Reads a command line (without the program's name); the error is the message for the user.
 pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
     let mut options = Options::default();
     let mut input = None;
@@ -167,6 +340,9 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         let Some(text) = arg.to_str() else {
             return Err(format!("unknown option '{}'", arg.to_string_lossy()));
         };
+        if let Some(complaint) = misspelt(text) {
+            return Err(complaint);
+        }
         // `--input` is taken for `-input`, `-h` and `--help` for `-help`.
         let name = text.strip_prefix('-').unwrap_or(text);
         let name = name.strip_prefix('-').unwrap_or(name);
@@ -185,8 +361,17 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         }
         seen.push(name.to_string());
         let mut value = |what: &str| -> Result<OsString, String> {
-            args.next()
-                .ok_or_else(|| format!("-{name} needs {what}, found the end of the command line"))
+            let arg = args.next().ok_or_else(|| {
+                format!("-{name} needs {what}, found the end of the command line")
+            })?;
+            // `-input -size 200 200`: the value was forgotten, and the next option taken for it.
+            if arg.to_str().is_some_and(looks_like_option) {
+                return Err(format!(
+                    "-{name} needs {what}, found the option '{}'",
+                    arg.to_string_lossy()
+                ));
+            }
+            Ok(arg)
         };
         match name {
             "help" => return Ok(Command::Help),
@@ -369,7 +554,21 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
                     }
                 }
             }
-            _ => return Err(format!("unknown option '{text}'")),
+            "format" => {
+                let arg = value("an image format (png, ppm or tga)")?;
+                options.format = Some(match arg.to_str() {
+                    Some("png") => ImageFormat::Png,
+                    Some("ppm") => ImageFormat::Ppm,
+                    Some("tga") => ImageFormat::Tga,
+                    _ => {
+                        return Err(format!(
+                            "-format needs png, ppm or tga, found '{}'",
+                            arg.to_string_lossy()
+                        ));
+                    }
+                });
+            }
+            _ => return Err(unknown_option(text)),
         }
     }
     options.input = input.ok_or("-input is missing: which scene should be rendered?")?;
@@ -425,7 +624,9 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
     }
     for (i, &(flag, path)) in outputs.iter().enumerate() {
         // Found now rather than when the finished image is renamed into place, after the render.
-        if path.to_string_lossy().ends_with(std::path::is_separator) || path.is_dir() {
+        if !is_stdio(path)
+            && (path.to_string_lossy().ends_with(std::path::is_separator) || path.is_dir())
+        {
             return Err(format!(
                 "{flag} '{}' names a folder, not an image file",
                 path.display()
@@ -433,15 +634,29 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         }
         // Asked before the extension: `-output scene.txt` is a slip of the scene's name, and
         // "unknown image type" would send the user looking in the wrong place.
-        if same_file(path, &options.input) {
+        if !is_stdio(path) && same_file(path, &options.input) {
             return Err(format!(
                 "{flag} '{}' would overwrite the scene file",
                 path.display()
             ));
         }
-        if ImageFormat::from_path(path).is_none() {
+        if is_stdio(path) {
+            if let Some(&(other, _)) = outputs[..i].iter().find(|(_, p)| is_stdio(p)) {
+                return Err(format!(
+                    "{other} and {flag} both name standard output (-); only one image can go \
+                     there"
+                ));
+            }
+            if options.format.is_none() {
+                return Err(format!(
+                    "{flag} - (standard output) needs -format png, ppm or tga"
+                ));
+            }
+            continue;
+        }
+        if options.format_of(path).is_none() {
             return Err(format!(
-                "{flag} '{}': unknown image type; name it {}",
+                "{flag} '{}': unknown image type; name it {}, or give -format png, ppm or tga",
                 path.display(),
                 ImageFormat::EXTENSIONS
             ));
@@ -457,6 +672,11 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
 }
 
 impl Options {
+    /// An image's format: its extension's, or `-format`'s for a name without one (and `-`).
+    pub fn format_of(&self, path: &Path) -> Option<ImageFormat> {
+        ImageFormat::from_path(path).or(self.format)
+    }
+
     /// The images asked for, each with the option that named it.
     pub fn outputs(&self) -> Vec<(&'static str, &Path)> {
         let mut outputs = Vec::new();
@@ -477,6 +697,64 @@ impl Options {
         }
         outputs
     }
+}
+
+/// Whether a path is `-`: standard input or output.
+pub fn is_stdio(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// A word that is an option rather than a value: a dash and a letter (`-size`, `--input`), not
+/// a negative number or `-` alone.
+fn looks_like_option(word: &str) -> bool {
+    let name = word.strip_prefix("--").or_else(|| word.strip_prefix('-'));
+    name.and_then(|n| n.chars().next())
+        .is_some_and(|c| c.is_ascii_alphabetic())
+}
+
+/// `--output=o.tga`: the form other programs take; raycast's values are the next word.
+fn misspelt(word: &str) -> Option<String> {
+    let (option, value) = word.split_once('=')?;
+    let name = option.trim_start_matches('-');
+    OPTIONS.iter().any(|o| o.name == name).then(|| {
+        format!(
+            "'{word}': raycast takes an option's values as the words after it: write \
+             '-{name} {value}'"
+        )
+    })
+}
+
+/// The message for an unknown option, with the nearest real one when it is a likely slip.
+fn unknown_option(word: &str) -> String {
+    let name = word.trim_start_matches('-');
+    let nearest = OPTIONS
+        .iter()
+        .map(|o| (edit_distance(name, o.name), o.name))
+        .min();
+    match nearest {
+        // Two slips (a swap of two letters is two) in a long name, one in a short one.
+        Some((distance, option)) if distance <= if option.len() > 3 { 2 } else { 1 } => {
+            format!("unknown option '{word}' (did you mean -{option}?)")
+        }
+        _ => format!("unknown option '{word}' (raycast -help lists them all)"),
+    }
+}
+
+/// Levenshtein distance: the fewest single-letter insertions, deletions and changes from `a`
+/// to `b`.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut previous = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let substitution = previous + usize::from(ca != cb);
+            previous = row[j + 1];
+            row[j + 1] = substitution.min(row[j] + 1).min(previous + 1);
+        }
+    }
+    row[b.len()]
 }
 
 fn positive(arg: &OsStr, flag: &str, what: &str) -> Result<u32, String> {
@@ -500,213 +778,10 @@ fn finite(arg: &OsStr, flag: &str, what: &str) -> Result<f32, String> {
 }
 
 /// Whether two paths name one file, also when written differently (`./a.txt` and `a.txt`).
-fn same_file(a: &Path, b: &Path) -> bool {
+pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
     let resolve = |p: &Path| -> Option<PathBuf> {
         let folder = image_io::folder_of(p).canonicalize().ok()?;
         Some(folder.join(p.file_name()?))
     };
     a == b || matches!((resolve(a), resolve(b)), (Some(x), Some(y)) if x == y)
-}
-
-/// Runs the whole job (loading and tree building too, not only the render) on `-threads` threads.
-fn execute(options: &Options) -> Result<(), Error> {
-    match options.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| Error::Refused(format!("raycast: cannot start {n} threads: {e}")))?
-            .install(|| execute_on_current_pool(options)),
-        None => execute_on_current_pool(options),
-    }
-}
-
-fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
-    let outputs = options.outputs();
-    let paths: Vec<&Path> = outputs.iter().map(|&(_, p)| p).collect();
-    // Before any work: a folder that is missing or unwritable fails the run now.
-    let pending = PendingOutputs::reserve(&paths)?;
-
-    let (mut scene, mut load) = Scene::load(&options.input)?;
-    if outputs.is_empty() {
-        return Ok(());
-    }
-    for &(flag, path) in &outputs {
-        if let Some(mesh) = load.mesh_files.iter().find(|m| same_file(path, m)) {
-            return Err(Error::Refused(format!(
-                "raycast: {flag} '{}' would overwrite the mesh file '{}' that the scene reads",
-                path.display(),
-                mesh.display()
-            )));
-        }
-    }
-    if let Some([nx, ny, nz]) = options.grid {
-        let start = Instant::now();
-        scene
-            .world
-            .use_grid(glam::UVec3::new(nx, ny, nz))
-            .map_err(|e| Error::Refused(format!("{}: {e}", options.input.display())))?;
-        load.build += start.elapsed();
-    }
-
-    let settings = RenderSettings {
-        width: options.width,
-        height: options.height,
-        // The samples picture shows the samples' colours.
-        colour: options.output.is_some() || options.render_samples.is_some(),
-        normals: options.normals.is_some(),
-        depth: options.depth.as_ref().map(|&(near, far, _)| (near, far)),
-        trace: options.trace,
-        sampling: options.sampling,
-        keep_film: options.render_samples.is_some(),
-        progress: std::io::stderr().is_terminal(),
-    };
-    // Only the filter picture asked for: nothing to trace.
-    let traced = options.output.is_some()
-        || options.normals.is_some()
-        || options.depth.is_some()
-        || options.render_samples.is_some();
-    let render_start = Instant::now();
-    let mut rendered = if traced {
-        render(&scene, &settings)
-    } else {
-        crate::render::Rendered::default()
-    };
-    let threads = rayon::current_num_threads();
-    let render_time = render_start.elapsed();
-
-    let write_start = Instant::now();
-    let samples_picture = options.render_samples.as_ref().map(|&(_, zoom)| {
-        let film = rendered.film.take().expect("kept for -render_samples");
-        sample::render_samples_picture(&film, zoom)
-    });
-    let filter_picture = options.render_filter.as_ref().map(|&(_, zoom)| {
-        sample::render_filter_picture(options.width, options.height, options.sampling.filter, zoom)
-    });
-    if options.output.is_none() {
-        rendered.colour = None;
-    }
-    let images = [
-        &rendered.colour,
-        &rendered.normals,
-        &rendered.depth,
-        &samples_picture,
-        &filter_picture,
-    ];
-    let contents = images
-        .into_iter()
-        .flatten()
-        .zip(&paths)
-        .map(|(image, path)| {
-            let format =
-                ImageFormat::from_path(path).expect("checked when parsing the command line");
-            image_io::encode(image, format)
-        })
-        .collect();
-    pending.commit(contents)?;
-    let write_time = write_start.elapsed();
-
-    if options.stats {
-        print_course_statistics(options, &scene, &rendered.rays, render_time);
-        let w = load.world;
-        let rays = rendered.rays;
-        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
-        let mb = |bytes: usize| bytes as f64 / (1 << 20) as f64;
-        eprintln!("raycast: parse and load  {:9.2} ms", ms(load.parse));
-        eprintln!("raycast: build BVH       {:9.2} ms", ms(load.build));
-        eprintln!(
-            "raycast: render          {:9.2} ms  ({} rays on {threads} thread{}, {:.2} M rays/s)",
-            ms(render_time),
-            rays.primary + rays.secondary + rays.shadow,
-            if threads == 1 { "" } else { "s" },
-            (rays.primary + rays.secondary + rays.shadow) as f64 / render_time.as_secs_f64() / 1e6
-        );
-        eprintln!(
-            "raycast: rays: {} primary, {} reflected or refracted, {} shadow",
-            rays.primary, rays.secondary, rays.shadow
-        );
-        eprintln!("raycast: write images    {:9.2} ms", ms(write_time));
-        eprintln!(
-            "raycast: scene: {} triangles stored ({} placed) in {} mesh{}, {} instance{}, {} sphere{}, {} plane{}",
-            w.triangles,
-            w.triangles_placed,
-            w.meshes,
-            if w.meshes == 1 { "" } else { "es" },
-            w.instances,
-            if w.instances == 1 { "" } else { "s" },
-            w.spheres,
-            if w.spheres == 1 { "" } else { "s" },
-            w.planes,
-            if w.planes == 1 { "" } else { "s" },
-        );
-        eprintln!(
-            "raycast: memory: geometry {:.2} MiB, acceleration {:.2} MiB ({} BVH nodes)",
-            mb(w.geometry_bytes),
-            mb(w.acceleration_bytes),
-            w.nodes
-        );
-    }
-    Ok(())
-}
-
-/// The course's `RayTracingStats::PrintStatistics`, line for line: the render's time in whole
-/// seconds (at least 1), the image, the scene's box and the grid, then the rays cast (camera,
-/// mirror and glass rays are the course's "non-shadow" rays), the primitives tested and the grid
-/// cells entered, and their rates.
-fn print_course_statistics(
-    options: &Options,
-    scene: &Scene,
-    rays: &crate::trace::RayCounts,
-    render_time: std::time::Duration,
-) {
-    let seconds = render_time.as_secs().max(1);
-    let non_shadow = rays.primary + rays.secondary;
-    let all = non_shadow + rays.shadow;
-    let pixels = u64::from(options.width) * u64::from(options.height);
-    // As the course's floats: no rays at all give nan.
-    let per = |count: u64, of: u64| count as f32 / of as f32;
-    let bounds = match scene.world.bounds() {
-        Some(b) => format!(
-            "{:.6} {:.6} {:.6}  -> {:.6} {:.6} {:.6}",
-            b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z
-        ),
-        None => "NULL".to_string(),
-    };
-    let cells = match options.grid {
-        Some([x, y, z]) => format!(
-            "{} ({x}x{y}x{z})",
-            u64::from(x) * u64::from(y) * u64::from(z)
-        ),
-        None => "NULL".to_string(),
-    };
-    let stars = "*".repeat(44);
-    let text = format!(
-        "{stars}
-RAY TRACING STATISTICS
-  total time                 {}:{:02}:{:02}
-  num pixels                 {pixels} ({}x{})
-  scene bounds               {bounds}
-  num grid cells             {cells}
-  num non-shadow rays        {non_shadow}
-  num shadow rays            {}
-  total intersections        {}
-  total cells traversed      {}
-  rays per second            {:.1}
-  rays per pixel             {:.1}
-  intersections per ray      {:.1}
-  cells traversed per ray    {:.1}
-{stars}",
-        seconds / 3600,
-        (seconds / 60) % 60,
-        seconds % 60,
-        options.width,
-        options.height,
-        rays.shadow,
-        rays.tallies.intersections,
-        rays.tallies.cells,
-        per(all, seconds),
-        per(all, pixels),
-        per(rays.tallies.intersections, all),
-        per(rays.tallies.cells, all),
-    );
-    say(std::io::stdout(), &text);
 }
