@@ -148,7 +148,10 @@ impl Triangle4 {
         for lane in 0..4 {
             let limit = best.map_or(t_max, |(t, _)| t);
             if let Some(t) = intersect_triangle_in(frame, ray, &self.triangle(lane), t_min, limit) {
-                best = Some((t, lane));
+                // A tie keeps the lower lane, as the four-wide path does.
+                if best.is_none_or(|(best_t, _)| t < best_t) {
+                    best = Some((t, lane));
+                }
             }
         }
         best
@@ -166,6 +169,23 @@ mod tests {
     use super::*;
     use crate::geometry::intersect_triangle;
     use glam::Vec3A;
+
+    #[test]
+    fn a_tie_on_a_shared_edge_goes_to_the_lower_lane() {
+        // Two triangles sharing the edge (1,0,0)-(0,1,0), hit exactly on it: both at t = 1.
+        // The edge makes an edge function zero, which takes the lane-by-lane path.
+        let triangles = [
+            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)],
+            [Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)],
+        ];
+        let ray = Ray::new(Vec3A::new(0.5, 0.5, 1.0), Vec3A::new(0.0, 0.0, -1.0));
+        for t in &triangles {
+            assert_eq!(intersect_triangle(&ray, t, 0.0, f32::INFINITY), Some(1.0));
+        }
+        let block = Triangle4::new(&triangles, 0);
+        let lanes = RayLanes::new(&ray);
+        assert_eq!(block.intersect(&ray, &lanes, 0.0, f32::INFINITY), Some((1.0, 0)));
+    }
 
     #[test]
     fn agrees_with_the_scalar_test_bit_for_bit() {
