@@ -13,7 +13,7 @@ use crate::geometry::{
     unit_normal,
 };
 
-/// An entry of the top-level tree. `transform` indexes [`World::transforms`], or is
+/// An entry of the top-level tree. `transform` indexes the world's transforms, or is
 /// [`Item::WORLD_SPACE`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Item {
@@ -27,7 +27,7 @@ pub enum Item {
         transform: u32,
     },
     /// A placement of a shared mesh; `material` is [`Item::PER_TRIANGLE`] for the mesh of the
-    /// scene's loose triangles, whose materials are in [`World::loose_materials`].
+    /// scene's loose triangles, whose materials the world keeps per triangle.
     Mesh {
         /// Index into the world's meshes, which each mesh file is loaded into once.
         mesh: u32,

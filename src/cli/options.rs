@@ -55,10 +55,13 @@ impl Group {
 /// One option: its name (without the dash), what follows it, and one line of help.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct OptionSpec {
+    /// Without the dash.
     pub name: &'static str,
     /// The values that follow, as the help text shows them (empty for a switch).
     pub values: &'static str,
+    /// The assignment it comes from.
     pub group: Group,
+    /// One line for `-help`.
     pub help: &'static str,
 }
 
@@ -278,6 +281,7 @@ one of -output, -normals, -depth, -render_samples and -render_filter is needed."
 /// The largest side accepted, and the most pixels: about 270 million, which at 7 bytes a pixel
 /// while rendering and up to three 3-byte pictures after is about 4.5 GB at the peak.
 pub const MAX_SIDE: u32 = 32768;
+/// See [`MAX_SIDE`].
 pub const MAX_PIXELS: u64 = 1 << 28;
 // Every size accepted fits a TGA header's 16-bit sides.
 const _: () = assert!(MAX_SIDE <= image_io::TGA_MAX_SIDE);
@@ -299,12 +303,20 @@ pub const MAX_FILTER_REACH: f32 = 16.0;
 pub struct Options {
     /// The scene file; `-` is standard input.
     pub input: PathBuf,
+    /// `-size`, in pixels.
     pub width: u32,
+    /// `-size`, in pixels.
     pub height: u32,
+    /// `-output`: the shaded picture (`-` is standard output).
     pub output: Option<PathBuf>,
+    /// `-normals`: the normals picture.
     pub normals: Option<PathBuf>,
+    /// `-depth TMIN TMAX FILE`.
     pub depth: Option<(f32, f32, PathBuf)>,
+    /// The tracer's switches: `-shade_back`, `-shadows`, `-bounces`, `-weight`,
+    /// `-specular_fix`, `-visualize_grid`, and counting for `-stats`.
     pub trace: TraceSettings,
+    /// The sampler, filter and seed.
     pub sampling: Sampling,
     /// `-grid NX NY NZ`.
     pub grid: Option<[u32; 3]>,
@@ -314,16 +326,22 @@ pub struct Options {
     pub render_filter: Option<(PathBuf, u32)>,
     /// The course's OpenGL preview was asked for (`-gui`, `-tessellation`, `-gouraud`).
     pub preview: bool,
+    /// `-threads N`; `None` for one per core.
     pub threads: Option<usize>,
+    /// `-stats`.
     pub stats: bool,
     /// `-format`: for images named `-` or without an extension.
     pub format: Option<ImageFormat>,
 }
 
+/// What a command line asks for.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
+    /// A render (or, for a preview-only line, a check of the scene).
     Render(Box<Options>),
+    /// `-help`.
     Help,
+    /// `-version`.
     Version,
 }
 

@@ -175,8 +175,16 @@ mod tests {
         // Two triangles sharing the edge (1,0,0)-(0,1,0), hit exactly on it: both at t = 1.
         // The edge makes an edge function zero, which takes the lane-by-lane path.
         let triangles = [
-            [Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)],
-            [Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)],
+            [
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            [
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
         ];
         let ray = Ray::new(Vec3A::new(0.5, 0.5, 1.0), Vec3A::new(0.0, 0.0, -1.0));
         for t in &triangles {
@@ -184,7 +192,10 @@ mod tests {
         }
         let block = Triangle4::new(&triangles, 0);
         let lanes = RayLanes::new(&ray);
-        assert_eq!(block.intersect(&ray, &lanes, 0.0, f32::INFINITY), Some((1.0, 0)));
+        assert_eq!(
+            block.intersect(&ray, &lanes, 0.0, f32::INFINITY),
+            Some((1.0, 0))
+        );
     }
 
     #[test]

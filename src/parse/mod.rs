@@ -1,5 +1,5 @@
 //! Scene text to scene description: the lexer finds the words, the parser checks the grammar of
-//! ../SCENE_FORMAT.md and flattens groups and transforms into a list of placed objects.
+//! the course's scene format (SCENE_FORMAT.md in the course data) and flattens groups and transforms into a list of placed objects.
 
 mod lexer;
 mod parser;

@@ -594,9 +594,8 @@ impl<'a> Parser<'a> {
     }
 
     /// The operations at the head of a Transform, multiplied in the course's order, and the word
-    /// that starts the Transform's object.
-    /// The ops of a Transform, multiplied, and the word after the last of them (`expected`
-    /// says what may stand there).
+    /// after the last of them (`expected` says what may stand there: an object's keyword, or
+    /// `}` in a texture's Transform).
     fn transform_ops(&mut self, expected: &str) -> Result<(DMat4, Token<'a>)> {
         let mut matrix = DMat4::IDENTITY;
         loop {
