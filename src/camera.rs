@@ -33,7 +33,10 @@ impl Camera {
             up,
             projection: spec.projection,
             screen: match spec.projection {
-                Projection::Perspective { angle } => 2.0 * (0.5 * angle).tan(),
+                // Degrees to radians in f64, as the course's scenes were always converted.
+                Projection::Perspective { angle } => {
+                    2.0 * (0.5 * f64::from(angle).to_radians() as f32).tan()
+                }
                 Projection::Orthographic { .. } => 0.0,
             },
         }
@@ -122,9 +125,7 @@ mod tests {
 
     #[test]
     fn perspective_angle_is_the_full_field_of_view() {
-        let camera = Camera::new(&spec(Projection::Perspective {
-            angle: 90f32.to_radians(),
-        }));
+        let camera = Camera::new(&spec(Projection::Perspective { angle: 90.0 }));
         assert!(close(camera.ray(0.5, 0.5).direction, -Vec3A::Z));
         // At the left edge the ray is 45° off the axis: tan(45°) = 1.
         let left = camera.ray(0.0, 0.5);

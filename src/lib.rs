@@ -1,33 +1,32 @@
-//! raycast: a ray tracer for the scene format of MIT 6.837's assignments 1 to 4, exact to the
-//! course's reference images.
+//! raycast: a ray tracer for the scene format of MIT 6.837 (Fall 2004), every ray-tracing
+//! assignment (1 to 7), exact to the course's reference images. The `raycast` program is the
+//! course's command line ([`cli`]); this library is everything under it.
 //!
-//! The stages, each a module that knows only those before it:
-//! scene text ([`parse`]) → scene description ([`scene::model`]) → render-ready [`Scene`]
-//! (lights and materials in [`scene`], geometry in [`geometry`], trees in [`accel`]) → rays
-//! from the [`camera`] → the pixel loop ([`render`]) → the ray tracer ([`trace`]) and pixel
-//! values ([`shade`]) → files ([`image_io`]). [`cli`] is the course's command line on top.
+//! A scene comes from a file ([`Scene::load`]), from text ([`parse::parse_scene`] and
+//! [`Scene::from_description`]), or from code ([`SceneBuilder`]); [`render::render`] makes its
+//! pictures; [`image_io`] writes them.
 //!
 //! ```
-//! use std::path::Path;
-//! use raycast::{RenderSettings, Scene, parse::parse_scene, render::render};
+//! use raycast::{RenderSettings, SceneBuilder, Vec3};
+//! use raycast::scene::model::{CameraSpec, LightSpec, Material, Phong, Shape};
 //!
-//! let text = "
-//!     OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }
-//!     Background { color 0 0 0 }
-//!     Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
-//!     Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }";
-//! let description = parse_scene(Path::new("red.txt"), text)?;
-//! let (scene, _stats) = Scene::from_description(&description)?;
-//! let settings = RenderSettings {
-//!     width: 20, height: 20, colour: true, normals: false, depth: None,
-//!     trace: Default::default(), sampling: Default::default(), keep_film: false,
-//!     progress: false,
-//! };
-//! let image = render(&scene, &settings).colour.unwrap();
-//! assert_eq!(image.pixels[10 * 20 + 10], [255, 0, 0]); // the sphere, flat red
+//! let scene = SceneBuilder::new(CameraSpec::orthographic(
+//!     Vec3::new(0.0, 0.0, 10.0), Vec3::NEG_Z, Vec3::Y, 5.0))
+//!     .background(Vec3::ZERO)
+//!     .material(Material::Phong(Phong::diffuse(Vec3::X)))
+//!     .object(Shape::Sphere { center: Vec3::ZERO, radius: 1.0 }, 0)
+//!     .build()?;
+//! let image = raycast::render::render(&scene, &RenderSettings::new(20, 20)).colour.unwrap();
+//! assert_eq!(image.pixels[10 * 20 + 10], [255, 0, 0]); // the sphere, flat red (no lights)
 //! assert_eq!(image.pixels[0], [0, 0, 0]); // the background
 //! # Ok::<(), raycast::Error>(())
 //! ```
+//!
+//! The stages, each a module that knows only those before it: scene text ([`parse`]) → scene
+//! description ([`scene::model`]) → render-ready [`Scene`] (lights and materials in [`scene`],
+//! geometry in [`geometry`], trees and the course's grid in [`accel`]) → rays from the
+//! [`camera`], placed by the samplers of [`sample`] → the pixel loop ([`render`]) → the ray
+//! tracer ([`trace`]) and pixel values ([`shade`]) → files ([`image_io`]).
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -46,5 +45,7 @@ pub mod shade;
 pub mod trace;
 
 pub use error::{Diagnostic, Error};
+/// The vector and matrix types the API uses, from `glam`.
+pub use glam::{self, DMat4, UVec3, Vec2, Vec3, Vec3A};
 pub use render::{RenderSettings, Rendered};
-pub use scene::Scene;
+pub use scene::{Scene, SceneBuilder};

@@ -43,6 +43,24 @@ pub struct RenderSettings {
     pub progress: bool,
 }
 
+impl RenderSettings {
+    /// The shaded picture alone, `width` × `height`, with the course's defaults: camera rays
+    /// only, one sample at each pixel's centre, no progress bar.
+    pub fn new(width: u32, height: u32) -> RenderSettings {
+        RenderSettings {
+            width,
+            height,
+            colour: true,
+            normals: false,
+            depth: None,
+            trace: TraceSettings::default(),
+            sampling: Sampling::default(),
+            keep_film: false,
+            progress: false,
+        }
+    }
+}
+
 /// The rendered pictures; those not asked for are `None`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Rendered {

@@ -1366,3 +1366,82 @@ fn textures_nest_at_most_eight_deep() {
         "{error}"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Descriptions built in code meet the parser's rules
+
+#[test]
+fn a_description_built_in_code_is_held_to_the_files_rules() {
+    use glam::Vec3;
+    use raycast::SceneBuilder;
+    use raycast::scene::model::{CameraSpec, LightSpec, Material, Phong, Shape};
+    let camera = CameraSpec::orthographic(Vec3::new(0.0, 0.0, 10.0), Vec3::NEG_Z, Vec3::Y, 5.0);
+    let base = || SceneBuilder::new(camera).material(Material::Phong(Phong::default()));
+    let error = |builder: SceneBuilder| builder.build().unwrap_err().to_string();
+    let sphere = |radius| Shape::Sphere {
+        center: Vec3::ZERO,
+        radius,
+    };
+    assert_eq!(
+        error(base().object(sphere(-1.0), 0)),
+        "<scene built in code>: object 0: expected a positive radius, found '-1'"
+    );
+    assert_eq!(
+        error(base().object(sphere(1.0), 0).object(sphere(1.0), 99)),
+        "<scene built in code>: object 1: expected material index 0 (the scene has 1 \
+         material), found '99'"
+    );
+    assert_eq!(
+        error(base().object(sphere(f32::NAN), 0)),
+        "<scene built in code>: object 0: expected a positive radius, found 'NaN'"
+    );
+    assert_eq!(
+        error(base().object(
+            Shape::Plane {
+                normal: Vec3::ZERO,
+                offset: 1.0
+            },
+            0
+        )),
+        "<scene built in code>: object 0: expected a plane normal of non-zero length, found \
+         '0 0 0'"
+    );
+    assert_eq!(
+        error(base().light(LightSpec::directional(Vec3::ZERO, Vec3::ONE))),
+        "<scene built in code>: expected a direction of non-zero length for light 0, found \
+         '0 0 0'"
+    );
+    let sideways = CameraSpec::perspective(Vec3::ZERO, Vec3::Y, Vec3::Y, 30.0);
+    assert_eq!(
+        error(SceneBuilder::new(sideways)),
+        "<scene built in code>: expected an up vector that is not parallel to the direction \
+         for the camera, found '0 1 0'"
+    );
+    let wide = CameraSpec::perspective(Vec3::ZERO, Vec3::NEG_Z, Vec3::Y, 180.0);
+    assert_eq!(
+        error(SceneBuilder::new(wide)),
+        "<scene built in code>: expected an angle between 0 and 180 degrees for the camera, \
+         found '180'"
+    );
+    // A parsed description changed by hand is checked the same way.
+    let mut description = parse_scene(
+        Path::new("s.txt"),
+        &with_group("Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }"),
+    )
+    .unwrap();
+    description.objects[0].material = 7;
+    assert_eq!(
+        Scene::from_description(&description)
+            .unwrap_err()
+            .to_string(),
+        "s.txt:3:38: expected material index 0 (the scene has 1 material), found '7'"
+    );
+}
+
+#[test]
+fn an_angle_that_single_precision_rounds_to_zero_is_refused() {
+    assert_eq!(
+        parse_error("PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 angle 1e-46 }\n"),
+        "s.txt:1:67: expected an angle between 0 and 180 degrees, found '1e-46'"
+    );
+}

@@ -700,9 +700,7 @@ fn prepare(seed: u64, source: Source) -> Result<Case, String> {
                 center: point,
                 direction: Vec3::Z,
                 up: Vec3::Y,
-                projection: Projection::Perspective {
-                    angle: 90f32.to_radians(),
-                },
+                projection: Projection::Perspective { angle: 90.0 },
             }
         } else if inside {
             let angle = rng.range(30.0, 170.0);
@@ -768,7 +766,7 @@ fn random_camera(rng: &mut Rng, center: Vec3, look_at: Option<DVec3>, angle: f64
         direction: direction.as_vec3(),
         up: up.as_vec3(),
         projection: Projection::Perspective {
-            angle: angle.to_radians() as f32,
+            angle: angle as f32,
         },
     }
 }

@@ -6,5 +6,8 @@ mod parser;
 
 pub(crate) use lexer::column_after;
 pub use lexer::{Span, Token, describe};
-pub(crate) use parser::show_number;
-pub use parser::{MAX_MAGNITUDE, NUMBER_IN_RANGE, parse_scene, parse_scene_bytes, read_scene};
+pub use parser::{
+    MAX_MAGNITUDE, MAX_OCTAVES, MAX_TEXTURE_DEPTH, NUMBER_IN_RANGE, parse_scene, parse_scene_bytes,
+    read_scene,
+};
+pub(crate) use parser::{show_number, show_vector};

@@ -195,12 +195,12 @@ impl<'a> Parser<'a> {
             let (angle, token) = self.number_token()?;
             // Also below 180 once in f32 radians: an angle that rounds up to π would turn the
             // screen's tangent negative and the picture upside down.
-            let in_range = angle > 0.0 && (angle.to_radians() as f32) < std::f32::consts::PI;
+            let in_range = angle as f32 > 0.0 && (angle.to_radians() as f32) < std::f32::consts::PI;
             if !in_range {
                 return Err(self.unexpected(token, "an angle between 0 and 180 degrees"));
             }
             Projection::Perspective {
-                angle: angle.to_radians() as f32,
+                angle: angle as f32,
             }
         };
         self.keyword("}")?;
@@ -894,7 +894,7 @@ pub(crate) fn show_number(x: f64) -> String {
 
 /// A vector as the file could have written it: its values are single precision, shown in the
 /// shortest form that reads back the same, with an exponent where plain digits would run long.
-fn show_vector(v: Vec3) -> String {
+pub(crate) fn show_vector(v: Vec3) -> String {
     let show = |x: f32| {
         if x == 0.0 || (1e-4..1e16).contains(&x.abs()) {
             format!("{x}")

@@ -1,17 +1,20 @@
 //! The scene: its description as parsed, and the render-ready form built from it.
 
 mod build;
+mod builder;
 pub mod light;
 pub mod material;
 pub mod model;
 pub mod obj;
 pub mod perlin;
+mod validate;
 
 use std::path::Path;
 use std::time::Duration;
 
 use glam::Vec3A;
 
+pub use builder::{BUILT_IN_CODE, SceneBuilder};
 pub use light::{Illumination, Light};
 pub use material::{Material, Materials, Phong, SpecularFalloff, Texture};
 pub use model::SceneDescription;
@@ -60,6 +63,7 @@ impl Scene {
     /// Builds a scene from a description; relative mesh paths are looked for beside
     /// `description.path` first, then in the working directory.
     pub fn from_description(description: &SceneDescription) -> Result<(Scene, LoadStats), Error> {
+        validate::validate(description)?;
         build::build(description, std::time::Instant::now())
     }
 }

@@ -43,8 +43,8 @@ pub enum Projection {
     },
     /// Rays from the eye, spreading over a square field of view.
     Perspective {
-        /// The full field of view, edge to edge, in radians (the file gives degrees); strictly
-        /// between 0 and π.
+        /// The full field of view, edge to edge, in degrees, as the file gives it; strictly
+        /// between 0 and 180.
         angle: f32,
     },
 }
