@@ -244,7 +244,7 @@ fn material(material: &Material, own: usize, depths: &[u32]) -> Result<u32, Brok
                     format!("'{octaves}'"),
                 ));
             }
-            if let Some(&x) = numbers.iter().find(|x| !(x.abs() <= MAX_MAGNITUDE)) {
+            if let Some(&x) = numbers.iter().find(|x| x.is_nan() || x.abs() > MAX_MAGNITUDE) {
                 return Err((NUMBER_IN_RANGE.into(), format!("'{x}'")));
             }
             transform(&texture.to_texture)?;
@@ -270,7 +270,7 @@ fn transform(matrix: &DMat4) -> Result<(), Broken> {
         .to_cols_array()
         .iter()
         .fold(0.0f64, |a, &x| a.max(x.abs()));
-    if !(largest <= MAX_MAGNITUDE) {
+    if largest.is_nan() || largest > MAX_MAGNITUDE {
         return Err((
             "a transformation whose matrix has entries between -1e9 and 1e9".into(),
             format!("an entry of {largest:e}"),
