@@ -270,10 +270,14 @@ fn transform(matrix: &DMat4) -> Result<(), Broken> {
         .to_cols_array()
         .iter()
         .fold(0.0f64, |a, &x| a.max(x.abs()));
-    if largest.is_nan() || largest > MAX_MAGNITUDE {
+    if !matrix.is_finite() || largest > MAX_MAGNITUDE {
         return Err((
             "a transformation whose matrix has entries between -1e9 and 1e9".into(),
-            format!("an entry of {largest:e}"),
+            if matrix.is_finite() {
+                format!("an entry of {largest:e}")
+            } else {
+                "an entry that is not a number".to_string()
+            },
         ));
     }
     if matrix.row(3) != glam::DVec4::W {
