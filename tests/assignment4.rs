@@ -45,12 +45,7 @@ fn later_dir() -> Option<PathBuf> {
             if dir.join("COMMANDS.txt").is_file() {
                 Some(dir)
             } else {
-                let _ = writeln!(
-                    std::io::stderr(),
-                    "\n*** ASSIGNMENT 4 TESTS SKIPPED: no course data at {} and \
-                     RAYCAST_LATER_DIR is not set ***\n",
-                    dir.display()
-                );
+                say_skipped("the assignment 4 tests", &dir, "RAYCAST_LATER_DIR");
                 None
             }
         }
@@ -466,4 +461,17 @@ fn normals_and_depth_do_not_depend_on_tracing_options() {
     );
     // A picture that is not all background: the gem is there.
     assert!(traced.0.pixels().any(|p| p.0 != [0, 0, 0]));
+}
+
+/// One line, once per test program, for a suite skipped for want of the course's data: which,
+/// why, and how to run it.
+fn say_skipped(suite: &str, dir: &Path, variable: &str) {
+    static SAID: std::sync::Once = std::sync::Once::new();
+    SAID.call_once(|| {
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
+            dir.display()
+        );
+    });
 }

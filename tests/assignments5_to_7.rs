@@ -33,12 +33,7 @@ fn later_dir() -> Option<PathBuf> {
             if dir.join("COMMANDS.txt").is_file() {
                 Some(dir)
             } else {
-                let _ = writeln!(
-                    std::io::stderr(),
-                    "\n*** ASSIGNMENT 5-7 TESTS SKIPPED: no course data at {} and \
-                     RAYCAST_LATER_DIR is not set ***\n",
-                    dir.display()
-                );
+                say_skipped("the assignment 5 to 7 tests", &dir, "RAYCAST_LATER_DIR");
                 None
             }
         }
@@ -376,4 +371,17 @@ fn a_grid_over_a_flat_or_empty_scene() {
             assert!(drawn > 100, "{drawn} pixels of cells");
         }
     }
+}
+
+/// One line, once per test program, for a suite skipped for want of the course's data: which,
+/// why, and how to run it.
+fn say_skipped(suite: &str, dir: &Path, variable: &str) {
+    static SAID: std::sync::Once = std::sync::Once::new();
+    SAID.call_once(|| {
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
+            dir.display()
+        );
+    });
 }

@@ -36,11 +36,10 @@ fn data_dir(variable: &str, default: &str, marker: &str) -> Option<PathBuf> {
             if dir.join(marker).is_file() {
                 Some(dir)
             } else {
-                let _ = writeln!(
-                    std::io::stderr(),
-                    "\n*** CONFORMANCE TESTS SKIPPED: no course data at {} and \
-                     {variable} is not set ***\n",
-                    dir.display()
+                say_skipped(
+                    &format!("the staff-image tests ({variable})"),
+                    &dir,
+                    variable,
                 );
                 None
             }
@@ -243,4 +242,17 @@ fn assignment_3_staff_images_are_reproduced() {
         references: dir.join("reference/a3"),
     };
     check_suite(&suite, 15);
+}
+
+/// One line, once per test program, for a suite skipped for want of the course's data: which,
+/// why, and how to run it.
+fn say_skipped(suite: &str, dir: &Path, variable: &str) {
+    static SAID: std::sync::Once = std::sync::Once::new();
+    SAID.call_once(|| {
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
+            dir.display()
+        );
+    });
 }

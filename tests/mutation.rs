@@ -159,7 +159,8 @@ fn course_folder(variable: &str, default: &str) -> Option<PathBuf> {
         Some(scenes)
     } else {
         eprintln!(
-            "\n*** mutation: no course scenes at {}; mutating the other inputs only ***\n",
+            "skipped: mutating the course's scenes (no course data at {}; put it there or set \
+             {variable} to mutate them too)",
             scenes.display()
         );
         None

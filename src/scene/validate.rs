@@ -244,7 +244,10 @@ fn material(material: &Material, own: usize, depths: &[u32]) -> Result<u32, Brok
                     format!("'{octaves}'"),
                 ));
             }
-            if let Some(&x) = numbers.iter().find(|x| x.is_nan() || x.abs() > MAX_MAGNITUDE) {
+            if let Some(&x) = numbers
+                .iter()
+                .find(|x| x.is_nan() || x.abs() > MAX_MAGNITUDE)
+            {
                 return Err((NUMBER_IN_RANGE.into(), format!("'{x}'")));
             }
             transform(&texture.to_texture)?;
