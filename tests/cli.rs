@@ -677,11 +677,14 @@ fn course_scenes() -> Option<PathBuf> {
     } else {
         static SAID: std::sync::Once = std::sync::Once::new();
         SAID.call_once(|| {
-            eprintln!(
-                "skipped: the command-line tests on the course's scenes (no course data at {}; put \
-                 it there or set RAYCAST_CONFORMANCE_DIR to run them)",
+            // Past the test harness's capture, so that `cargo test` shows it.
+            use std::io::Write as _;
+            let _ = writeln!(
+                std::io::stderr(),
+                "skipped: the command-line tests on the course's scenes (no course data at {}; \
+                 put it there or set RAYCAST_CONFORMANCE_DIR to run them)",
                 root.display()
-            )
+            );
         });
         None
     }

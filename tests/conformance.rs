@@ -20,7 +20,7 @@ const MAX_DIFFERING: f64 = 0.001;
 
 /// The data folder named by `variable`, or `default` beside the project; `None` (after saying
 /// so) when the variable is unset and the default is missing.
-fn data_dir(variable: &str, default: &str, marker: &str) -> Option<PathBuf> {
+fn data_dir(suite: &str, variable: &str, default: &str, marker: &str) -> Option<PathBuf> {
     match std::env::var_os(variable) {
         Some(dir) => {
             let dir = PathBuf::from(dir);
@@ -36,11 +36,7 @@ fn data_dir(variable: &str, default: &str, marker: &str) -> Option<PathBuf> {
             if dir.join(marker).is_file() {
                 Some(dir)
             } else {
-                say_skipped(
-                    &format!("the staff-image tests ({variable})"),
-                    &dir,
-                    variable,
-                );
+                say_skipped(suite, &dir, variable);
                 None
             }
         }
@@ -211,6 +207,7 @@ fn check_suite(suite: &Suite, expected: usize) {
 #[test]
 fn assignments_1_and_2_staff_images_are_reproduced() {
     let Some(dir) = data_dir(
+        "the staff images of assignments 1 and 2",
         "RAYCAST_CONFORMANCE_DIR",
         "../shared/conformance",
         "COMMANDS.txt",
@@ -229,6 +226,7 @@ fn assignments_1_and_2_staff_images_are_reproduced() {
 #[test]
 fn assignment_3_staff_images_are_reproduced() {
     let Some(dir) = data_dir(
+        "the staff images of assignment 3",
         "RAYCAST_LATER_DIR",
         "../shared/later-assignments",
         "reference/a3/COMMANDS.txt",
@@ -244,15 +242,11 @@ fn assignment_3_staff_images_are_reproduced() {
     check_suite(&suite, 15);
 }
 
-/// One line, once per test program, for a suite skipped for want of the course's data: which,
-/// why, and how to run it.
+/// One line for a suite skipped for want of the course's data: which, why, and how to run it.
 fn say_skipped(suite: &str, dir: &Path, variable: &str) {
-    static SAID: std::sync::Once = std::sync::Once::new();
-    SAID.call_once(|| {
-        let _ = writeln!(
-            std::io::stderr(),
-            "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
-            dir.display()
-        );
-    });
+    let _ = writeln!(
+        std::io::stderr(),
+        "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
+        dir.display()
+    );
 }

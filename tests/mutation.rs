@@ -158,7 +158,9 @@ fn course_folder(variable: &str, default: &str) -> Option<PathBuf> {
     if scenes.is_dir() {
         Some(scenes)
     } else {
-        eprintln!(
+        // Past the test harness's capture, so that `cargo test` shows it.
+        let _ = writeln!(
+            std::io::stderr(),
             "skipped: mutating the course's scenes (no course data at {}; put it there or set \
              {variable} to mutate them too)",
             scenes.display()

@@ -161,7 +161,7 @@ impl Bvh {
 
     /// Replaces each leaf's range `(first, count)` with the range `f` gives, so that a caller
     /// can store a leaf's primitives in its own blocks. Counts must stay at most 255.
-    pub fn map_leaves(&mut self, mut f: impl FnMut(u32, u32) -> (u32, u32)) {
+    pub(crate) fn map_leaves(&mut self, mut f: impl FnMut(u32, u32) -> (u32, u32)) {
         for node in &mut self.nodes {
             for lane in 0..4 {
                 if node.lanes & (1 << lane) != 0 && node.count[lane] > 0 {
@@ -226,7 +226,7 @@ impl Bvh {
     }
 
     /// Closest-hit traversal. `hit(i, t_max)` tests leaf entry `i` (a primitive in build order,
-    /// or whatever [`Bvh::map_leaves`] made the leaves point at, such as a block of triangles)
+    /// or whatever the builder of the tree made the leaves point at, such as a block of triangles)
     /// and returns its t if it is nearer than `t_max`. Returns the final t_max.
     #[inline(always)]
     pub fn traverse(

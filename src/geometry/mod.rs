@@ -16,4 +16,4 @@ pub use sphere::{Sphere, intersect_sphere};
 pub use transform::{Transform, unit_normal};
 pub(crate) use triangle::intersect_triangle_in;
 pub use triangle::{intersect_triangle, triangle_normal};
-pub use triangle4::{RayLanes as TriangleRayLanes, Triangle4};
+pub(crate) use triangle4::{RayLanes as TriangleRayLanes, Triangle4};

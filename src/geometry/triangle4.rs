@@ -72,11 +72,6 @@ impl Triangle4 {
         self.used.count_ones()
     }
 
-    /// Whether no lane holds a triangle.
-    pub fn is_empty(&self) -> bool {
-        self.used == 0
-    }
-
     /// The nearest of the four hits with t_min <= t <= t_max (ties to the lowest lane): its t
     /// and lane.
     #[inline(always)]
