@@ -33,6 +33,7 @@
 
 pub mod accel;
 pub mod camera;
+pub mod check;
 pub mod cli;
 mod error;
 pub mod geometry;

@@ -2,6 +2,7 @@
 //! out.tga ...`, every option of assignments 1 to 7, and raycast's own), the run it asks for,
 //! the exit statuses, and `raycast completions SHELL`.
 
+mod check;
 mod completions;
 mod options;
 
@@ -26,6 +27,11 @@ use options::same_file;
 /// Runs the program on its arguments (without the program name); returns the exit status:
 /// 0 done, 1 the scene or a file is at fault, 2 the command line is.
 pub fn run(args: Vec<OsString>) -> ExitCode {
+    match args.first().and_then(|a| a.to_str()) {
+        Some("check") => return check::run_check(args[1..].to_vec()),
+        Some("diff") => return check::run_diff(args[1..].to_vec()),
+        _ => {}
+    }
     if args.first().is_some_and(|a| a == "completions") {
         return match args.get(1).and_then(|a| a.to_str()) {
             Some(shell) if args.len() == 2 => match completions::script(shell) {

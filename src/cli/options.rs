@@ -251,6 +251,8 @@ pub const OPTIONS: &[OptionSpec] = &[
 pub fn usage() -> String {
     let mut text = String::from(
         "usage: raycast -input SCENE -size WIDTH HEIGHT -output IMAGE [options]
+       raycast check SUITE --renderer CMD [--report DIR]   (raycast check -help)
+       raycast diff IMAGE REFERENCE [--out DIFF.png]
        raycast completions bash|zsh|fish
 
 Renders a scene of MIT 6.837's ray tracing assignments (Fall 2004) as the course's

@@ -1,0 +1,258 @@
+//! The report of a check: `summary.json`, and `index.html`, one page with the images beside it
+//! (no network): per image the renderer's picture, the reference and a difference heat map, a
+//! slider to wipe between the first two, zoom with visible pixels, the diagnosis and the command
+//! line; failures first, with filters.
+//!
+//! The page is written with `format!` rather than a template crate: it is one small page with
+//! one repeated block, and every value put into it goes through [`escape`].
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::{Graded, Status, diagnose, summary_json};
+use crate::image_io::{self, ImageFormat};
+
+/// Writes `summary.json`, `index.html` and the pictures into `dir` (made if missing).
+pub fn write_report(dir: &Path, graded: &[Graded], tolerance: u8) -> Result<(), String> {
+    let fail = |e: std::io::Error| format!("{}: {e}", dir.display());
+    std::fs::create_dir_all(dir).map_err(fail)?;
+    let json = serde_json::to_string_pretty(&summary_json(graded)).map_err(|e| e.to_string())?;
+    std::fs::write(dir.join("summary.json"), json + "\n").map_err(fail)?;
+    let mut order: Vec<&Graded> = graded.iter().collect();
+    // Failures and errors first, then passes, each in the suite's order.
+    order.sort_by_key(|g| g.status == Status::Pass);
+    let mut blocks = String::new();
+    for (k, g) in order.iter().enumerate() {
+        let file = |kind: &str| format!("{k:03}-{}-{kind}.png", safe(&g.name));
+        let write = |kind: &str, image: &crate::image_io::Image| -> Result<String, String> {
+            let name = file(kind);
+            std::fs::write(dir.join(&name), image_io::encode(image, ImageFormat::Png))
+                .map_err(fail)?;
+            Ok(name)
+        };
+        let actual = g.actual.as_ref().map(|i| write("actual", i)).transpose()?;
+        let reference = g
+            .reference
+            .as_ref()
+            .map(|i| write("reference", i))
+            .transpose()?;
+        let diff = match (&g.actual, &g.reference) {
+            (Some(a), Some(r)) if (a.width, a.height) == (r.width, r.height) => {
+                Some(write("diff", &diagnose::heat_map(a, r, tolerance))?)
+            }
+            _ => None,
+        };
+        blocks.push_str(&block(g, actual, reference, diff));
+    }
+    let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
+    let page = PAGE
+        .replace(
+            "{{SUMMARY}}",
+            &format!("{passed} passed, {} failed", graded.len() - passed),
+        )
+        .replace("{{BLOCKS}}", &blocks);
+    std::fs::write(dir.join("index.html"), page).map_err(fail)
+}
+
+/// A file name made of an image's name: letters, digits, `-`, `_` and `.` only.
+fn safe(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// Text made safe to stand in HTML, in an element or an attribute.
+pub fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+fn block(
+    g: &Graded,
+    actual: Option<String>,
+    reference: Option<String>,
+    diff: Option<String>,
+) -> String {
+    let status = g.status.code();
+    let codes: Vec<&str> = g.diagnoses.iter().map(|d| d.code()).collect();
+    let off = g
+        .bad_fraction
+        .map(|f| format!("{:.3}% of pixels off", 100.0 * f))
+        .unwrap_or_else(|| "not compared".into());
+    let picture = |file: &Option<String>, what: &str| match file {
+        Some(f) => format!(
+            "<figure><img class=\"px\" src=\"{}\" alt=\"{what}\"><figcaption>{what}</figcaption></figure>",
+            escape(f)
+        ),
+        None => format!(
+            "<figure class=\"none\"><div>no image</div><figcaption>{what}</figcaption></figure>"
+        ),
+    };
+    let wipe = match (&actual, &reference) {
+        (Some(a), Some(r)) => format!(
+            "<figure class=\"wipe\"><div class=\"stack\"><img class=\"px under\" src=\"{}\" \
+             alt=\"reference\"><img class=\"px over\" src=\"{}\" alt=\"yours\"></div>\
+             <input type=\"range\" min=\"0\" max=\"100\" value=\"50\" aria-label=\"wipe between \
+             yours (left) and the reference (right)\"><figcaption>yours ◀ wipe ▶ reference \
+             <button type=\"button\" class=\"flip\">flip</button></figcaption></figure>",
+            escape(r),
+            escape(a)
+        ),
+        _ => String::new(),
+    };
+    let mut html = String::new();
+    let _ = writeln!(
+        html,
+        "<section class=\"image {status}\" data-status=\"{status}\">\
+         <h2><span class=\"badge\">{status}</span> {name} <small>{off}</small></h2>\
+         <p class=\"codes\">{codes}</p><p class=\"why\">{why}</p>\
+         <pre class=\"command\">{command}</pre>\
+         <div class=\"pictures\">{a}{r}{d}{wipe}</div></section>",
+        name = escape(&g.name),
+        codes = escape(&codes.join(", ")),
+        why = escape(&g.explanation),
+        command = escape(&g.command),
+        a = picture(&actual, "yours"),
+        r = picture(&reference, "reference"),
+        d = picture(&diff, "difference"),
+    );
+    html
+}
+
+/// The page; `{{SUMMARY}}` and `{{BLOCKS}}` are filled in. Its script also checks itself when
+/// opened with `?selftest` (every picture loads, the wipe moves, no script error), for the
+/// tests to run it in a real browser.
+const PAGE: &str = r#"<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>raycast check: {{SUMMARY}}</title>
+<style>
+body { font-family: system-ui, sans-serif; margin: 1.5em; background: #fafafa; color: #222; }
+header { display: flex; gap: 1.5em; align-items: center; flex-wrap: wrap; }
+.image { background: white; border: 1px solid #ddd; border-left: 6px solid #2a2; margin: 1em 0; padding: 0.5em 1em; }
+.image.fail, .image.error { border-left-color: #c22; }
+.badge { text-transform: uppercase; font-size: 0.8em; padding: 0.1em 0.4em; border-radius: 3px; background: #2a2; color: white; }
+.fail .badge, .error .badge { background: #c22; }
+.codes { font-family: monospace; font-weight: bold; }
+.command { background: #f3f3f3; padding: 0.4em; overflow-x: auto; }
+.pictures { display: flex; gap: 1em; flex-wrap: wrap; align-items: flex-start; }
+figure { margin: 0; text-align: center; }
+figure.none div { width: 8em; height: 8em; display: flex; align-items: center; justify-content: center; background: #eee; }
+img.px { image-rendering: pixelated; image-rendering: crisp-edges; width: calc(var(--zoom) * var(--w, 200px)); }
+.stack { position: relative; display: inline-block; }
+.stack .over { position: absolute; left: 0; top: 0; clip-path: inset(0 50% 0 0); }
+.wipe input { width: 100%; }
+.hidden { display: none; }
+</style>
+</head>
+<body style="--zoom: 1">
+<header>
+<h1>raycast check: {{SUMMARY}}</h1>
+<label><input type="checkbox" id="show-pass" checked> passes</label>
+<label><input type="checkbox" id="show-fail" checked> failures</label>
+<label>zoom <select id="zoom"><option>1</option><option>2</option><option>4</option><option>8</option></select></label>
+</header>
+<main>
+{{BLOCKS}}
+</main>
+<pre id="selftest" class="hidden"></pre>
+<script>
+"use strict";
+const errors = [];
+window.addEventListener("error", e => errors.push(String(e.message)));
+function wipe(section, value) {
+  const over = section.querySelector(".over");
+  if (over) over.style.clipPath = "inset(0 " + (100 - value) + "% 0 0)";
+}
+for (const section of document.querySelectorAll(".image")) {
+  const range = section.querySelector(".wipe input");
+  if (range) {
+    range.addEventListener("input", () => wipe(section, Number(range.value)));
+    section.querySelector(".flip").addEventListener("click", () => {
+      range.value = Number(range.value) > 50 ? 0 : 100;
+      wipe(section, Number(range.value));
+    });
+    wipe(section, Number(range.value));
+  }
+}
+for (const img of document.querySelectorAll("img.px")) {
+  const size = () => img.style.setProperty("--w", img.naturalWidth + "px");
+  if (img.complete) size(); else img.addEventListener("load", size);
+}
+function filter() {
+  const pass = document.getElementById("show-pass").checked;
+  const fail = document.getElementById("show-fail").checked;
+  for (const section of document.querySelectorAll(".image")) {
+    const shown = section.dataset.status === "pass" ? pass : fail;
+    section.classList.toggle("hidden", !shown);
+  }
+}
+document.getElementById("show-pass").addEventListener("change", filter);
+document.getElementById("show-fail").addEventListener("change", filter);
+document.getElementById("zoom").addEventListener("change", e => {
+  document.body.style.setProperty("--zoom", e.target.value);
+});
+if (location.search.includes("selftest")) {
+  window.addEventListener("load", () => {
+    const problems = errors.slice();
+    const images = [...document.querySelectorAll("img")];
+    for (const img of images) {
+      if (!img.complete || img.naturalWidth === 0) problems.push("not loaded: " + img.getAttribute("src"));
+    }
+    let wipes = 0;
+    for (const section of document.querySelectorAll(".image")) {
+      const range = section.querySelector(".wipe input");
+      if (!range) continue;
+      const over = section.querySelector(".over");
+      range.value = 10; range.dispatchEvent(new Event("input"));
+      const at10 = over.style.clipPath;
+      range.value = 90; range.dispatchEvent(new Event("input"));
+      const at90 = over.style.clipPath;
+      if (at10 === at90) problems.push("the wipe does not move: " + section.querySelector("h2").textContent);
+      wipes += 1;
+    }
+    document.getElementById("show-pass").click();
+    const hidden = document.querySelectorAll(".image.pass.hidden").length;
+    const passes = document.querySelectorAll(".image.pass").length;
+    if (hidden !== passes) problems.push("the pass filter hides " + hidden + " of " + passes);
+    const out = document.getElementById("selftest");
+    out.textContent = (problems.length ? "FAILED: " + problems.join("; ") : "ok") +
+      " (" + images.length + " images, " + wipes + " wipes)";
+    out.classList.remove("hidden");
+  });
+}
+</script>
+</body>
+</html>
+"#;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escaping() {
+        assert_eq!(
+            escape("<a href=\"x\">&'"),
+            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
+        );
+        assert_eq!(safe("out/put 3.tga"), "out_put_3.tga");
+    }
+}

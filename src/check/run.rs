@@ -1,0 +1,135 @@
+//! Running a renderer that is not trusted: in a folder of its own, with the scene files as
+//! read-only copies, its images sent to a scratch folder, and a time limit.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Ending {
+    /// It exited with status 0.
+    Success,
+    /// It exited with another status, or was killed by a signal.
+    Failed {
+        /// The exit status; `None` for a signal.
+        status: Option<i32>,
+        /// The start of what it said on stderr.
+        stderr: String,
+    },
+    /// It outlasted the time limit and was killed.
+    TimedOut(Duration),
+    /// It could not be started at all.
+    NotStarted(String),
+}
+
+/// Copies every file of `scenes` into `into`, read-only: the renderer may read them, not
+/// change them, and never touches the suite itself.
+pub fn copy_scenes(scenes: &Path, into: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(into).map_err(|e| format!("{}: {e}", into.display()))?;
+    for entry in std::fs::read_dir(scenes).map_err(|e| format!("{}: {e}", scenes.display()))? {
+        let entry = entry.map_err(|e| format!("{}: {e}", scenes.display()))?;
+        let path = entry.path();
+        if path.is_dir() {
+            continue;
+        }
+        let target = into.join(entry.file_name());
+        std::fs::copy(&path, &target).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut permissions = std::fs::metadata(&target)
+            .map_err(|e| format!("{}: {e}", target.display()))?
+            .permissions();
+        permissions.set_readonly(true);
+        std::fs::set_permissions(&target, permissions)
+            .map_err(|e| format!("{}: {e}", target.display()))?;
+    }
+    Ok(())
+}
+
+/// A writable folder for one run, holding links to the read-only scene copies (so the
+/// renderer may write files of its own beside them without touching the inputs).
+pub fn work_folder(scenes: &Path, work: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(work).map_err(|e| format!("{}: {e}", work.display()))?;
+    for entry in std::fs::read_dir(scenes).map_err(|e| format!("{}: {e}", scenes.display()))? {
+        let entry = entry.map_err(|e| format!("{}: {e}", scenes.display()))?;
+        let link = work.join(entry.file_name());
+        std::os::unix::fs::symlink(entry.path(), &link)
+            .map_err(|e| format!("{}: {e}", link.display()))?;
+    }
+    Ok(())
+}
+
+/// Runs `program` (its first word the executable, the rest its own arguments) with `args` in
+/// `work`, for at most `limit`. The program runs in a process group of its own, so that a
+/// time-out ends whatever it started too.
+pub fn run(program: &[String], args: &[String], work: &Path, limit: Duration) -> Ending {
+    use std::os::unix::process::CommandExt;
+    let Some((executable, own)) = program.split_first() else {
+        return Ending::NotStarted("no renderer given".into());
+    };
+    let child = Command::new(resolve(executable))
+        .args(own)
+        .args(args)
+        .current_dir(work)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .process_group(0)
+        .spawn();
+    let mut child = match child {
+        Ok(child) => child,
+        Err(e) => return Ending::NotStarted(format!("{executable}: {e}")),
+    };
+    // Read stderr as it comes, so a chatty renderer never blocks on a full pipe.
+    let stderr = child.stderr.take().map(|mut pipe| {
+        std::thread::spawn(move || {
+            use std::io::Read;
+            let mut text = Vec::new();
+            let _ = (&mut pipe).take(64 * 1024).read_to_end(&mut text);
+            let _ = std::io::copy(&mut pipe, &mut std::io::sink());
+            String::from_utf8_lossy(&text).into_owned()
+        })
+    });
+    let start = Instant::now();
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if start.elapsed() >= limit => break None,
+            Ok(None) => std::thread::sleep(Duration::from_millis(5)),
+            Err(e) => return Ending::NotStarted(e.to_string()),
+        }
+    };
+    let Some(status) = status else {
+        // The whole group: the renderer and anything it started.
+        let _ = Command::new("kill")
+            .arg("-KILL")
+            .arg(format!("-{}", child.id()))
+            .status();
+        let _ = child.kill();
+        let _ = child.wait();
+        return Ending::TimedOut(limit);
+    };
+    let stderr = stderr
+        .and_then(|reader| reader.join().ok())
+        .unwrap_or_default();
+    if status.success() {
+        Ending::Success
+    } else {
+        Ending::Failed {
+            status: status.code(),
+            stderr,
+        }
+    }
+}
+
+/// A renderer named by a relative path (`./raytracer`) runs from the work folder, so it is made
+/// absolute first; a bare name is looked up on the PATH as usual.
+fn resolve(executable: &str) -> PathBuf {
+    let path = Path::new(executable);
+    if path.components().count() > 1 && path.is_relative() {
+        std::env::current_dir()
+            .map(|d| d.join(path))
+            .unwrap_or_else(|_| path.to_path_buf())
+    } else {
+        path.to_path_buf()
+    }
+}

@@ -1,0 +1,143 @@
+//! A suite of the course's command lines: `COMMANDS.txt` (lines `raytracer ARGS`, the rest
+//! comments), the `scenes/` they run in, and, where there is one, `reference/NAME.png` for each
+//! image `NAME` they write.
+
+use std::path::{Path, PathBuf};
+
+/// One command line of a suite.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Line {
+    /// The line as the suite writes it, from `raytracer` on.
+    pub command: String,
+    /// The arguments after `raytracer`.
+    pub args: Vec<String>,
+    /// The images it writes: the argument's index and the file name given.
+    pub outputs: Vec<(usize, String)>,
+}
+
+/// A suite read from its folder.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Suite {
+    /// The suite's folder.
+    pub root: PathBuf,
+    /// Where the lines run: the scene files and meshes.
+    pub scenes: PathBuf,
+    /// The reference images, or `None` to grade against raycast's own renders.
+    pub references: Option<PathBuf>,
+    /// Every command line.
+    pub lines: Vec<Line>,
+}
+
+/// Options that name an image file, and which of their values it is.
+const IMAGE_OPTIONS: [(&str, usize); 5] = [
+    ("-output", 1),
+    ("-normals", 1),
+    ("-depth", 3),
+    ("-render_samples", 1),
+    ("-render_filter", 1),
+];
+
+impl Suite {
+    /// Reads `root/COMMANDS.txt` and checks that `root/scenes` exists.
+    pub fn read(root: &Path) -> Result<Suite, String> {
+        let commands = root.join("COMMANDS.txt");
+        let text = std::fs::read_to_string(&commands)
+            .map_err(|e| format!("{}: cannot read: {e}", commands.display()))?;
+        let scenes = root.join("scenes");
+        if !scenes.is_dir() {
+            return Err(format!(
+                "{}: no scenes/ folder beside COMMANDS.txt",
+                root.display()
+            ));
+        }
+        let references = root.join("reference");
+        let lines: Vec<Line> = text.lines().filter_map(parse_line).collect();
+        if lines.is_empty() {
+            return Err(format!(
+                "{}: no command lines (lines that start with 'raytracer ')",
+                commands.display()
+            ));
+        }
+        Ok(Suite {
+            root: root.to_path_buf(),
+            scenes,
+            references: references.is_dir().then_some(references),
+            lines,
+        })
+    }
+}
+
+/// A line of `COMMANDS.txt`, or `None` for a comment or a line that writes no image. The
+/// course's lists annotate lines after `->` or `(preview only)`: that part is not the command.
+pub fn parse_line(text: &str) -> Option<Line> {
+    let text = text.trim();
+    let rest = text.strip_prefix("raytracer ")?;
+    let rest = rest.split("->").next().unwrap_or(rest);
+    let rest = rest.split("(preview only)").next().unwrap_or(rest);
+    let args: Vec<String> = rest.split_whitespace().map(String::from).collect();
+    let mut outputs = Vec::new();
+    for (i, arg) in args.iter().enumerate() {
+        if let Some(&(_, offset)) = IMAGE_OPTIONS.iter().find(|(name, _)| name == arg)
+            && let Some(name) = args.get(i + offset)
+        {
+            outputs.push((i + offset, name.clone()));
+        }
+    }
+    if outputs.is_empty() {
+        return None;
+    }
+    Some(Line {
+        command: format!("raytracer {}", args.join(" ")),
+        args,
+        outputs,
+    })
+}
+
+/// The name an image is graded under: its file name without the extension.
+pub fn image_name(file: &str) -> String {
+    let name = Path::new(file)
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| file.to_string());
+    match name.rsplit_once('.') {
+        Some((stem, _)) if !stem.is_empty() => stem.to_string(),
+        _ => name,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_with_their_images() {
+        let line = parse_line(
+            "raytracer -input s.txt -size 200 200 -output o.tga -depth 9 11 d.tga -normals n.tga",
+        )
+        .unwrap();
+        assert_eq!(
+            line.outputs,
+            [
+                (6, "o.tga".into()),
+                (10, "d.tga".into()),
+                (12, "n.tga".into())
+            ]
+        );
+        let annotated = parse_line(
+            "raytracer -input a.txt -size 9 9 -render_filter f.tga 20 -box_filter 0.5   -> x.png",
+        )
+        .unwrap();
+        assert_eq!(annotated.outputs, [(6, "f.tga".into())]);
+        assert_eq!(
+            annotated.command,
+            "raytracer -input a.txt -size 9 9 -render_filter f.tga 20 -box_filter 0.5"
+        );
+        assert_eq!(parse_line("# a comment"), None);
+        assert_eq!(
+            parse_line("raytracer -input s.txt -size 200 200 -gui (preview only)"),
+            None
+        );
+        assert_eq!(image_name("output3_01.tga"), "output3_01");
+        assert_eq!(image_name("out/a.b.png"), "a.b");
+    }
+}

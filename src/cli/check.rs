@@ -1,0 +1,278 @@
+//! `raycast check SUITE --renderer CMD ...` and `raycast diff A B [--out FILE]`.
+
+use std::ffi::OsString;
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use crate::check::{self, CheckOptions, Status};
+use crate::image_io::{self, ImageFormat};
+
+/// The usage of the two subcommands.
+pub const CHECK_USAGE: &str = "\
+usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
+                     [--max-bad FRACTION] [--jobs N] [--timeout SECONDS]
+       raycast diff IMAGE REFERENCE [--out DIFF.png] [--tolerance LEVELS] [--max-bad FRACTION]
+
+check runs every line of SUITE/COMMANDS.txt ('raytracer ARGS') as 'CMD ARGS' in a scratch
+copy of SUITE/scenes, and compares each image with SUITE/reference/NAME.png (or, where the suite
+has no reference/ folder, with raycast's own render of the same line). It names the likely
+cause of each mismatch, and writes DIR/summary.json and DIR/index.html with --report.
+CMD is the renderer's command, one argument: --renderer \"python3 my_tracer.py\".
+An image passes when at most FRACTION of its pixels (default 0.001) are off by more than
+LEVELS (default 2). Exit status: 0 all pass, 1 some fail, 2 a usage or suite error.";
+
+fn say(mut to: impl Write, text: &str) {
+    let _ = writeln!(to, "{text}");
+}
+
+fn refuse(message: &str) -> ExitCode {
+    say(
+        std::io::stderr(),
+        &format!("raycast: {message}\n\n{CHECK_USAGE}"),
+    );
+    ExitCode::from(2)
+}
+
+/// The value after an option, or a message.
+fn value(
+    args: &mut impl Iterator<Item = OsString>,
+    flag: &str,
+    what: &str,
+) -> Result<String, String> {
+    match args.next().map(|a| a.to_string_lossy().into_owned()) {
+        Some(v) => Ok(v),
+        None => Err(format!(
+            "{flag} needs {what}, found the end of the command line"
+        )),
+    }
+}
+
+fn number<T: std::str::FromStr>(text: &str, flag: &str, what: &str) -> Result<T, String> {
+    text.parse()
+        .map_err(|_| format!("{flag} needs {what}, found '{text}'"))
+}
+
+/// The shared grading options: `--tolerance` and `--max-bad`.
+fn grading(flag: &str, text: &str, tolerance: &mut u8, max_bad: &mut f64) -> Result<(), String> {
+    match flag {
+        "--tolerance" => *tolerance = number(text, flag, "a number of levels from 0 to 255")?,
+        _ => {
+            let f: f64 = number(text, flag, "a fraction from 0 to 1")?;
+            if !(0.0..=1.0).contains(&f) {
+                return Err(format!(
+                    "--max-bad needs a fraction from 0 to 1, found '{text}'"
+                ));
+            }
+            *max_bad = f;
+        }
+    }
+    Ok(())
+}
+
+/// `raycast check ...` (arguments after `check`).
+pub fn run_check(args: Vec<OsString>) -> ExitCode {
+    let mut args = args.into_iter();
+    let mut suite = None;
+    let mut options = CheckOptions::new(PathBuf::new(), Vec::new());
+    let parsed: Result<(), String> = (|| {
+        while let Some(arg) = args.next() {
+            let text = arg.to_string_lossy().into_owned();
+            match text.as_str() {
+                "--renderer" => {
+                    let command = value(&mut args, "--renderer", "the renderer's command")?;
+                    options.renderer = command.split_whitespace().map(String::from).collect();
+                }
+                "--report" => {
+                    options.report = Some(value(&mut args, "--report", "a folder")?.into())
+                }
+                "--tolerance" | "--max-bad" => {
+                    let v = value(&mut args, &text, "a number")?;
+                    grading(&text, &v, &mut options.tolerance, &mut options.max_bad)?;
+                }
+                "--jobs" => {
+                    let v = value(&mut args, "--jobs", "a number of jobs")?;
+                    options.jobs = number(&v, "--jobs", "a number of jobs from 1 to 1024")?;
+                    if !(1..=1024).contains(&options.jobs) {
+                        return Err(format!(
+                            "--jobs needs a number of jobs from 1 to 1024, found '{v}'"
+                        ));
+                    }
+                }
+                "--timeout" => {
+                    let v = value(&mut args, "--timeout", "a number of seconds")?;
+                    let s: f64 = number(&v, "--timeout", "a number of seconds above 0")?;
+                    if !(s > 0.0 && s <= 86_400.0) {
+                        return Err(format!(
+                            "--timeout needs a number of seconds above 0, found '{v}'"
+                        ));
+                    }
+                    options.timeout = Duration::from_secs_f64(s);
+                }
+                "-help" | "--help" | "-h" => return Err(String::new()),
+                _ if text.starts_with('-') => {
+                    return Err(format!("check: unknown option '{text}'"));
+                }
+                _ if suite.is_none() => suite = Some(PathBuf::from(&text)),
+                _ => {
+                    return Err(format!(
+                        "check: unexpected argument '{text}' (one SUITE only)"
+                    ));
+                }
+            }
+        }
+        Ok(())
+    })();
+    match parsed {
+        Err(message) if message.is_empty() => {
+            say(std::io::stdout(), CHECK_USAGE);
+            return ExitCode::SUCCESS;
+        }
+        Err(message) => return refuse(&message),
+        Ok(()) => {}
+    }
+    let Some(suite) = suite else {
+        return refuse("check needs a SUITE folder (with COMMANDS.txt and scenes/)");
+    };
+    if options.renderer.is_empty() {
+        return refuse("check needs --renderer CMD: which renderer should be graded?");
+    }
+    options.suite = suite;
+
+    let bar = progress_bar(&options);
+    let advance = || {
+        if let Some(bar) = &bar {
+            bar.inc(1);
+        }
+    };
+    let graded = match check::check(&options, &advance) {
+        Ok(graded) => graded,
+        Err(message) => {
+            say(std::io::stderr(), &format!("raycast: check: {message}"));
+            return ExitCode::from(2);
+        }
+    };
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let mut out = std::io::stdout().lock();
+    for g in &graded {
+        let _ = writeln!(out, "{}", check::verdict(g));
+    }
+    let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
+    let failed = graded.len() - passed;
+    let _ = writeln!(out, "{passed} passed, {failed} failed");
+    if let Some(dir) = &options.report {
+        if let Err(message) = check::write_report(dir, &graded, options.tolerance) {
+            say(
+                std::io::stderr(),
+                &format!("raycast: check: cannot write the report: {message}"),
+            );
+            return ExitCode::from(2);
+        }
+        let _ = writeln!(out, "report: {}", dir.join("index.html").display());
+    }
+    if failed == 0 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
+
+/// A bar on stderr, when it is a terminal: one step a command line.
+fn progress_bar(options: &CheckOptions) -> Option<indicatif::ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let lines = check::Suite::read(&options.suite).ok()?.lines.len();
+    let bar = indicatif::ProgressBar::new(lines as u64);
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "checking {wide_bar} {pos}/{len} command lines, {elapsed} elapsed",
+    ) {
+        bar.set_style(style);
+    }
+    Some(bar)
+}
+
+/// `raycast diff A B ...` (arguments after `diff`).
+pub fn run_diff(args: Vec<OsString>) -> ExitCode {
+    let mut args = args.into_iter();
+    let mut files = Vec::new();
+    let mut out_file = None;
+    let (mut tolerance, mut max_bad) = (2u8, 0.001f64);
+    let parsed: Result<(), String> = (|| {
+        while let Some(arg) = args.next() {
+            let text = arg.to_string_lossy().into_owned();
+            match text.as_str() {
+                "--out" => {
+                    out_file = Some(PathBuf::from(value(&mut args, "--out", "an image file")?))
+                }
+                "--tolerance" | "--max-bad" => {
+                    let v = value(&mut args, &text, "a number")?;
+                    grading(&text, &v, &mut tolerance, &mut max_bad)?;
+                }
+                _ if text.starts_with('-') && text.len() > 1 => {
+                    return Err(format!("diff: unknown option '{text}'"));
+                }
+                _ => files.push(PathBuf::from(text)),
+            }
+        }
+        Ok(())
+    })();
+    if let Err(message) = parsed {
+        return refuse(&message);
+    }
+    let [actual, reference] = files.as_slice() else {
+        return refuse("diff needs two images: yours, then the reference");
+    };
+    let read = |path: &PathBuf| check::read_image(path);
+    let (a, r) = match (read(actual), read(reference)) {
+        (Ok(a), Ok(r)) => (a, r),
+        (Err(e), _) | (_, Err(e)) => {
+            say(std::io::stderr(), &format!("raycast: diff: {e}"));
+            return ExitCode::from(2);
+        }
+    };
+    let mut out = std::io::stdout().lock();
+    let Some(comparison) = check::diagnose::compare(&a, &r, tolerance) else {
+        let _ = writeln!(
+            out,
+            "FAIL: sizes differ ({}x{} against {}x{}): size: {}",
+            a.width,
+            a.height,
+            r.width,
+            r.height,
+            check::Diagnosis::Size.explanation()
+        );
+        return ExitCode::from(1);
+    };
+    if let Some(path) = &out_file {
+        let format = ImageFormat::from_path(path).unwrap_or(ImageFormat::Png);
+        let heat = check::diagnose::heat_map(&a, &r, tolerance);
+        if let Err(e) = std::fs::write(path, image_io::encode(&heat, format)) {
+            say(
+                std::io::stderr(),
+                &format!("raycast: diff: {}: {e}", path.display()),
+            );
+            return ExitCode::from(2);
+        }
+    }
+    let percent = 100.0 * comparison.bad_fraction;
+    if check::diagnose::passes(&comparison, max_bad) {
+        let _ = writeln!(
+            out,
+            "pass: {percent:.3}% of pixels off by more than {tolerance} levels"
+        );
+        return ExitCode::SUCCESS;
+    }
+    let diagnoses = check::diagnose::diagnose(&a, &r, tolerance, max_bad);
+    let codes: Vec<&str> = diagnoses.iter().map(|d| d.code()).collect();
+    let _ = writeln!(
+        out,
+        "FAIL: {percent:.3}% of pixels off by more than {tolerance} levels: {}: {}",
+        codes.join(", "),
+        check::diagnose::explain(&diagnoses)
+    );
+    ExitCode::from(1)
+}

@@ -1,0 +1,349 @@
+//! `raycast check` and `raycast diff` as a student meets them: a clean run over the course's 44
+//! images passes; renderers that crash, hang, write nothing or write garbage fail image by image
+//! and never fail the check itself; faults planted in raycast's own images, the way a student's
+//! code would make them, get their diagnosis; the report holds what it says, and works in a
+//! real browser.
+
+use std::io::Write as _;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn conformance_dir() -> Option<PathBuf> {
+    let dir = match std::env::var_os("RAYCAST_CONFORMANCE_DIR") {
+        Some(dir) => PathBuf::from(dir),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/conformance"),
+    };
+    if dir.join("COMMANDS.txt").is_file() {
+        return Some(dir);
+    }
+    assert!(
+        std::env::var_os("RAYCAST_CONFORMANCE_DIR").is_none(),
+        "RAYCAST_CONFORMANCE_DIR is set but holds no COMMANDS.txt"
+    );
+    let _ = writeln!(
+        std::io::stderr(),
+        "skipped: the check tests on the course's images (no course data at {}; put it there or \
+         set RAYCAST_CONFORMANCE_DIR to run them)",
+        dir.display()
+    );
+    None
+}
+
+fn raycast(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raycast"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+/// A renderer: a bash script in `dir`, made executable.
+fn script(dir: &Path, name: &str, body: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, format!("#!/usr/bin/env bash\n{body}\n")).unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// A small suite: the first `lines` command lines of the course's assignments 1 and 2.
+fn small_suite(dir: &Path, conformance: &Path, lines: usize) -> PathBuf {
+    let suite = dir.join("suite");
+    std::fs::create_dir_all(&suite).unwrap();
+    let commands: Vec<String> = std::fs::read_to_string(conformance.join("COMMANDS.txt"))
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with("raytracer "))
+        .take(lines)
+        .map(String::from)
+        .collect();
+    std::fs::write(suite.join("COMMANDS.txt"), commands.join("\n") + "\n").unwrap();
+    std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
+    std::os::unix::fs::symlink(conformance.join("reference"), suite.join("reference")).unwrap();
+    suite
+}
+
+#[test]
+fn a_clean_run_over_the_courses_images_passes() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let output = raycast(&[
+        "check",
+        conformance.to_str().unwrap(),
+        "--renderer",
+        env!("CARGO_BIN_EXE_raycast"),
+    ]);
+    let out = stdout(&output);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    assert!(out.ends_with("44 passed, 0 failed\n"), "{out}");
+    assert_eq!(out.lines().filter(|l| l.starts_with("pass ")).count(), 44);
+}
+
+#[test]
+fn broken_renderers_fail_their_images_not_the_check() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = small_suite(dir.path(), &conformance, 3);
+    let suite = suite.to_str().unwrap();
+    let cases = [
+        (
+            "crash.sh",
+            "echo 'segmentation fault' >&2; exit 3",
+            "crash",
+            "exited with status 3",
+        ),
+        (
+            "nothing.sh",
+            "exit 0",
+            "missing_output",
+            "There is no image",
+        ),
+        (
+            "hang.sh",
+            "sleep 30",
+            "crash",
+            "did not finish within 0.5 s",
+        ),
+        (
+            "garbage.sh",
+            "while [ $# -gt 0 ]; do if [ \"$1\" = -output ]; then echo hello > \"$2\"; fi; shift; done",
+            "missing_output",
+            "not a readable image",
+        ),
+    ];
+    for (name, body, code, said) in cases {
+        let renderer = script(dir.path(), name, body);
+        let started = std::time::Instant::now();
+        let output = raycast(&["check", suite, "--renderer", &renderer, "--timeout", "0.5"]);
+        let out = stdout(&output);
+        assert_eq!(output.status.code(), Some(1), "{name}: {out}");
+        let verdicts: Vec<&str> = out.lines().filter(|l| l.starts_with("ERROR")).collect();
+        assert!(!verdicts.is_empty(), "{name}: {out}");
+        for line in &verdicts {
+            assert!(line.contains(&format!(": {code}: ")), "{name}: {line}");
+        }
+        assert!(out.contains(said), "{name}: {out}");
+        // Three lines of the course, four images.
+        assert_eq!(out.lines().last().unwrap(), "0 passed, 4 failed", "{name}");
+        // A hang costs its time limit, not the renderer's half minute.
+        assert!(
+            started.elapsed().as_secs() < 20,
+            "{name} took {:?}",
+            started.elapsed()
+        );
+    }
+    // The suite is never written into.
+    let mut names: Vec<String> = std::fs::read_dir(dir.path().join("suite"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["COMMANDS.txt", "reference", "scenes"]);
+}
+
+#[test]
+fn usage_and_suite_errors_exit_with_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = raycast(&["check", dir.path().to_str().unwrap(), "--renderer", "true"]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("COMMANDS.txt: cannot read"));
+    let output = raycast(&["check", dir.path().to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    let output = raycast(&["check", "x", "--renderer", "true", "--jobs", "0"]);
+    assert_eq!(output.status.code(), Some(2));
+    let output = raycast(&["diff", "only-one.png"]);
+    assert_eq!(output.status.code(), Some(2));
+}
+
+/// Renders a course line with raycast (extra words added), returns the image.
+fn render(conformance: &Path, line: &str, extra: &[&str], dir: &Path) -> image::RgbImage {
+    let out = dir.join("render.png");
+    let mut args: Vec<String> = line.split_whitespace().skip(1).map(String::from).collect();
+    let at = args.iter().position(|a| a == "-output").unwrap();
+    args[at + 1] = out.to_str().unwrap().into();
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let status = Command::new(env!("CARGO_BIN_EXE_raycast"))
+        .args(&args)
+        .current_dir(conformance.join("scenes"))
+        .status()
+        .unwrap();
+    assert!(status.success());
+    image::open(&out).unwrap().to_rgb8()
+}
+
+/// `raycast diff` of two images: its verdict line.
+fn diff(dir: &Path, actual: &image::RgbImage, reference: &image::RgbImage) -> String {
+    let (a, r) = (dir.join("a.png"), dir.join("r.png"));
+    actual.save(&a).unwrap();
+    reference.save(&r).unwrap();
+    stdout(&raycast(&[
+        "diff",
+        a.to_str().unwrap(),
+        r.to_str().unwrap(),
+    ]))
+}
+
+#[test]
+fn planted_faults_get_their_diagnosis() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let line = "raytracer -input scene2_06_plane.txt -size 200 200 -output output2_06.tga";
+    let reference = render(&conformance, line, &[], d);
+    let planted = |actual: image::RgbImage| diff(d, &actual, &reference);
+    let codes = |verdict: &str| -> Vec<String> {
+        // "FAIL: 12.3% of pixels off by more than 2 levels: code, code: explanation"
+        verdict
+            .split(": ")
+            .nth(2)
+            .unwrap_or("")
+            .split(", ")
+            .map(String::from)
+            .collect()
+    };
+    assert!(planted(reference.clone()).starts_with("pass"));
+    let flipped = image::imageops::flip_vertical(&reference);
+    assert_eq!(codes(&planted(flipped)), ["flipped_vertical"]);
+    let mirrored = image::imageops::flip_horizontal(&reference);
+    assert_eq!(codes(&planted(mirrored)), ["flipped_horizontal"]);
+    let mut swapped = reference.clone();
+    for p in swapped.pixels_mut() {
+        p.0.swap(0, 2);
+    }
+    assert_eq!(codes(&planted(swapped)), ["channel_swap"]);
+    let mut dim = reference.clone();
+    for p in dim.pixels_mut() {
+        p.0 = p.0.map(|c| (f32::from(c) * 0.6) as u8);
+    }
+    assert!(codes(&planted(dim)).contains(&"colour_scale".to_string()));
+    let mut shifted = reference.clone();
+    for y in 0..200 {
+        for x in 0..200 {
+            *shifted.get_pixel_mut(x, y) = *reference.get_pixel(x.saturating_sub(2), y);
+        }
+    }
+    assert_eq!(codes(&planted(shifted)), ["shift"]);
+    // Back faces black: the course's scene2_05 (inside a sphere) without -shade_back.
+    let inside =
+        "raytracer -input scene2_05_inside_sphere.txt -size 200 200 -output output2_05.tga";
+    let shaded = render(&conformance, inside, &["-shade_back"], d);
+    let black = render(&conformance, inside, &[], d);
+    assert!(codes(&diff(d, &black, &shaded)).contains(&"back_faces".to_string()));
+}
+
+#[test]
+fn the_report_holds_what_it_says_and_works_in_a_browser() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = small_suite(dir.path(), &conformance, 4);
+    // raycast itself, except that it crashes on scene2_02.
+    let raycast_bin = env!("CARGO_BIN_EXE_raycast");
+    let renderer = script(
+        dir.path(),
+        "mostly_raycast.sh",
+        &format!("if [[ \"$*\" == *scene2_02* ]]; then exit 1; fi\nexec {raycast_bin} \"$@\""),
+    );
+    let report = dir.path().join("report");
+    let output = raycast(&[
+        "check",
+        suite.to_str().unwrap(),
+        "--renderer",
+        &renderer,
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1), "{}", stdout(&output));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["passed"], 5);
+    assert_eq!(summary["failed"], 1);
+    let images = summary["images"].as_array().unwrap();
+    assert_eq!(images.len(), 6);
+    for image in images {
+        assert!(
+            image["command"]
+                .as_str()
+                .unwrap()
+                .starts_with("raytracer -input")
+        );
+        if image["name"] == "output2_02" {
+            assert_eq!(image["status"], "error");
+            assert_eq!(image["diagnoses"], serde_json::json!(["crash"]));
+            assert!(
+                image["explanation"]
+                    .as_str()
+                    .unwrap()
+                    .contains("exited with status 1")
+            );
+        } else {
+            assert_eq!(image["status"], "pass");
+            assert!(image["bad_fraction"].as_f64().unwrap() <= 0.001);
+        }
+    }
+    let page = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(page.contains("5 passed, 1 failed"));
+    // Failures first.
+    assert!(page.find("output2_02").unwrap() < page.find("output2_01").unwrap());
+    browser_self_test(&report);
+}
+
+/// Opens the report in headless Chromium with `?selftest`: every picture must load, the wipe
+/// must move and no script may fail. Chromium is required in CI (`.ci/run` installs it).
+fn browser_self_test(report: &Path) {
+    let browser = ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|b| {
+            Command::new(b)
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success())
+        });
+    let Some(browser) = browser else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI needs Chromium for the report test"
+        );
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: the report's browser test (no Chromium; apt-get install chromium)"
+        );
+        return;
+    };
+    let url = format!("file://{}?selftest", report.join("index.html").display());
+    let output = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--allow-file-access-from-files",
+            "--virtual-time-budget=5000",
+            "--dump-dom",
+            &url,
+        ])
+        .output()
+        .unwrap();
+    let dom = String::from_utf8_lossy(&output.stdout);
+    let result = dom
+        .split("<pre id=\"selftest\"")
+        .nth(1)
+        .and_then(|rest| rest.split_once('>'))
+        .map(|(_, rest)| rest.split("</pre>").next().unwrap_or(""))
+        .unwrap_or("(no self-test result)");
+    assert!(
+        result.starts_with("ok ("),
+        "the report's self-test in {browser}: {result}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let _ = writeln!(std::io::stderr(), "report in {browser}: {result}");
+}
