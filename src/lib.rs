@@ -38,6 +38,7 @@ pub mod cli;
 mod error;
 pub mod geometry;
 pub mod image_io;
+pub mod inspect;
 pub mod parse;
 pub mod render;
 pub mod sample;

@@ -1091,7 +1091,7 @@ fn every_option_in_the_table_is_taken_and_in_the_help() {
         // Values of the right shape for each kind of option.
         let values: Vec<&str> = match option.name {
             "input" | "output" | "normals" => vec!["x.png"],
-            "size" | "tessellation" => vec!["4", "4"],
+            "size" | "tessellation" | "inspect" => vec!["2", "2"],
             "depth" => vec!["1", "2", "d.png"],
             "grid" => vec!["2", "2", "2"],
             "render_samples" | "render_filter" => vec!["r.png", "2"],
@@ -1108,6 +1108,9 @@ fn every_option_in_the_table_is_taken_and_in_the_help() {
         });
         if option.name == "visualize_grid" {
             args.extend(["-grid", "2", "2", "2"]);
+        }
+        if option.name == "json" {
+            args.extend(["-inspect", "1", "1"]);
         }
         args.push(&*Box::leak(format!("-{}", option.name).into_boxed_str()));
         args.extend(values);
@@ -1272,5 +1275,134 @@ fn shell_completions() {
     assert!(
         stderr(&output)
             .starts_with("raycast: completions: unknown shell 'tcsh': bash, zsh or fish\n")
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// -inspect
+
+#[test]
+fn inspect_accounts_for_a_course_pixel_by_hand() {
+    let Some(scenes) = course_scenes() else {
+        return;
+    };
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_raycast"))
+            .args(args)
+            .current_dir(&scenes)
+            .output()
+            .unwrap()
+    };
+    let output = run(&[
+        "-input",
+        "scene2_01_diffuse.txt",
+        "-size",
+        "200",
+        "200",
+        "-inspect",
+        "100",
+        "100",
+        "-json",
+    ]);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let account: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    let number = |v: &serde_json::Value| v.as_f64().unwrap();
+    // Pixel (100, 100)'s centre is 0.5 pixel = 0.0125 right of and above the axis (size 5 over
+    // 200 pixels); the unit sphere at the origin is met at z = √(1 − 2·0.0125²) = 0.9998437,
+    // so at t = 10 − z, and again on its far side at 10 + z.
+    let z = (1.0f64 - 2.0 * 0.0125 * 0.0125).sqrt();
+    let crossings = account["crossings"].as_array().unwrap();
+    assert_eq!(crossings.len(), 2);
+    assert!((number(&crossings[0]["t"]) - (10.0 - z)).abs() < 1e-5);
+    assert!((number(&crossings[1]["t"]) - (10.0 + z)).abs() < 1e-5);
+    let hit = &account["tree"]["hit"];
+    assert!((number(&hit["t"]) - (10.0 - z)).abs() < 1e-5);
+    for (axis, expected) in [(0, 0.0125), (1, 0.0125), (2, z)] {
+        assert!((number(&hit["world_normal"][axis]) - expected).abs() < 1e-5);
+    }
+    // One white light along (−0.5, −0.5, −1): N·L = (0.0125 + 0.0125 + 2z)/√6 · ... worked out:
+    let to_light = [0.5, 0.5, 1.0].map(|c| c / 1.5f64.sqrt());
+    let n_dot_l = 0.0125 * to_light[0] + 0.0125 * to_light[1] + z * to_light[2];
+    let light = &account["tree"]["lights"][0];
+    assert!((number(&light["n_dot_l"]) - n_dot_l).abs() < 1e-5);
+    assert_eq!(light["shadow_ray"], "not asked for (no -shadows)");
+    assert!((number(&account["colour"][0]) - n_dot_l).abs() < 1e-5);
+    assert_eq!(account["bytes"], serde_json::json!([210, 0, 0]));
+    // The text form says the same.
+    let output = run(&[
+        "-input",
+        "scene2_01_diffuse.txt",
+        "-size",
+        "200",
+        "200",
+        "-inspect",
+        "100",
+        "100",
+    ]);
+    let text = stdout(&output);
+    assert!(text.contains("pixel (100, 100) of 200x200"), "{text}");
+    assert!(text.contains("hit at t = 9.0001"), "{text}");
+    assert!(text.contains("unclamped, [210,0,0] as bytes"), "{text}");
+}
+
+#[test]
+fn inspect_agrees_with_the_render_through_mirrors_and_glass() {
+    let Some(scenes) = course_scenes() else {
+        return;
+    };
+    let later = scenes.join("../../later-assignments/scenes");
+    let later = if later.is_dir() { later } else { return };
+    let dir = workspace();
+    let image = dir.path().join("gem.png");
+    for (x, y) in [(100, 100), (90, 120), (60, 40), (140, 150)] {
+        let output = Command::new(env!("CARGO_BIN_EXE_raycast"))
+            .args([
+                "-input",
+                "scene4_14_faceted_gem.txt",
+                "-size",
+                "200",
+                "200",
+                "-shadows",
+                "-shade_back",
+            ])
+            .args([
+                "-bounces",
+                "5",
+                "-weight",
+                "0.01",
+                "-output",
+                image.to_str().unwrap(),
+                "-json",
+            ])
+            .args(["-inspect", &x.to_string(), &y.to_string()])
+            .current_dir(&later)
+            .output()
+            .unwrap();
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+        let account: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+        let picture = decode(&image);
+        let pixel = picture.get_pixel(x, 199 - y).0;
+        assert_eq!(
+            account["bytes"],
+            serde_json::json!(pixel),
+            "pixel ({x}, {y})"
+        );
+        // The tree's own sum comes to the same colour (to float rounding).
+        for c in 0..3 {
+            let tree = account["tree"]["colour"][c].as_f64().unwrap();
+            let total = account["colour"][c].as_f64().unwrap();
+            assert!(
+                (tree - total).abs() < 1e-4,
+                "pixel ({x}, {y}): {tree} vs {total}"
+            );
+        }
+    }
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -inspect 8 0"),
+        "-inspect 8 0 is outside the 8x8 image (x from 0 to 7, y from 0 to 7)"
+    );
+    assert_eq!(
+        refused("-input scene.txt -size 8 8 -output a.tga -json"),
+        "-json goes with -inspect X Y: which pixel should be accounted for?"
     );
 }

@@ -44,7 +44,7 @@ impl Item {
     /// The `material` of the loose triangles' mesh, each of whose triangles has its own.
     pub const PER_TRIANGLE: u32 = u32::MAX;
 
-    fn transform(&self) -> u32 {
+    pub(crate) fn transform(&self) -> u32 {
         match *self {
             Item::Sphere { transform, .. } | Item::Mesh { transform, .. } => transform,
         }
@@ -514,7 +514,7 @@ impl World {
     }
 
     /// The ray in the item's own space (the same ray for items placed in world space).
-    fn ray_into(&self, item: &Item, ray: &Ray) -> Ray {
+    pub(crate) fn ray_into(&self, item: &Item, ray: &Ray) -> Ray {
         match item.transform() {
             Item::WORLD_SPACE => *ray,
             t => self.transforms[t as usize].ray_to_object(ray),

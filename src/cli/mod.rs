@@ -111,6 +111,25 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     let pending = PendingOutputs::reserve(&files)?;
 
     let (mut scene, mut load) = load_scene(&options.input)?;
+    if let Some(pixel) = options.inspect {
+        let account = crate::inspect::inspect(
+            &scene,
+            options.trace,
+            (options.width, options.height),
+            pixel,
+        );
+        let text = if options.json {
+            serde_json::to_string_pretty(&account).unwrap_or_default()
+        } else {
+            crate::inspect::to_text(&account)
+        };
+        // Beside an image on standard output, the account goes to stderr.
+        if paths.iter().any(|p| is_stdio(p)) {
+            say(std::io::stderr(), text.trim_end());
+        } else {
+            say(std::io::stdout(), text.trim_end());
+        }
+    }
     if outputs.is_empty() {
         return Ok(());
     }

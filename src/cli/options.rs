@@ -334,6 +334,10 @@ pub struct Options {
     pub stats: bool,
     /// `-format`: for images named `-` or without an extension.
     pub format: Option<ImageFormat>,
+    /// `-inspect X Y`: the pixel to account for, y from the bottom.
+    pub inspect: Option<(u32, u32)>,
+    /// `-json`: the account as JSON.
+    pub json: bool,
 }
 
 /// What a command line asks for.
@@ -574,6 +578,23 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
                     }
                 }
             }
+            "inspect" => {
+                let what = "a pixel's X and Y";
+                let whole = |arg: OsString, axis: &str| -> Result<u32, String> {
+                    arg.to_str()
+                        .and_then(|s| s.parse::<u32>().ok())
+                        .ok_or_else(|| {
+                            format!(
+                                "-inspect needs {axis} (a whole number from 0), found '{}'",
+                                arg.to_string_lossy()
+                            )
+                        })
+                };
+                let x = whole(value(what)?, "X")?;
+                let y = whole(value(what)?, "Y")?;
+                options.inspect = Some((x, y));
+            }
+            "json" => options.json = true,
             "format" => {
                 let arg = value("an image format (png, ppm or tga)")?;
                 options.format = Some(match arg.to_str() {
@@ -600,6 +621,19 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
         ));
     }
     (options.width, options.height) = (width, height);
+    if let Some((x, y)) = options.inspect
+        && (x >= width || y >= height)
+    {
+        return Err(format!(
+            "-inspect {x} {y} is outside the {width}x{height} image (x from 0 to {}, y from 0 \
+             to {})",
+            width - 1,
+            height - 1
+        ));
+    }
+    if options.json && options.inspect.is_none() {
+        return Err("-json goes with -inspect X Y: which pixel should be accounted for?".into());
+    }
     if options.trace.visualize_grid && options.grid.is_none() {
         return Err("-visualize_grid needs -grid NX NY NZ: which grid should it show?".into());
     }
@@ -636,7 +670,7 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
     let outputs = options.outputs();
     // The course's preview-only lines (`-gui` and no image): the scene is still read and
     // checked, and raycast says it has no preview.
-    if outputs.is_empty() && !options.preview {
+    if outputs.is_empty() && !options.preview && options.inspect.is_none() {
         return Err(
             "nothing to write: give -output, -normals, -depth, -render_samples or -render_filter"
                 .into(),

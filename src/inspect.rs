@@ -1,0 +1,395 @@
+//! `-inspect X Y`: everything that made one pixel's colour, for a student to compare with their
+//! own tracer step by step (the course's ray-tree view, in text or JSON): the camera ray, every
+//! surface it crosses, the hit with its normal before and after its Transform, each light's
+//! direction, shadow ray and diffuse and specular terms, and the tree of mirror and glass rays
+//! with their weights, down to the colour before and after clamping.
+
+use glam::Vec3A;
+use serde_json::{Value, json};
+
+use crate::accel::{Hit, Item};
+use crate::camera::pixel_to_screen;
+use crate::geometry::{Ray, intersect_plane, intersect_sphere, intersect_triangle};
+use crate::scene::{Light, Scene};
+use crate::shade::to_rgb;
+use crate::trace::{
+    NEGLIGIBLE_THROUGHPUT, SECONDARY_T_MIN, Scratch, TraceSettings, Tracer, reflect, refract,
+    shadow_range,
+};
+
+/// What one pixel's camera ray met and made.
+pub fn inspect(scene: &Scene, trace: TraceSettings, size: (u32, u32), pixel: (u32, u32)) -> Value {
+    let (width, height) = size;
+    let (x, y) = pixel;
+    let (u, v) = pixel_to_screen(x, y, width, height);
+    let ray = scene.camera.ray(u, v);
+    let t_min = scene.camera.t_min();
+    let tracer = Tracer::new(scene, trace);
+    let mut scratch = Scratch::default();
+    let hit = scene.world.intersect(&ray, t_min);
+    let colour = match &hit {
+        Some(hit) => tracer.colour(&ray, Some(hit), &mut scratch),
+        None => scene.background,
+    };
+    json!({
+        "pixel": [x, y],
+        "image": [width, height],
+        "camera_ray": ray_json(&ray),
+        "crossings": crossings(scene, &ray, t_min),
+        "tree": node(scene, &trace, "camera", &ray, t_min, trace.bounces, 1.0, Vec3A::ONE),
+        "colour": vec3(colour),
+        "bytes": to_rgb(colour),
+    })
+}
+
+fn vec3(v: Vec3A) -> Value {
+    json!([v.x, v.y, v.z])
+}
+
+fn ray_json(ray: &Ray) -> Value {
+    json!({ "origin": vec3(ray.origin), "direction": vec3(ray.direction) })
+}
+
+/// Every surface the ray crosses at t ≥ t_min, nearest first.
+fn crossings(scene: &Scene, ray: &Ray, t_min: f32) -> Value {
+    let world = &scene.world;
+    let mut found: Vec<(f32, String)> = Vec::new();
+    for (i, (plane, material)) in world.planes.iter().enumerate() {
+        if let Some(t) = intersect_plane(ray, plane, t_min, f32::INFINITY) {
+            found.push((t, format!("plane {i} (material {material})")));
+        }
+    }
+    for (i, item) in world.items.iter().enumerate() {
+        let local = world.ray_into(item, ray);
+        match *item {
+            Item::Sphere {
+                sphere, material, ..
+            } => {
+                let mut from = t_min;
+                while let Some(t) = intersect_sphere(&local, &sphere, from, f32::INFINITY) {
+                    found.push((t, format!("sphere {i} (material {material})")));
+                    from = t.next_up();
+                    if found.len() > 10_000 {
+                        break;
+                    }
+                }
+            }
+            Item::Mesh { mesh, material, .. } => {
+                for (k, triangle) in world.meshes[mesh as usize].triangles().iter().enumerate() {
+                    if let Some(t) = intersect_triangle(&local, triangle, t_min, f32::INFINITY) {
+                        let material = if material == Item::PER_TRIANGLE {
+                            world.loose_materials[k]
+                        } else {
+                            material
+                        };
+                        found.push((
+                            t,
+                            format!("triangle {k} of mesh item {i} (material {material})"),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    found.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Value::Array(
+        found
+            .into_iter()
+            .map(|(t, what)| json!({ "t": t, "surface": what }))
+            .collect(),
+    )
+}
+
+/// One ray of the tree, what it hit, what each light gave there, and the rays it spawned.
+#[allow(clippy::too_many_arguments)]
+fn node(
+    scene: &Scene,
+    trace: &TraceSettings,
+    kind: &str,
+    ray: &Ray,
+    t_min: f32,
+    bounces_left: u32,
+    weight: f32,
+    throughput: Vec3A,
+) -> Value {
+    let mut out = json!({
+        "kind": kind,
+        "ray": ray_json(ray),
+        "weight": weight,
+        "throughput": vec3(throughput),
+    });
+    let Some(hit) = scene.world.intersect(ray, t_min) else {
+        out["hit"] = Value::Null;
+        out["colour"] = vec3(scene.background);
+        out["note"] = json!("no hit: the background colour");
+        return out;
+    };
+    let Hit {
+        t,
+        normal: world_normal,
+        material,
+    } = hit;
+    let direction = ray.direction;
+    let inside = direction.dot(world_normal) > 0.0;
+    let point = ray.at(t);
+    out["hit"] = json!({
+        "t": t,
+        "point": vec3(point),
+        "material": material,
+        "object_normal": vec3(object_normal(scene, ray, &hit)),
+        "world_normal": vec3(world_normal),
+        "back_face": inside,
+    });
+    if inside && !trace.shade_back {
+        out["colour"] = vec3(Vec3A::ZERO);
+        out["note"] = json!("a back face without -shade_back: black, and no further rays");
+        return out;
+    }
+    let normal = if inside { -world_normal } else { world_normal };
+    let materials = &scene.materials;
+    let diffuse_colour = materials.diffuse_at(material, point);
+    let ambient = scene.ambient * diffuse_colour;
+    let mut local = ambient;
+    let mut lights = Vec::new();
+    for (i, light) in scene.lights.iter().enumerate() {
+        let kind = match light {
+            Light::Directional { .. } => "directional",
+            Light::Point { .. } => "point",
+        };
+        let Some(light) = light.illuminate(point) else {
+            lights.push(json!({ "light": i, "kind": kind, "note": "the point is at the light" }));
+            continue;
+        };
+        let shaded = materials.shade(
+            material,
+            point,
+            normal,
+            direction,
+            light.to_light,
+            light.color,
+            trace.specular,
+        );
+        let n_dot_l = normal.dot(light.to_light);
+        let diffuse = diffuse_colour * n_dot_l.max(0.0) * light.color;
+        let shadow = if !trace.shadows {
+            "not asked for (no -shadows)"
+        } else if shaded == Vec3A::ZERO {
+            "not sent: the light adds nothing here"
+        } else {
+            let (near, far) = shadow_range(light.distance);
+            if scene
+                .world
+                .occluded(&Ray::new(point, light.to_light), near, far)
+            {
+                "blocked"
+            } else {
+                "clear"
+            }
+        };
+        let counts = shadow != "blocked";
+        if counts {
+            local += shaded;
+        }
+        lights.push(json!({
+            "light": i,
+            "kind": kind,
+            "to_light": vec3(light.to_light),
+            "distance": if light.distance.is_finite() { json!(light.distance) } else { json!("infinite") },
+            "colour_arriving": vec3(light.color),
+            "n_dot_l": n_dot_l,
+            "shadow_ray": shadow,
+            "diffuse": vec3(diffuse),
+            "specular": vec3(shaded - diffuse),
+        }));
+    }
+    out["ambient"] = vec3(ambient);
+    out["lights"] = Value::Array(lights);
+    out["local"] = vec3(local);
+    let mut children = Vec::new();
+    let mut total = local;
+    if bounces_left > 0 {
+        let unit = direction.normalize();
+        let mut spawn = |kind: &str, colour: Vec3A, new_direction: Option<Vec3A>| {
+            let child_weight = weight * colour.length();
+            let child_throughput = throughput * colour;
+            let Some(new_direction) = new_direction else {
+                children.push(json!({ "kind": kind, "note": "total internal reflection: none" }));
+                return;
+            };
+            if child_weight < trace.cutoff_weight
+                || child_throughput.abs().max_element() < NEGLIGIBLE_THROUGHPUT
+            {
+                children.push(json!({
+                    "kind": kind, "weight": child_weight, "note": "below the -weight cut-off: not traced"
+                }));
+                return;
+            }
+            let child = node(
+                scene,
+                trace,
+                kind,
+                &Ray::new(point, new_direction),
+                SECONDARY_T_MIN,
+                bounces_left - 1,
+                child_weight,
+                child_throughput,
+            );
+            let seen: Vec<f32> =
+                serde_json::from_value(child["colour"].clone()).unwrap_or_default();
+            if seen.len() == 3 {
+                total += colour * Vec3A::new(seen[0], seen[1], seen[2]);
+            }
+            children.push(child);
+        };
+        let reflective = materials.reflective_at(material, point);
+        if reflective != Vec3A::ZERO {
+            spawn("reflected", reflective, Some(reflect(unit, normal)));
+        }
+        let transparent = materials.transparent_at(material, point);
+        if transparent != Vec3A::ZERO {
+            let index = materials.index_of_refraction_at(material, point);
+            let ratio = if inside { index } else { 1.0 / index };
+            spawn("refracted", transparent, refract(unit, normal, ratio));
+        }
+    }
+    out["children"] = Value::Array(children);
+    out["colour"] = vec3(total);
+    out
+}
+
+/// The hit's normal in its object's own space, before its Transform.
+fn object_normal(scene: &Scene, ray: &Ray, hit: &Hit) -> Vec3A {
+    let world = &scene.world;
+    let point = ray.at(hit.t);
+    for item in &world.items {
+        let local = world.ray_into(item, ray);
+        match *item {
+            Item::Sphere { sphere, .. } => {
+                if intersect_sphere(&local, &sphere, hit.t, hit.t).is_some() {
+                    return sphere.normal_at(local.at(hit.t)).normalize_or_zero();
+                }
+            }
+            Item::Mesh { mesh, .. } => {
+                let mesh = &world.meshes[mesh as usize];
+                for (k, triangle) in mesh.triangles().iter().enumerate() {
+                    if intersect_triangle(&local, triangle, hit.t, hit.t).is_some() {
+                        return mesh.normal(k as u32).normalize_or_zero();
+                    }
+                }
+            }
+        }
+    }
+    // A plane is stored in world space: its normal is the same in both.
+    let _ = point;
+    hit.normal
+}
+
+/// The inspection as text, for the terminal.
+pub fn to_text(inspection: &Value) -> String {
+    let mut text = String::new();
+    let v = |value: &Value| -> String {
+        match value.as_array() {
+            Some(a) => format!(
+                "({})",
+                a.iter()
+                    .map(|x| x
+                        .as_f64()
+                        .map_or_else(|| x.to_string(), |f| format!("{f:.4}")))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            None => value.to_string(),
+        }
+    };
+    text.push_str(&format!(
+        "pixel ({}, {}) of {}x{} (x from the left, y from the bottom)\n",
+        inspection["pixel"][0],
+        inspection["pixel"][1],
+        inspection["image"][0],
+        inspection["image"][1]
+    ));
+    text.push_str(&format!(
+        "camera ray: from {} along {}\n",
+        v(&inspection["camera_ray"]["origin"]),
+        v(&inspection["camera_ray"]["direction"])
+    ));
+    text.push_str("surfaces along the ray, nearest first:\n");
+    let crossings = inspection["crossings"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    if crossings.is_empty() {
+        text.push_str("  none\n");
+    }
+    for c in &crossings {
+        text.push_str(&format!(
+            "  t = {:<12} {}\n",
+            c["t"],
+            c["surface"].as_str().unwrap_or("")
+        ));
+    }
+    fn tree(node: &Value, depth: usize, text: &mut String, v: &dyn Fn(&Value) -> String) {
+        let pad = "  ".repeat(depth);
+        text.push_str(&format!(
+            "{pad}{} ray, weight {}, throughput {}\n",
+            node["kind"].as_str().unwrap_or("?"),
+            node["weight"],
+            v(&node["throughput"])
+        ));
+        if let Some(note) = node["note"].as_str() {
+            text.push_str(&format!("{pad}  {note}\n"));
+        }
+        if node["hit"].is_object() {
+            let hit = &node["hit"];
+            text.push_str(&format!(
+                "{pad}  hit at t = {} point {} material {}{}\n",
+                hit["t"],
+                v(&hit["point"]),
+                hit["material"],
+                if hit["back_face"] == true {
+                    " (back face)"
+                } else {
+                    ""
+                }
+            ));
+            text.push_str(&format!(
+                "{pad}  normal: {} in the object's space, {} in the world\n",
+                v(&hit["object_normal"]),
+                v(&hit["world_normal"])
+            ));
+        }
+        if !node["ambient"].is_null() {
+            text.push_str(&format!("{pad}  ambient {}\n", v(&node["ambient"])));
+        }
+        for light in node["lights"].as_array().into_iter().flatten() {
+            if let Some(note) = light["note"].as_str() {
+                text.push_str(&format!("{pad}  light {}: {note}\n", light["light"]));
+                continue;
+            }
+            text.push_str(&format!(
+                "{pad}  light {} ({}): toward it {}, N.L {}, shadow ray {}, diffuse {}, specular {}\n",
+                light["light"],
+                light["kind"].as_str().unwrap_or(""),
+                v(&light["to_light"]),
+                light["n_dot_l"],
+                light["shadow_ray"].as_str().unwrap_or(""),
+                v(&light["diffuse"]),
+                v(&light["specular"])
+            ));
+        }
+        if !node["local"].is_null() {
+            text.push_str(&format!("{pad}  shaded here {}\n", v(&node["local"])));
+        }
+        for child in node["children"].as_array().into_iter().flatten() {
+            tree(child, depth + 1, text, v);
+        }
+        text.push_str(&format!("{pad}  = {}\n", v(&node["colour"])));
+    }
+    tree(&inspection["tree"], 0, &mut text, &v);
+    text.push_str(&format!(
+        "colour {} unclamped, {} as bytes\n",
+        v(&inspection["colour"]),
+        inspection["bytes"]
+    ));
+    text
+}
