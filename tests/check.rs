@@ -347,3 +347,64 @@ fn browser_self_test(report: &Path) {
     );
     let _ = writeln!(std::io::stderr(), "report in {browser}: {result}");
 }
+
+/// A one-line suite of the course's line `line`, in `dir`.
+fn one_line_suite(dir: &Path, conformance: &Path, line: &str) -> PathBuf {
+    let suite = dir.join("one");
+    std::fs::create_dir_all(&suite).unwrap();
+    std::fs::write(suite.join("COMMANDS.txt"), format!("{line}\n")).unwrap();
+    std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
+    std::os::unix::fs::symlink(conformance.join("reference"), suite.join("reference")).unwrap();
+    suite
+}
+
+#[test]
+fn faults_a_students_renderer_makes_get_their_diagnosis() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let raycast_bin = env!("CARGO_BIN_EXE_raycast");
+    // (the renderer's fault, as a script around raycast; the course line; the code expected)
+    let cases = [
+        (
+            // Rays through pixel corners instead of centres: the orthographic camera moved by
+            // half a pixel (size 5 over 200 pixels) down and to the left.
+            "sed 's/center 0 0 10/center -0.0125 -0.0125 10/' scene2_01_diffuse.txt > moved.txt\n\
+             exec RAYCAST -input moved.txt \"${@:3}\"",
+            "raytracer -input scene2_01_diffuse.txt -size 200 200 -output output2_01.tga",
+            "half_pixel",
+        ),
+        (
+            // Triangles dropped while reading the mesh: every fifth face.
+            "awk '/^f/{n++; if (n % 5 == 0) next} {print}' bunny_200.obj > dropped.obj\n\
+             rm bunny_200.obj && mv dropped.obj bunny_200.obj\nexec RAYCAST \"$@\"",
+            "raytracer -input scene2_09_bunny_200.txt -size 200 200 -output output2_09.tga",
+            "missing_object",
+        ),
+        (
+            // Back faces left black: -shade_back ignored.
+            "args=(); for a in \"$@\"; do [ \"$a\" = -shade_back ] || args+=(\"$a\"); done\n\
+             exec RAYCAST \"${args[@]}\"",
+            "raytracer -input scene2_05_inside_sphere.txt -size 200 200 -output output2_05.tga -shade_back",
+            "back_faces",
+        ),
+    ];
+    for (k, (body, line, code)) in cases.into_iter().enumerate() {
+        let dir = tempfile::tempdir().unwrap();
+        let suite = one_line_suite(dir.path(), &conformance, line);
+        let renderer = script(
+            dir.path(),
+            &format!("r{k}.sh"),
+            &body.replace("RAYCAST", raycast_bin),
+        );
+        let output = raycast(&["check", suite.to_str().unwrap(), "--renderer", &renderer]);
+        let out = stdout(&output);
+        assert_eq!(output.status.code(), Some(1), "{line}: {out}");
+        let verdict = out.lines().next().unwrap();
+        assert!(verdict.starts_with("FAIL"), "{line}: {verdict}");
+        assert!(
+            verdict.contains(&format!(": {code}")) || verdict.contains(&format!(", {code}")),
+            "{line}: {verdict}"
+        );
+    }
+}
