@@ -408,3 +408,39 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
         );
     }
 }
+
+#[test]
+fn a_suite_without_references_is_graded_against_raycasts_own_renders() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = dir.path().join("later");
+    std::fs::create_dir_all(&suite).unwrap();
+    std::fs::write(
+        suite.join("COMMANDS.txt"),
+        "raytracer -input scene2_06_plane.txt -size 64 64 -output a.tga -shade_back\n",
+    )
+    .unwrap();
+    std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
+    let suite = suite.to_str().unwrap();
+    let output = raycast(&["check", suite, "--renderer", env!("CARGO_BIN_EXE_raycast")]);
+    assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
+    assert_eq!(
+        stdout(&output),
+        "pass   a, 0.000% of pixels off\n1 passed, 0 failed\n"
+    );
+    // A renderer that ignores -size fails against raycast's render of the line.
+    let renderer = script(
+        dir.path(),
+        "fixed_size.sh",
+        &format!(
+            "exec {} -input \"$2\" -size 32 32 \"${{@:6}}\"",
+            env!("CARGO_BIN_EXE_raycast")
+        ),
+    );
+    let output = raycast(&["check", suite, "--renderer", &renderer]);
+    let out = stdout(&output);
+    assert_eq!(output.status.code(), Some(1), "{out}");
+    assert!(out.starts_with("FAIL   a: size: "), "{out}");
+}
