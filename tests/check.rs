@@ -321,18 +321,61 @@ fn browser_self_test(report: &Path) {
         return;
     };
     let url = format!("file://{}?selftest", report.join("index.html").display());
-    let output = Command::new(browser)
+    // A profile of its own (two browsers sharing one wait on each other's lock), and a time
+    // limit: a browser that hangs fails the test instead of stalling the whole run.
+    let profile = tempfile::tempdir().unwrap();
+    let mut child = Command::new(browser)
         .args([
             "--headless",
             "--no-sandbox",
             "--disable-gpu",
+            "--no-first-run",
+            "--disable-dev-shm-usage",
             "--allow-file-access-from-files",
             "--virtual-time-budget=5000",
-            "--dump-dom",
-            &url,
         ])
-        .output()
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .args(["--dump-dom", &url])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
         .unwrap();
+    // Read as it comes, so that a long page never fills the pipe and stalls the browser.
+    let read = |pipe: Option<Box<dyn std::io::Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            if let Some(mut pipe) = pipe {
+                let _ = pipe.read_to_end(&mut bytes);
+            }
+            bytes
+        })
+    };
+    let out = read(
+        child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn std::io::Read + Send>),
+    );
+    let err = read(
+        child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn std::io::Read + Send>),
+    );
+    let started = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > std::time::Duration::from_secs(90) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{browser} did not finish the report's self-test within 90 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let output = std::process::Output {
+        status: child.wait().unwrap(),
+        stdout: out.join().unwrap(),
+        stderr: err.join().unwrap(),
+    };
     let dom = String::from_utf8_lossy(&output.stdout);
     let result = dom
         .split("<pre id=\"selftest\"")
