@@ -117,6 +117,9 @@ fn broken_renderers_fail_their_images_not_the_check() {
             "not a readable image",
         ),
     ];
+    // A process of the test's own, outside the renderer's group: stopping a hung renderer must
+    // not touch it (an earlier `kill -KILL -PID` was read by procps as a signal to every process).
+    let mut bystander = Command::new("sleep").arg("60").spawn().unwrap();
     for (name, body, code, said) in cases {
         let renderer = script(dir.path(), name, body);
         let started = std::time::Instant::now();
@@ -138,6 +141,12 @@ fn broken_renderers_fail_their_images_not_the_check() {
             started.elapsed()
         );
     }
+    assert!(
+        bystander.try_wait().unwrap().is_none(),
+        "the time-out killed a bystander"
+    );
+    let _ = bystander.kill();
+    let _ = bystander.wait();
     // The suite is never written into.
     let mut names: Vec<String> = std::fs::read_dir(dir.path().join("suite"))
         .unwrap()

@@ -99,11 +99,17 @@ pub fn run(program: &[String], args: &[String], work: &Path, limit: Duration) ->
         }
     };
     let Some(status) = status else {
-        // The whole group: the renderer and anything it started.
-        let _ = Command::new("kill")
-            .arg("-KILL")
-            .arg(format!("-{}", child.id()))
-            .status();
+        // The whole group: the renderer and anything it started. `--` before the group's
+        // negative id, which some `kill`s would otherwise read as an option (and one reading
+        // of it, -1, is every process the user may signal).
+        let group = child.id();
+        if group > 1 {
+            let _ = Command::new("kill")
+                .args(["-s", "KILL", "--", &format!("-{group}")])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status();
+        }
         let _ = child.kill();
         let _ = child.wait();
         return Ending::TimedOut(limit);
