@@ -13,8 +13,8 @@ use crate::geometry::{Ray, intersect_plane, intersect_sphere, intersect_triangle
 use crate::scene::{Light, Scene};
 use crate::shade::to_rgb;
 use crate::trace::{
-    NEGLIGIBLE_THROUGHPUT, SECONDARY_T_MIN, Scratch, TraceSettings, Tracer, reflect, refract,
-    shadow_range,
+    SECONDARY_T_MIN, Scratch, TraceSettings, Tracer, crossing_ratio, reflect, refract,
+    shadow_range, spawned, worth_tracing,
 };
 
 /// What one pixel's camera ray met and made.
@@ -210,15 +210,12 @@ fn node(
     if bounces_left > 0 {
         let unit = direction.normalize();
         let mut spawn = |kind: &str, colour: Vec3A, new_direction: Option<Vec3A>| {
-            let child_weight = weight * colour.length();
-            let child_throughput = throughput * colour;
+            let (child_weight, child_throughput) = spawned(weight, throughput, colour);
             let Some(new_direction) = new_direction else {
                 children.push(json!({ "kind": kind, "note": "total internal reflection: none" }));
                 return;
             };
-            if child_weight < trace.cutoff_weight
-                || child_throughput.abs().max_element() < NEGLIGIBLE_THROUGHPUT
-            {
+            if !worth_tracing(trace, child_weight, child_throughput) {
                 children.push(json!({
                     "kind": kind, "weight": child_weight, "note": "below the -weight cut-off: not traced"
                 }));
@@ -248,8 +245,11 @@ fn node(
         let transparent = materials.transparent_at(material, point);
         if transparent != Vec3A::ZERO {
             let index = materials.index_of_refraction_at(material, point);
-            let ratio = if inside { index } else { 1.0 / index };
-            spawn("refracted", transparent, refract(unit, normal, ratio));
+            spawn(
+                "refracted",
+                transparent,
+                refract(unit, normal, crossing_ratio(index, inside)),
+            );
         }
     }
     out["children"] = Value::Array(children);

@@ -284,11 +284,8 @@ impl<'a> Tracer<'a> {
         if branch.bounces_left > 0 {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, direction: Vec3A| {
-                let weight = branch.weight * colour.length();
-                let throughput = branch.throughput * colour;
-                if weight >= self.settings.cutoff_weight
-                    && throughput.abs().max_element() >= NEGLIGIBLE_THROUGHPUT
-                {
+                let (weight, throughput) = spawned(branch.weight, branch.throughput, colour);
+                if worth_tracing(&self.settings, weight, throughput) {
                     scratch.pending.push(Pending {
                         ray: Ray::new(point, direction),
                         branch: Branch {
@@ -307,8 +304,7 @@ impl<'a> Tracer<'a> {
             if transparent != Vec3A::ZERO {
                 // Outside is air (index 1); which side the ray is on says which way it crosses.
                 let index = materials.index_of_refraction_at(material, point);
-                let ratio = if inside { index } else { 1.0 / index };
-                if let Some(refracted) = refract(unit, normal, ratio) {
+                if let Some(refracted) = refract(unit, normal, crossing_ratio(index, inside)) {
                     spawn(transparent, refracted);
                 }
             }
@@ -332,6 +328,27 @@ pub fn grid_palette(count: usize) -> Vec3A {
         [1.0, 0.15, 0.1],
     ];
     Vec3A::from(PALETTE[count.clamp(1, 8) - 1])
+}
+
+/// The course's weight and the colour product of a mirror or glass ray spawned with `colour`
+/// from a ray of `weight` and `throughput`.
+#[inline]
+pub fn spawned(weight: f32, throughput: Vec3A, colour: Vec3A) -> (f32, Vec3A) {
+    (weight * colour.length(), throughput * colour)
+}
+
+/// Whether a spawned ray is traced: its weight at least `-weight`, and its colour able to
+/// count for something in the pixel.
+#[inline]
+pub fn worth_tracing(settings: &TraceSettings, weight: f32, throughput: Vec3A) -> bool {
+    weight >= settings.cutoff_weight && throughput.abs().max_element() >= NEGLIGIBLE_THROUGHPUT
+}
+
+/// η_i / η_t for a ray crossing a surface of `index`: outside is air (index 1), and which side
+/// the ray is on says which way it crosses.
+#[inline]
+pub fn crossing_ratio(index: f32, inside: bool) -> f32 {
+    if inside { index } else { 1.0 / index }
 }
 
 /// The t range in which a hit blocks a shadow ray: `SHADOW_EPSILON < t < distance`, both ends

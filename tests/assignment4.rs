@@ -20,37 +20,17 @@
 //! The course data comes from RAYCAST_LATER_DIR (default ../shared/later-assignments); where
 //! the variable is set, missing data fails the tests.
 
+mod common;
+
+use common::{later_dir, without};
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use glam::Vec3A;
 use raycast::Scene;
 use raycast::camera::pixel_to_screen;
 use rayon::prelude::*;
-
-fn later_dir() -> Option<PathBuf> {
-    match std::env::var_os("RAYCAST_LATER_DIR") {
-        Some(dir) => {
-            let dir = PathBuf::from(dir);
-            assert!(
-                dir.join("COMMANDS.txt").is_file(),
-                "RAYCAST_LATER_DIR is {} but there is no COMMANDS.txt there",
-                dir.display()
-            );
-            Some(dir)
-        }
-        None => {
-            let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/later-assignments");
-            if dir.join("COMMANDS.txt").is_file() {
-                Some(dir)
-            } else {
-                say_skipped("the assignment 4 tests", &dir, "RAYCAST_LATER_DIR");
-                None
-            }
-        }
-    }
-}
 
 /// The course's assignment-4 command lines, as argument lists (without `raytracer`).
 fn assignment_4_lines(dir: &Path) -> Vec<Vec<String>> {
@@ -72,22 +52,6 @@ fn assignment_4_lines(dir: &Path) -> Vec<Vec<String>> {
 fn value_of<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {
     let at = args.iter().position(|a| a == flag)?;
     args.get(at + 1).map(String::as_str)
-}
-
-/// `args` with `flag` (and its `values` following values) taken out.
-fn without(args: &[String], flag: &str, values: usize) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut skip = 0;
-    for a in args {
-        if skip > 0 {
-            skip -= 1;
-        } else if a == flag {
-            skip = values;
-        } else {
-            out.push(a.clone());
-        }
-    }
-    out
 }
 
 fn with_value(args: &[String], flag: &str, value: &str) -> Vec<String> {
@@ -138,7 +102,9 @@ fn line_for<'a>(lines: &'a [Vec<String>], output: &str) -> &'a [String] {
 
 #[test]
 fn every_line_renders_and_shadows_only_darken() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 4 tests") else {
+        return;
+    };
     let scenes = dir.join("scenes");
     let lines = assignment_4_lines(&dir);
     assert_eq!(
@@ -195,7 +161,9 @@ fn every_line_renders_and_shadows_only_darken() {
 
 #[test]
 fn a_shadowed_point_loses_exactly_the_blocked_lights_share() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 4 tests") else {
+        return;
+    };
     let lines = assignment_4_lines(&dir);
     let args = line_for(&lines, "output4_01.tga");
     let scenes = dir.join("scenes");
@@ -222,7 +190,9 @@ fn a_shadowed_point_loses_exactly_the_blocked_lights_share() {
 
 #[test]
 fn bounces_zero_is_the_scene_without_mirrors_or_glass() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 4 tests") else {
+        return;
+    };
     let lines = assignment_4_lines(&dir);
     let scenes = dir.join("scenes");
     for output in ["output4_04a.tga", "output4_06a.tga", "output4_14a.tga"] {
@@ -246,7 +216,9 @@ fn bounces_zero_is_the_scene_without_mirrors_or_glass() {
 
 #[test]
 fn each_bounce_changes_the_image_less_than_the_one_before() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 4 tests") else {
+        return;
+    };
     let lines = assignment_4_lines(&dir);
     let scenes = dir.join("scenes");
     for (series, last) in [
@@ -274,7 +246,9 @@ fn each_bounce_changes_the_image_less_than_the_one_before() {
 
 #[test]
 fn point_light_attenuation_follows_each_scenes_terms() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 4 tests") else {
+        return;
+    };
     let lines = assignment_4_lines(&dir);
     let scenes = dir.join("scenes");
     // All three: a white floor (y = -1, normal up), ambient 0.2, one point light of colour 0.8
@@ -327,7 +301,9 @@ fn point_light_attenuation_follows_each_scenes_terms() {
 
 #[test]
 fn glass_of_index_one_shows_the_scene_behind_it_unbent() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 4 tests") else {
+        return;
+    };
     let lines = assignment_4_lines(&dir);
     let scenes = dir.join("scenes");
     let args = line_for(&lines, "output4_07.tga");
@@ -414,7 +390,9 @@ fn a_mirror_floor_shows_the_objects_above_it_upside_down() {
 
 #[test]
 fn one_thread_and_two_give_the_same_image() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 4 tests") else {
+        return;
+    };
     let lines = assignment_4_lines(&dir);
     let scenes = dir.join("scenes");
     for output in ["output4_06f.tga", "output4_09.tga", "output4_14f.tga"] {
@@ -430,7 +408,9 @@ fn one_thread_and_two_give_the_same_image() {
 
 #[test]
 fn normals_and_depth_do_not_depend_on_tracing_options() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 4 tests") else {
+        return;
+    };
     let lines = assignment_4_lines(&dir);
     let scenes = dir.join("scenes");
     let args = line_for(&lines, "output4_14f.tga");
@@ -461,17 +441,4 @@ fn normals_and_depth_do_not_depend_on_tracing_options() {
     );
     // A picture that is not all background: the gem is there.
     assert!(traced.0.pixels().any(|p| p.0 != [0, 0, 0]));
-}
-
-/// One line, once per test program, for a suite skipped for want of the course's data: which,
-/// why, and how to run it.
-fn say_skipped(suite: &str, dir: &Path, variable: &str) {
-    static SAID: std::sync::Once = std::sync::Once::new();
-    SAID.call_once(|| {
-        let _ = writeln!(
-            std::io::stderr(),
-            "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
-            dir.display()
-        );
-    });
 }

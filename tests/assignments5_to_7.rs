@@ -11,34 +11,14 @@
 //! The course data comes from RAYCAST_LATER_DIR (default ../shared/later-assignments); where
 //! the variable is set, missing data fails the tests.
 
+mod common;
+
+use common::{later_dir, without};
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 use rayon::prelude::*;
-
-fn later_dir() -> Option<PathBuf> {
-    match std::env::var_os("RAYCAST_LATER_DIR") {
-        Some(dir) => {
-            let dir = PathBuf::from(dir);
-            assert!(
-                dir.join("COMMANDS.txt").is_file(),
-                "RAYCAST_LATER_DIR is {} but there is no COMMANDS.txt there",
-                dir.display()
-            );
-            Some(dir)
-        }
-        None => {
-            let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/later-assignments");
-            if dir.join("COMMANDS.txt").is_file() {
-                Some(dir)
-            } else {
-                say_skipped("the assignment 5 to 7 tests", &dir, "RAYCAST_LATER_DIR");
-                None
-            }
-        }
-    }
-}
 
 /// The course's command lines of assignments 5 to 7, as argument lists.
 fn lines(dir: &Path) -> Vec<Vec<String>> {
@@ -124,24 +104,11 @@ fn render(folder: &Path, args: &[String]) -> (Vec<image::RgbImage>, String) {
     (decoded, String::from_utf8(output.stdout).unwrap())
 }
 
-fn without(args: &[String], flag: &str, values: usize) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut skip = 0;
-    for a in args {
-        if skip > 0 {
-            skip -= 1;
-        } else if a == flag {
-            skip = values;
-        } else {
-            out.push(a.clone());
-        }
-    }
-    out
-}
-
 #[test]
 fn every_line_runs_and_writes_images_of_the_courses_sizes() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 5 to 7 tests") else {
+        return;
+    };
     let scenes = dir.join("scenes");
     let lines = lines(&dir);
     assert_eq!(
@@ -177,7 +144,9 @@ fn every_line_runs_and_writes_images_of_the_courses_sizes() {
 
 #[test]
 fn the_grid_never_changes_the_image() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 5 to 7 tests") else {
+        return;
+    };
     let scenes = dir.join("scenes");
     let with_grid: Vec<Vec<String>> = lines(&dir)
         .into_iter()
@@ -216,7 +185,9 @@ fn the_grid_never_changes_the_image() {
 
 #[test]
 fn stats_print_the_courses_block_with_exact_counts() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 5 to 7 tests") else {
+        return;
+    };
     let scenes = dir.join("scenes");
     let args: Vec<String> = "-input scene6_02_sphere_triangles.txt -output o.tga -size 200 200 \
                              -grid 10 10 10 -stats -shadows"
@@ -300,7 +271,9 @@ fn stats_print_the_courses_block_with_exact_counts() {
 
 #[test]
 fn sampling_is_reproducible_and_seeded() {
-    let Some(dir) = later_dir() else { return };
+    let Some(dir) = later_dir("the assignment 5 to 7 tests") else {
+        return;
+    };
     let scenes = dir.join("scenes");
     let base: Vec<String> = "-input scene7_01_sphere_triangle.txt -size 24 24 -output o.tga"
         .split_whitespace()
@@ -371,17 +344,4 @@ fn a_grid_over_a_flat_or_empty_scene() {
             assert!(drawn > 100, "{drawn} pixels of cells");
         }
     }
-}
-
-/// One line, once per test program, for a suite skipped for want of the course's data: which,
-/// why, and how to run it.
-fn say_skipped(suite: &str, dir: &Path, variable: &str) {
-    static SAID: std::sync::Once = std::sync::Once::new();
-    SAID.call_once(|| {
-        let _ = writeln!(
-            std::io::stderr(),
-            "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
-            dir.display()
-        );
-    });
 }

@@ -7,6 +7,9 @@
 //! the project). Where a variable is set, missing data fails the test; where it is not and the
 //! default folder is absent, the test says so loudly and passes without checking anything.
 
+mod common;
+
+use common::data_dir;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -17,31 +20,6 @@ use rayon::prelude::*;
 const LEVELS: i16 = 2;
 /// ...and an image passes when at most this fraction of its pixels differ.
 const MAX_DIFFERING: f64 = 0.001;
-
-/// The data folder named by `variable`, or `default` beside the project; `None` (after saying
-/// so) when the variable is unset and the default is missing.
-fn data_dir(suite: &str, variable: &str, default: &str, marker: &str) -> Option<PathBuf> {
-    match std::env::var_os(variable) {
-        Some(dir) => {
-            let dir = PathBuf::from(dir);
-            assert!(
-                dir.join(marker).is_file(),
-                "{variable} is {} but there is no {marker} there",
-                dir.display()
-            );
-            Some(dir)
-        }
-        None => {
-            let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(default);
-            if dir.join(marker).is_file() {
-                Some(dir)
-            } else {
-                say_skipped(suite, &dir, variable);
-                None
-            }
-        }
-    }
-}
 
 struct Comparison {
     differing: usize,
@@ -240,13 +218,4 @@ fn assignment_3_staff_images_are_reproduced() {
         references: dir.join("reference/a3"),
     };
     check_suite(&suite, 15);
-}
-
-/// One line for a suite skipped for want of the course's data: which, why, and how to run it.
-fn say_skipped(suite: &str, dir: &Path, variable: &str) {
-    let _ = writeln!(
-        std::io::stderr(),
-        "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
-        dir.display()
-    );
 }

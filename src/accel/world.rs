@@ -397,13 +397,9 @@ impl World {
         }
         let mut test = |i: u32| {
             let item = &self.items[i as usize];
-            match item.transform() {
-                Item::WORLD_SPACE => self.occluded_local(item, ray, t_min, t_max, tally),
-                t => {
-                    let local = self.transforms[t as usize].ray_to_object(ray);
-                    self.occluded_local(item, &local, t_min, t_max, tally)
-                }
-            }
+            self.in_item_space(item, ray, |local| {
+                self.occluded_local(item, local, t_min, t_max, tally)
+            })
         };
         match self.items.len() {
             0 => false,
@@ -483,13 +479,18 @@ impl World {
         tally: &mut T,
     ) -> Option<(f32, u32)> {
         let item = &self.items[i as usize];
+        self.in_item_space(item, ray, |local| {
+            self.intersect_local(item, local, t_min, t_max, tally)
+        })
+    }
+
+    /// Calls `f` with the ray in `item`'s own space: the world ray as it is (no copy of it on
+    /// the way to the triangles) for an item placed in world space.
+    #[inline(always)]
+    fn in_item_space<R>(&self, item: &Item, ray: &Ray, f: impl FnOnce(&Ray) -> R) -> R {
         match item.transform() {
-            // The world ray as it is: no copy of it on the way to the triangles.
-            Item::WORLD_SPACE => self.intersect_local(item, ray, t_min, t_max, tally),
-            t => {
-                let local = self.transforms[t as usize].ray_to_object(ray);
-                self.intersect_local(item, &local, t_min, t_max, tally)
-            }
+            Item::WORLD_SPACE => f(ray),
+            t => f(&self.transforms[t as usize].ray_to_object(ray)),
         }
     }
 

@@ -930,15 +930,20 @@ fn overlap(length: usize, offset: isize) -> Range<usize> {
     }
 }
 
-/// The most common colour along the picture's four sides (black for an empty picture).
-fn border_mode(pixels: &[[u8; 3]], width: usize, height: usize) -> [u8; 3] {
+/// The colours along a picture's border (empty for a picture without pixels).
+fn border(pixels: &[[u8; 3]], width: usize, height: usize) -> Vec<[u8; 3]> {
     if width == 0 || height == 0 || pixels.len() < width * height {
-        return [0; 3];
+        return Vec::new();
     }
     let top = &pixels[..width];
     let bottom = &pixels[(height - 1) * width..height * width];
     let sides = (0..height).flat_map(|y| [pixels[y * width], pixels[y * width + width - 1]]);
-    most_common(top.iter().chain(bottom).copied().chain(sides)).unwrap_or_default()
+    top.iter().chain(bottom).copied().chain(sides).collect()
+}
+
+/// The most common colour along a picture's border: its background.
+fn border_mode(pixels: &[[u8; 3]], width: usize, height: usize) -> [u8; 3] {
+    most_common(border(pixels, width, height).into_iter()).unwrap_or_default()
 }
 
 /// The share of the border's pixels within `tolerance` of `colour`.
@@ -949,13 +954,10 @@ fn border_share(
     colour: [u8; 3],
     tolerance: u8,
 ) -> f64 {
-    if width == 0 || height == 0 || pixels.len() < width * height {
+    let border = border(pixels, width, height);
+    if border.is_empty() {
         return 0.0;
     }
-    let top = &pixels[..width];
-    let bottom = &pixels[(height - 1) * width..height * width];
-    let sides = (0..height).flat_map(|y| [pixels[y * width], pixels[y * width + width - 1]]);
-    let border: Vec<[u8; 3]> = top.iter().chain(bottom).copied().chain(sides).collect();
     let near = border
         .iter()
         .filter(|&&c| channel_difference(c, colour) <= tolerance)

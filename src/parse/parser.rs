@@ -12,6 +12,7 @@ use crate::scene::model::{
     CameraSpec, LightSpec, Material, Pattern, Phong, PlacedObject, Projection, SceneDescription,
     Shape, Texture,
 };
+use crate::scene::validate;
 
 type Result<T> = std::result::Result<T, Diagnostic>;
 
@@ -135,18 +136,10 @@ impl<'a> Parser<'a> {
         })?;
         for &(index, span) in &objects.material_indices {
             if index as usize >= materials.len() {
-                let expected = match materials.len() {
-                    0 => "no MaterialIndex (the scene has no materials)".to_string(),
-                    1 => "material index 0 (the scene has 1 material)".to_string(),
-                    n => format!(
-                        "a material index from 0 to {} (the scene has {n} materials)",
-                        n - 1
-                    ),
-                };
                 return Err(Diagnostic::expected(
                     self.path,
                     span,
-                    &expected,
+                    &validate::material_index_expected(materials.len()),
                     &format!("'{index}'"),
                 ));
             }
@@ -312,20 +305,11 @@ impl<'a> Parser<'a> {
                 }
                 "Checkerboard" | "Noise" | "Marble" | "Wood" => {
                     let texture = self.texture(token, read)?;
-                    let depth = 1 + texture
-                        .materials
-                        .map(|m| depths[m as usize])
-                        .iter()
-                        .max()
-                        .unwrap_or(&0);
-                    if depth > MAX_TEXTURE_DEPTH {
-                        return Err(Diagnostic::expected(
-                            self.path,
-                            token.span,
-                            &format!("textures nested at most {MAX_TEXTURE_DEPTH} deep"),
-                            &format!("one nested {depth} deep"),
-                        ));
-                    }
+                    let depth = validate::texture_depth(&texture, &depths).map_err(
+                        |(expected, found)| {
+                            Diagnostic::expected(self.path, token.span, &expected, &found)
+                        },
+                    )?;
                     (Material::Texture(texture), depth)
                 }
                 _ => return Err(self.unexpected(token, MATERIAL)),
@@ -407,16 +391,7 @@ impl<'a> Parser<'a> {
     fn texture_material(&mut self, own: u32) -> Result<u32> {
         let (index, span) = self.whole_number("materialIndex")?;
         if index >= own {
-            let expected = match own {
-                0 => "a material listed before this texture (it is the first material, so there \
-                      is none)"
-                    .to_string(),
-                1 => "material index 0 (a texture uses materials listed before it)".to_string(),
-                n => format!(
-                    "a material index from 0 to {} (a texture uses materials listed before it)",
-                    n - 1
-                ),
-            };
+            let expected = validate::texture_material_expected(own as usize);
             let found = if index == own {
                 format!("'{index}', the texture itself")
             } else {

@@ -7,7 +7,7 @@ pub mod material;
 pub mod model;
 pub mod obj;
 pub mod perlin;
-mod validate;
+pub(crate) mod validate;
 
 use std::path::Path;
 use std::time::Duration;

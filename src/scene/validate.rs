@@ -7,7 +7,7 @@
 use glam::{DMat4, Vec3};
 
 use super::model::{
-    CameraSpec, LightSpec, Material, Pattern, Phong, Projection, SceneDescription, Shape,
+    CameraSpec, LightSpec, Material, Pattern, Phong, Projection, SceneDescription, Shape, Texture,
 };
 use crate::error::Diagnostic;
 use crate::parse::{
@@ -69,15 +69,7 @@ pub fn validate(description: &SceneDescription) -> Result<(), Diagnostic> {
         };
         let materials = description.materials.len();
         if object.material as usize >= materials {
-            // The parser's words for the same mistake.
-            let expected = match materials {
-                0 => "no MaterialIndex (the scene has no materials)".to_string(),
-                1 => "material index 0 (the scene has 1 material)".to_string(),
-                n => format!(
-                    "a material index from 0 to {} (the scene has {n} materials)",
-                    n - 1
-                ),
-            };
+            let expected = material_index_expected(materials);
             return Err(error(
                 object.span,
                 &expected,
@@ -100,7 +92,7 @@ pub fn validate(description: &SceneDescription) -> Result<(), Diagnostic> {
 }
 
 /// What a rule wanted and what it found instead.
-type Broken = (String, String);
+pub(crate) type Broken = (String, String);
 
 fn in_range(v: Vec3) -> bool {
     v.is_finite() && f64::from(v.abs().max_element()) <= MAX_MAGNITUDE
@@ -211,17 +203,7 @@ fn material(material: &Material, own: usize, depths: &[u32]) -> Result<u32, Brok
         Material::Texture(texture) => {
             for &m in &texture.materials {
                 if m as usize >= own {
-                    let expected = match own {
-                        0 => "a material listed before this texture (it is the first material, \
-                              so there is none)"
-                            .to_string(),
-                        n => format!(
-                            "a material index from 0 to {} (a texture uses materials listed \
-                             before it)",
-                            n - 1
-                        ),
-                    };
-                    return Err((expected, format!("'{m}'")));
+                    return Err((texture_material_expected(own), format!("'{m}'")));
                 }
             }
             let (octaves, numbers) = match texture.pattern {
@@ -251,19 +233,7 @@ fn material(material: &Material, own: usize, depths: &[u32]) -> Result<u32, Brok
                 return Err((NUMBER_IN_RANGE.into(), format!("'{x}'")));
             }
             transform(&texture.to_texture)?;
-            let depth = 1 + texture
-                .materials
-                .map(|m| depths[m as usize])
-                .iter()
-                .max()
-                .unwrap_or(&0);
-            if depth > MAX_TEXTURE_DEPTH {
-                return Err((
-                    format!("textures nested at most {MAX_TEXTURE_DEPTH} deep"),
-                    format!("one nested {depth} deep"),
-                ));
-            }
-            Ok(depth)
+            texture_depth(texture, depths)
         }
     }
 }
@@ -333,4 +303,47 @@ fn shape(shape: &Shape) -> Result<(), Broken> {
             Ok(())
         }
     }
+}
+
+/// What a `MaterialIndex` of a scene of `count` materials must be (the parser's words too).
+pub(crate) fn material_index_expected(count: usize) -> String {
+    match count {
+        0 => "no MaterialIndex (the scene has no materials)".to_string(),
+        1 => "material index 0 (the scene has 1 material)".to_string(),
+        n => format!(
+            "a material index from 0 to {} (the scene has {n} materials)",
+            n - 1
+        ),
+    }
+}
+
+/// What a texture's `materialIndex` must be, the texture being material `own`.
+pub(crate) fn texture_material_expected(own: usize) -> String {
+    match own {
+        0 => "a material listed before this texture (it is the first material, so there is none)"
+            .to_string(),
+        1 => "material index 0 (a texture uses materials listed before it)".to_string(),
+        n => format!(
+            "a material index from 0 to {} (a texture uses materials listed before it)",
+            n - 1
+        ),
+    }
+}
+
+/// How deep `texture` nests, its materials nesting `depths` deep; refused past
+/// [`MAX_TEXTURE_DEPTH`].
+pub(crate) fn texture_depth(texture: &Texture, depths: &[u32]) -> Result<u32, Broken> {
+    let depth = 1 + texture
+        .materials
+        .map(|m| depths[m as usize])
+        .iter()
+        .max()
+        .unwrap_or(&0);
+    if depth > MAX_TEXTURE_DEPTH {
+        return Err((
+            format!("textures nested at most {MAX_TEXTURE_DEPTH} deep"),
+            format!("one nested {depth} deep"),
+        ));
+    }
+    Ok(depth)
 }

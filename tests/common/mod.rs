@@ -1,0 +1,68 @@
+//! What several test programs share: finding the course's data, and editing argument lists.
+
+// Each test program uses what it needs of this.
+#![allow(dead_code)]
+
+use std::collections::HashSet;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The course's data folder named by `variable`, or `default` beside the project (`marker` is a
+/// file it must hold). Where the variable is set, missing data fails the test; where it is not
+/// and the default is missing, `None`, after one line saying which suite is skipped and how to
+/// run it (once per suite and test program, past the harness's capture).
+pub fn data_dir(suite: &str, variable: &str, default: &str, marker: &str) -> Option<PathBuf> {
+    if let Some(dir) = std::env::var_os(variable) {
+        let dir = PathBuf::from(dir);
+        assert!(
+            dir.join(marker).is_file(),
+            "{variable} is {} but there is no {marker} there",
+            dir.display()
+        );
+        return Some(dir);
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(default);
+    if dir.join(marker).is_file() {
+        return Some(dir);
+    }
+    static SAID: Mutex<Option<HashSet<String>>> = Mutex::new(None);
+    let mut said = SAID.lock().unwrap_or_else(|e| e.into_inner());
+    if said
+        .get_or_insert_with(HashSet::new)
+        .insert(suite.to_string())
+    {
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: {suite} (no course data at {}; put it there or set {variable} to run them)",
+            dir.display()
+        );
+    }
+    None
+}
+
+/// The course data of assignments 3 to 7 (RAYCAST_LATER_DIR).
+pub fn later_dir(suite: &str) -> Option<PathBuf> {
+    data_dir(
+        suite,
+        "RAYCAST_LATER_DIR",
+        "../shared/later-assignments",
+        "COMMANDS.txt",
+    )
+}
+
+/// `args` with `flag` (and the `values` words after it) taken out.
+pub fn without(args: &[String], flag: &str, values: usize) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut skip = 0;
+    for a in args {
+        if skip > 0 {
+            skip -= 1;
+        } else if a == flag {
+            skip = values;
+        } else {
+            out.push(a.clone());
+        }
+    }
+    out
+}
