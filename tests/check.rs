@@ -4,30 +4,21 @@
 //! code would make them, get their diagnosis; the report holds what it says, and works in a
 //! real browser.
 
+mod common;
+
+use common::data_dir;
 use std::io::Write as _;
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn conformance_dir() -> Option<PathBuf> {
-    let dir = match std::env::var_os("RAYCAST_CONFORMANCE_DIR") {
-        Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/conformance"),
-    };
-    if dir.join("COMMANDS.txt").is_file() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var_os("RAYCAST_CONFORMANCE_DIR").is_none(),
-        "RAYCAST_CONFORMANCE_DIR is set but holds no COMMANDS.txt"
-    );
-    let _ = writeln!(
-        std::io::stderr(),
-        "skipped: the check tests on the course's images (no course data at {}; put it there or \
-         set RAYCAST_CONFORMANCE_DIR to run them)",
-        dir.display()
-    );
-    None
+    data_dir(
+        "the check tests on the course's images",
+        "RAYCAST_CONFORMANCE_DIR",
+        "../shared/conformance",
+        "COMMANDS.txt",
+    )
 }
 
 fn raycast(args: &[&str]) -> Output {
@@ -125,7 +116,12 @@ fn broken_renderers_fail_their_images_not_the_check() {
         let started = std::time::Instant::now();
         let output = raycast(&["check", suite, "--renderer", &renderer, "--timeout", "0.5"]);
         let out = stdout(&output);
-        assert_eq!(output.status.code(), Some(1), "{name}: {out}");
+        assert_eq!(
+            output.status.code(),
+            Some(1),
+            "{name}: {out}{}",
+            String::from_utf8_lossy(&output.stderr)
+        );
         let verdicts: Vec<&str> = out.lines().filter(|l| l.starts_with("ERROR")).collect();
         assert!(!verdicts.is_empty(), "{name}: {out}");
         for line in &verdicts {
@@ -416,6 +412,14 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
         return;
     };
     let raycast_bin = env!("CARGO_BIN_EXE_raycast");
+    let shared = tempfile::tempdir().unwrap();
+    let squashed = shared.path().join("squashed.txt");
+    let scene = std::fs::read_to_string(conformance.join("scenes/scene2_16_t_scale.txt")).unwrap();
+    std::fs::write(&squashed, object_space_t(&scene)).unwrap();
+    let object_space = format!(
+        "exec RAYCAST -input {} \"${{@:3}}\"",
+        squashed.to_str().unwrap()
+    );
     // (the renderer's fault, as a script around raycast; the course line; the code expected)
     let cases = [
         (
@@ -440,6 +444,12 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
             "raytracer -input scene2_05_inside_sphere.txt -size 200 200 -output output2_05.tga -shade_back",
             "back_faces",
         ),
+        (
+            // t measured in object space under a scaling Transform (see `object_space_t`).
+            object_space.as_str(),
+            "raytracer -input scene2_16_t_scale.txt -size 200 200 -output output2_16.tga -depth 2 7 depth2_16.tga",
+            "object_space_t",
+        ),
     ];
     for (k, (body, line, code)) in cases.into_iter().enumerate() {
         let dir = tempfile::tempdir().unwrap();
@@ -452,13 +462,55 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
         let output = raycast(&["check", suite.to_str().unwrap(), "--renderer", &renderer]);
         let out = stdout(&output);
         assert_eq!(output.status.code(), Some(1), "{line}: {out}");
-        let verdict = out.lines().next().unwrap();
-        assert!(verdict.starts_with("FAIL"), "{line}: {verdict}");
+        // The line's last picture carries the fault (its depth picture, where it has one).
+        let verdict = out.lines().rfind(|l| l.starts_with("FAIL")).unwrap();
         assert!(
             verdict.contains(&format!(": {code}")) || verdict.contains(&format!(", {code}")),
             "{line}: {verdict}"
         );
     }
+}
+
+/// The course's scene2_16 as a renderer that measures t in object space draws its depth: a hit
+/// under `Scale s` reports its t divided by s (the object ray's direction, 1/s long, normalized),
+/// and hits are compared by those t. Under the scene's orthographic camera at z = 5 looking down
+/// -z, that is what squashing each scaled object along z draws: z' = 5 - 5/s + z/s makes
+/// t' = 5 - z' = t/s, over the same pixels. (The shaded picture differs besides, through the
+/// squashed normals; the depth picture is exact.)
+fn object_space_t(scene: &str) -> String {
+    let mut out = String::new();
+    let mut block: Vec<&str> = Vec::new();
+    let mut depth = 0;
+    for line in scene.lines() {
+        if block.is_empty() && line.trim() != "Transform {" {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        }
+        block.push(line);
+        depth += line.matches('{').count() as i32 - line.matches('}').count() as i32;
+        if depth > 0 {
+            continue;
+        }
+        let scale: f64 = block
+            .iter()
+            .find_map(|l| l.trim().strip_prefix("Scale"))
+            .and_then(|rest| rest.split_whitespace().next())
+            .unwrap()
+            .parse()
+            .unwrap();
+        out.push_str(&format!(
+            "Transform {{\nTranslate 0 0 {}\nScale 1 1 {}\n",
+            5.0 - 5.0 / scale,
+            1.0 / scale
+        ));
+        for l in block.drain(..) {
+            out.push_str(l);
+            out.push('\n');
+        }
+        out.push_str("}\n");
+    }
+    out
 }
 
 #[test]

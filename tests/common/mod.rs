@@ -20,11 +20,13 @@ pub fn data_dir(suite: &str, variable: &str, default: &str, marker: &str) -> Opt
             "{variable} is {} but there is no {marker} there",
             dir.display()
         );
-        return Some(dir);
+        // Absolute, so that links made to it from a scratch folder (and children run elsewhere)
+        // find it: the README's command names it relative to the project.
+        return Some(dir.canonicalize().unwrap());
     }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join(default);
     if dir.join(marker).is_file() {
-        return Some(dir);
+        return Some(dir.canonicalize().unwrap());
     }
     static SAID: Mutex<Option<HashSet<String>>> = Mutex::new(None);
     let mut said = SAID.lock().unwrap_or_else(|e| e.into_inner());
