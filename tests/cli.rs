@@ -722,6 +722,39 @@ fn one_thread_and_two_threads_give_identical_images() {
     assert!(colour.pixels().filter(|&&p| p != background).count() > 500);
 }
 
+#[test]
+fn the_avx_and_portable_kernels_render_identical_images() {
+    let Some(scenes) = course_scenes() else {
+        return;
+    };
+    let out = tempfile::tempdir().unwrap();
+    let render = |simd: Option<&str>| -> Vec<u8> {
+        let name = out.path().join(format!("{}.tga", simd.unwrap_or("auto")));
+        let mut command = Command::new(env!("CARGO_BIN_EXE_raycast"));
+        command.current_dir(&scenes).args([
+            "-input",
+            "scene2_10_bunny_1k.txt",
+            "-size",
+            "160",
+            "160",
+            "-output",
+            name.to_str().unwrap(),
+            "-shadows",
+        ]);
+        if let Some(simd) = simd {
+            command.env("RAYCAST_SIMD", simd);
+        } else {
+            command.env_remove("RAYCAST_SIMD");
+        }
+        assert!(command.status().unwrap().success());
+        std::fs::read(&name).unwrap()
+    };
+    assert!(
+        render(None) == render(Some("portable")),
+        "the AVX kernels and the portable ones rendered different images"
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // Assignments 3 and 4: the tracer's options
 

@@ -1,7 +1,7 @@
-//! A four-wide bounding volume hierarchy: a binned-SAH binary tree, collapsed so that each node
-//! holds up to four children whose boxes one ray tests at once with SIMD (glam's `Vec4`, SSE on
-//! x86-64), and a closest-hit traversal that visits hit children nearest first and drops any
-//! whose entry lies beyond the nearest hit found so far.
+//! An eight-wide bounding volume hierarchy: a binned-SAH binary tree, collapsed so that each
+//! node holds up to eight children whose boxes one ray tests at once with SIMD (AVX, or two SSE
+//! halves: see [`crate::simd`]), and a closest-hit traversal that visits hit children nearest
+//! first and drops any whose entry lies beyond the nearest hit found so far.
 //!
 //! The tree knows only boxes; what sits in a leaf is the caller's business, tested through a
 //! closure, so triangles, spheres and whole instances all use the same code, monomorphised.
@@ -9,33 +9,36 @@
 use std::cmp::Ordering;
 
 use arrayvec::ArrayVec;
-use glam::{Vec3A, Vec4};
+use glam::Vec3A;
 
 use crate::geometry::{Aabb, Ray};
+use crate::simd::{Lanes, Wide};
 
-/// Four children's boxes in structure-of-arrays form, and what each child is: an inner node
-/// (`count == 0`, `child` its index) or a leaf (`child` its first primitive). 128 bytes.
+/// Children a node holds.
+const WIDTH: usize = 8;
+
+/// Eight children's boxes in structure-of-arrays form, and what each child is: an inner node
+/// (`count == 0`, `child` its index) or a leaf (`child` its first primitive). 256 bytes, four
+/// cache lines, aligned to them.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[repr(C)]
+#[repr(C, align(64))]
 struct Node {
     /// `bounds[0]` the minima, `bounds[1]` the maxima, each as x, y, z lanes.
-    bounds: [[Vec4; 3]; 2],
-    child: [u32; 4],
-    count: [u8; 4],
+    bounds: [[[f32; WIDTH]; 3]; 2],
+    child: [u32; WIDTH],
+    count: [u8; WIDTH],
     /// Bit k set when lane k holds a child.
     lanes: u32,
-    _pad: [u32; 2],
 }
 
-const _: () = assert!(std::mem::size_of::<Node>() == 128);
+const _: () = assert!(std::mem::size_of::<Node>() == 256);
 
 impl Node {
     const EMPTY: Node = Node {
-        bounds: [[Vec4::ZERO; 3]; 2],
-        child: [0; 4],
-        count: [0; 4],
+        bounds: [[[0.0; WIDTH]; 3]; 2],
+        child: [0; WIDTH],
+        count: [0; WIDTH],
         lanes: 0,
-        _pad: [0; 2],
     };
 
     fn set_lane(&mut self, lane: usize, b: Aabb, child: u32, count: u8) {
@@ -65,20 +68,29 @@ impl Node {
     }
 }
 
-/// A ray as the four-wide box test wants it: every component in all four lanes, and which of
-/// min and max is the near side on each axis.
-struct BoxRayLanes {
-    origin: [Vec4; 3],
-    inv_direction: [Vec4; 3],
+/// A ray as the eight-wide box test wants it: every component in all lanes, and which of min
+/// and max is the near side on each axis.
+struct BoxRayLanes<K: Wide> {
+    origin: [K::F; 3],
+    inv_direction: [K::F; 3],
     near_side: [usize; 3],
 }
 
-impl BoxRayLanes {
-    fn new(ray: &Ray) -> Self {
+impl<K: Wide> BoxRayLanes<K> {
+    #[inline(always)]
+    fn new(wide: K, ray: &Ray) -> Self {
         let side = |d: f32| usize::from(d < 0.0);
         BoxRayLanes {
-            origin: [0, 1, 2].map(|a| Vec4::splat(ray.origin[a])),
-            inv_direction: [0, 1, 2].map(|a| Vec4::splat(ray.inv_direction[a])),
+            origin: [
+                wide.splat(ray.origin.x),
+                wide.splat(ray.origin.y),
+                wide.splat(ray.origin.z),
+            ],
+            inv_direction: [
+                wide.splat(ray.inv_direction.x),
+                wide.splat(ray.inv_direction.y),
+                wide.splat(ray.inv_direction.z),
+            ],
             near_side: [0, 1, 2].map(|a| side(ray.inv_direction[a])),
         }
     }
@@ -92,7 +104,7 @@ struct Pending {
     t: f32,
 }
 
-/// A four-wide BVH over boxes; the default is the tree over nothing, which every ray misses.
+/// An eight-wide BVH over boxes; the default is the tree over nothing, which every ray misses.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Bvh {
     nodes: Vec<Node>,
@@ -105,17 +117,17 @@ const SMALL_NODE: usize = 128;
 /// How many primitives a leaf holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct LeafSize {
-    /// Nodes of at most this many are never split (one four-wide block of triangles costs
-    /// about what a node visit does).
+    /// Nodes of at most this many are never split (one block of triangles costs about what a
+    /// node visit does).
     pub min_split: u32,
     /// Leaves never grow past this, whatever the SAH says.
     pub max: u32,
 }
 
 impl LeafSize {
-    /// Up to eight triangles a leaf, tested as blocks of four.
+    /// Up to eight triangles a leaf, tested as one block of eight.
     pub const TRIANGLES: LeafSize = LeafSize {
-        min_split: 4,
+        min_split: 8,
         max: 8,
     };
     /// One instance a leaf: each is a whole tree of its own, best visited nearest first.
@@ -127,9 +139,9 @@ impl LeafSize {
 /// Beyond this depth of the binary tree, splits are by count: a bound on the depth, and so on the
 /// traversal stack, for any input.
 const MAX_SAH_DEPTH: usize = 48;
-/// Each four-wide level pushes at most three children; the binary tree is at most
+/// Each eight-wide level pushes at most seven children; the binary tree is at most
 /// MAX_SAH_DEPTH + 32 deep, and the wide one no deeper.
-const STACK: usize = 3 * (MAX_SAH_DEPTH + 32) + 1;
+const STACK: usize = (WIDTH - 1) * (MAX_SAH_DEPTH + 32) + 1;
 /// The cost of a node visit relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 
@@ -163,7 +175,7 @@ impl Bvh {
     /// can store a leaf's primitives in its own blocks. Counts must stay at most 255.
     pub(crate) fn map_leaves(&mut self, mut f: impl FnMut(u32, u32) -> (u32, u32)) {
         for node in &mut self.nodes {
-            for lane in 0..4 {
+            for lane in 0..WIDTH {
                 if node.lanes & (1 << lane) != 0 && node.count[lane] > 0 {
                     let (first, count) = f(node.child[lane], node.count[lane] as u32);
                     assert!((1..=255).contains(&count), "a leaf of {count} blocks");
@@ -174,7 +186,7 @@ impl Bvh {
         }
     }
 
-    /// How many four-wide nodes the tree has.
+    /// How many eight-wide nodes the tree has.
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
@@ -191,8 +203,10 @@ impl Bvh {
 
     /// Whether `hit` reports any primitive whose box the ray meets within [t_min, t_max]. An
     /// occlusion query: children in no particular order, and the search ends at the first hit.
-    pub fn occluded(
+    #[inline(always)]
+    pub fn occluded<K: Wide>(
         &self,
+        wide: K,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
@@ -201,7 +215,7 @@ impl Bvh {
         if self.nodes.is_empty() {
             return false;
         }
-        let lanes = BoxRayLanes::new(ray);
+        let lanes = BoxRayLanes::new(wide, ray);
         // (first child or primitive, primitive count); a count of 0 is an inner node.
         let mut stack: ArrayVec<(u32, u32), STACK> = ArrayVec::new();
         let mut current = (0, 0);
@@ -209,7 +223,7 @@ impl Bvh {
             let (child, count) = current;
             if count == 0 {
                 let node = &self.nodes[child as usize];
-                let (_, mut mask) = hit_lanes(node, &lanes, t_min, t_max);
+                let (_, mut mask) = hit_lanes(wide, node, &lanes, t_min, t_max);
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -229,8 +243,9 @@ impl Bvh {
     /// or whatever the builder of the tree made the leaves point at, such as a block of triangles)
     /// and returns its t if it is nearer than `t_max`. Returns the final t_max.
     #[inline(always)]
-    pub fn traverse(
+    pub fn traverse<K: Wide>(
         &self,
+        wide: K,
         ray: &Ray,
         t_min: f32,
         mut t_max: f32,
@@ -239,7 +254,7 @@ impl Bvh {
         if self.nodes.is_empty() {
             return t_max;
         }
-        let lanes = BoxRayLanes::new(ray);
+        let lanes = BoxRayLanes::new(wide, ray);
         // Not an array: initialising a few kilobytes for every ray cost more than the traversal.
         let mut stack: ArrayVec<Pending, STACK> = ArrayVec::new();
         let mut current = Pending {
@@ -250,7 +265,7 @@ impl Bvh {
         loop {
             if current.count == 0 {
                 let node = &self.nodes[current.child as usize];
-                let (entry, mut mask) = hit_lanes(node, &lanes, t_min, t_max);
+                let (entry, mut mask) = hit_lanes(wide, node, &lanes, t_min, t_max);
                 let lane_child = |lane: usize| Pending {
                     child: node.child[lane],
                     count: node.count[lane] as u32,
@@ -273,8 +288,8 @@ impl Bvh {
                     }
                     _ => {}
                 }
-                // The hit children, nearest first (insertion into at most four).
-                let mut hits = [current; 4];
+                // The hit children, nearest first (insertion into at most eight).
+                let mut hits = [current; WIDTH];
                 let mut n = 0;
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;
@@ -316,24 +331,33 @@ impl Bvh {
     }
 }
 
-/// The ray against a node's four boxes: entry distances, and a bit mask of the lanes hit.
+/// The ray against a node's eight boxes: entry distances, and a bit mask of the lanes hit.
 #[inline(always)]
-fn hit_lanes(node: &Node, ray: &BoxRayLanes, t_min: f32, t_max: f32) -> ([f32; 4], u32) {
-    let slab = |axis: usize| {
-        let near = node.bounds[ray.near_side[axis] & 1][axis];
-        let far = node.bounds[(ray.near_side[axis] ^ 1) & 1][axis];
-        (
-            (near - ray.origin[axis]) * ray.inv_direction[axis],
-            (far - ray.origin[axis]) * ray.inv_direction[axis],
-        )
-    };
-    let (nx, fx) = slab(0);
-    let (ny, fy) = slab(1);
-    let (nz, fz) = slab(2);
-    let entry = nx.max(ny).max(nz.max(Vec4::splat(t_min)));
-    let exit = fx.min(fy).min(fz.min(Vec4::splat(t_max)));
-    let mask = entry.cmple(exit).bitmask() & node.lanes;
+fn hit_lanes<K: Wide>(
+    wide: K,
+    node: &Node,
+    ray: &BoxRayLanes<K>,
+    t_min: f32,
+    t_max: f32,
+) -> ([f32; WIDTH], u32) {
+    let (nx, fx) = slab(wide, node, ray, 0);
+    let (ny, fy) = slab(wide, node, ray, 1);
+    let (nz, fz) = slab(wide, node, ray, 2);
+    let entry = nx.max(ny).max(nz.max(wide.splat(t_min)));
+    let exit = fx.min(fy).min(fz.min(wide.splat(t_max)));
+    let mask = entry.le(exit) & node.lanes;
     (entry.to_array(), mask)
+}
+
+/// The t at which the ray crosses the near and the far plane of each box on `axis`.
+#[inline(always)]
+fn slab<K: Wide>(wide: K, node: &Node, ray: &BoxRayLanes<K>, axis: usize) -> (K::F, K::F) {
+    let near = wide.load(&node.bounds[ray.near_side[axis] & 1][axis]);
+    let far = wide.load(&node.bounds[(ray.near_side[axis] ^ 1) & 1][axis]);
+    (
+        (near - ray.origin[axis]) * ray.inv_direction[axis],
+        (far - ray.origin[axis]) * ray.inv_direction[axis],
+    )
 }
 
 /// Centroids are kept doubled (min + max): the same order, one multiplication fewer.
@@ -631,8 +655,8 @@ impl Bins {
     }
 }
 
-/// Four-wide nodes from the binary tree: each takes its binary node's children and keeps
-/// opening the largest inner one among them until it has four.
+/// Eight-wide nodes from the binary tree: each takes its binary node's children and keeps
+/// opening the largest inner one among them until it has eight.
 fn collapse(binary: &[BinaryNode]) -> Vec<Node> {
     let mut nodes = vec![Node::EMPTY];
     // (binary node, wide node to fill)
@@ -644,7 +668,7 @@ fn collapse(binary: &[BinaryNode]) -> Vec<Node> {
         } else {
             vec![root.first as usize, root.first as usize + 1]
         };
-        while children.len() < 4 {
+        while children.len() < WIDTH {
             let widest = children
                 .iter()
                 .enumerate()
@@ -689,6 +713,7 @@ fn padded(b: Aabb) -> Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::simd::Portable;
 
     fn unit_box_at(x: f32, y: f32, z: f32) -> Aabb {
         let c = Vec3A::new(x, y, z);
@@ -704,7 +729,7 @@ mod tests {
         let mut pending = vec![(0usize, bvh.bounds())];
         while let Some((i, outer)) = pending.pop() {
             let node = bvh.nodes[i];
-            for lane in 0..4 {
+            for lane in 0..WIDTH {
                 if node.lanes & (1 << lane) == 0 {
                     continue;
                 }
@@ -759,7 +784,7 @@ mod tests {
                 .iter()
                 .filter_map(|b| b.hit(&ray, 0.0, f32::INFINITY))
                 .reduce(f32::min);
-            let t = bvh.traverse(&ray, 0.0, f32::INFINITY, |i, t_max| {
+            let t = bvh.traverse(Portable, &ray, 0.0, f32::INFINITY, |i, t_max| {
                 boxes[order[i as usize] as usize]
                     .hit(&ray, 0.0, t_max)
                     .filter(|&t| t < t_max)
@@ -781,7 +806,7 @@ mod tests {
         let (bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
         let ray = Ray::new(Vec3A::new(0.0, 0.0, 100.0), -Vec3A::Z);
         let mut closest = None;
-        let t = bvh.traverse(&ray, 0.0, f32::INFINITY, |i, t_max| {
+        let t = bvh.traverse(Portable, &ray, 0.0, f32::INFINITY, |i, t_max| {
             let prim = order[i as usize];
             let t = boxes[prim as usize].hit(&ray, 0.0, t_max)?;
             closest = Some(prim);
@@ -796,6 +821,7 @@ mod tests {
         let (bvh, _) = Bvh::build(&[], LeafSize::TRIANGLES);
         let ray = Ray::new(Vec3A::ZERO, Vec3A::Z);
         let t = bvh.traverse(
+            Portable,
             &ray,
             f32::NEG_INFINITY,
             f32::INFINITY,

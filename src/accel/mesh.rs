@@ -5,15 +5,16 @@ use glam::{Vec3, Vec3A};
 
 use super::{Bvh, LeafSize, Tally};
 use crate::geometry::{
-    Aabb, Ray, Triangle4, TriangleRayLanes, intersect_triangle, triangle_normal,
+    Aabb, Ray, TRIANGLE_BLOCK, Triangle8, TriangleRayLanes, intersect_triangle, triangle_normal,
 };
+use crate::simd::{Wide, WithWide, dispatch};
 
 /// A triangle mesh and its BVH. The triangles are stored in the order of the BVH's leaves, and
-/// again packed four to a block per leaf, for the SIMD test the traversal uses.
+/// again packed eight to a block per leaf, for the SIMD test the traversal uses.
 #[derive(Debug, Clone, Default)]
 pub struct TriangleMesh {
     triangles: Vec<[Vec3; 3]>,
-    blocks: Vec<Triangle4>,
+    blocks: Vec<Triangle8>,
     bvh: Bvh,
 }
 
@@ -27,12 +28,12 @@ impl TriangleMesh {
             .collect();
         let (mut bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
         let triangles: Vec<[Vec3; 3]> = order.iter().map(|&i| triangles[i as usize]).collect();
-        let mut blocks = Vec::with_capacity(triangles.len() / 2);
+        let mut blocks = Vec::with_capacity(triangles.len() / 4);
         bvh.map_leaves(|first, count| {
             let start = blocks.len() as u32;
-            for chunk_start in (first..first + count).step_by(4) {
-                let end = (chunk_start + 4).min(first + count);
-                blocks.push(Triangle4::new(
+            for chunk_start in (first..first + count).step_by(TRIANGLE_BLOCK) {
+                let end = (chunk_start + TRIANGLE_BLOCK as u32).min(first + count);
+                blocks.push(Triangle8::new(
                     &triangles[chunk_start as usize..end as usize],
                     chunk_start,
                 ));
@@ -54,7 +55,7 @@ impl TriangleMesh {
         &self.triangles
     }
 
-    /// The tree over the triangles; its leaves point at blocks of four.
+    /// The tree over the triangles; its leaves point at blocks of eight.
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
     }
@@ -81,34 +82,94 @@ impl TriangleMesh {
         t_max: f32,
         tally: &mut T,
     ) -> Option<(f32, u32)> {
+        dispatch(Nearest {
+            mesh: self,
+            ray,
+            t_min,
+            t_max,
+            tally,
+        })
+    }
+
+    /// [`TriangleMesh::intersect_with`] with the lanes of `wide`.
+    #[inline(always)]
+    fn nearest<K: Wide, T: Tally>(
+        &self,
+        wide: K,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> Option<(f32, u32)> {
         let mut found = None;
         // Set up on the first leaf: many rays that enter a mesh's box never reach one.
-        let mut lanes: Option<TriangleRayLanes> = None;
-        self.bvh.traverse(ray, t_min, t_max, |block, t_max| {
-            let block = &self.blocks[block as usize];
-            tally.tested(block.len());
-            let lanes = lanes.get_or_insert_with(|| TriangleRayLanes::new(ray));
-            let (t, lane) = block.intersect(ray, lanes, t_min, t_max)?;
-            let index = block.index[lane];
-            if found.is_some_and(|(best, best_index)| t > best || t == best && index > best_index) {
-                return None;
-            }
-            found = Some((t, index));
-            Some(t)
-        });
+        let mut lanes: Option<TriangleRayLanes<K>> = None;
+        self.bvh.traverse(
+            wide,
+            ray,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |block, t_max| {
+                let block = &self.blocks[block as usize];
+                tally.tested(block.len());
+                let lanes = lanes.get_or_insert_with(
+                    #[inline(always)]
+                    || TriangleRayLanes::new(wide, ray),
+                );
+                let (t, lane) = block.intersect(wide, ray, lanes, t_min, t_max)?;
+                let index = block.index[lane];
+                if found
+                    .is_some_and(|(best, best_index)| t > best || t == best && index > best_index)
+                {
+                    return None;
+                }
+                found = Some((t, index));
+                Some(t)
+            },
+        );
         found
     }
 
     /// Whether any triangle is hit in [t_min, t_max].
     #[inline(always)]
     pub fn occluded<T: Tally>(&self, ray: &Ray, t_min: f32, t_max: f32, tally: &mut T) -> bool {
-        let mut lanes: Option<TriangleRayLanes> = None;
-        self.bvh.occluded(ray, t_min, t_max, |block| {
-            let block = &self.blocks[block as usize];
-            tally.tested(block.len());
-            let lanes = lanes.get_or_insert_with(|| TriangleRayLanes::new(ray));
-            block.intersect(ray, lanes, t_min, t_max).is_some()
+        dispatch(Occluded {
+            mesh: self,
+            ray,
+            t_min,
+            t_max,
+            tally,
         })
+    }
+
+    /// [`TriangleMesh::occluded`] with the lanes of `wide`.
+    #[inline(always)]
+    fn any_hit<K: Wide, T: Tally>(
+        &self,
+        wide: K,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> bool {
+        let mut lanes: Option<TriangleRayLanes<K>> = None;
+        self.bvh.occluded(
+            wide,
+            ray,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |block| {
+                let block = &self.blocks[block as usize];
+                tally.tested(block.len());
+                let lanes = lanes.get_or_insert_with(
+                    #[inline(always)]
+                    || TriangleRayLanes::new(wide, ray),
+                );
+                block.intersect(wide, ray, lanes, t_min, t_max).is_some()
+            },
+        )
     }
 
     /// Every triangle, one at a time, no tree: the brute-force twin the BVH is tested against.
@@ -138,5 +199,131 @@ impl TriangleMesh {
     /// mesh's own space and not normalised.
     pub fn normal(&self, i: u32) -> Vec3A {
         triangle_normal(&self.triangles[i as usize])
+    }
+}
+
+/// A closest-hit query, as work for [`dispatch`].
+struct Nearest<'a, T> {
+    mesh: &'a TriangleMesh,
+    ray: &'a Ray,
+    t_min: f32,
+    t_max: f32,
+    tally: &'a mut T,
+}
+
+impl<T: Tally> WithWide for Nearest<'_, T> {
+    type Output = Option<(f32, u32)>;
+
+    #[inline(always)]
+    fn run<K: Wide>(self, wide: K) -> Self::Output {
+        self.mesh
+            .nearest(wide, self.ray, self.t_min, self.t_max, self.tally)
+    }
+}
+
+/// An occlusion query, as work for [`dispatch`].
+struct Occluded<'a, T> {
+    mesh: &'a TriangleMesh,
+    ray: &'a Ray,
+    t_min: f32,
+    t_max: f32,
+    tally: &'a mut T,
+}
+
+impl<T: Tally> WithWide for Occluded<'_, T> {
+    type Output = bool;
+
+    #[inline(always)]
+    fn run<K: Wide>(self, wide: K) -> bool {
+        self.mesh
+            .any_hit(wide, self.ray, self.t_min, self.t_max, self.tally)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simd::Portable;
+    use glam::Vec3A;
+
+    /// A bumpy closed surface of `n` × `n` × 2 triangles, with shared edges and vertices.
+    fn bumpy_sphere(n: usize) -> Vec<[Vec3; 3]> {
+        let point = |i: usize, j: usize| {
+            let (theta, phi) = (
+                std::f32::consts::PI * i as f32 / n as f32,
+                std::f32::consts::TAU * j as f32 / n as f32,
+            );
+            let r = 1.0 + 0.1 * (5.0 * phi).sin() * (3.0 * theta).cos();
+            Vec3::new(
+                r * theta.sin() * phi.cos(),
+                r * theta.cos(),
+                r * theta.sin() * phi.sin(),
+            )
+        };
+        let mut triangles = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b) = (point(i, j), point(i, j + 1));
+                let (c, d) = (point(i + 1, j), point(i + 1, j + 1));
+                triangles.push([a, c, d]);
+                triangles.push([a, d, b]);
+            }
+        }
+        triangles
+    }
+
+    /// Rays from all around, many of them through the mesh's vertices and edges.
+    fn rays() -> Vec<Ray> {
+        let mut seed = 99_u64;
+        let mut next = move || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 40) as f32 / (1_u64 << 24) as f32 * 2.0 - 1.0
+        };
+        let vertices = bumpy_sphere(24);
+        (0..4000)
+            .map(|k| {
+                let origin = Vec3A::new(next(), next(), next()) * 3.0;
+                let target = if k % 4 == 0 {
+                    Vec3A::from(vertices[k % vertices.len()][0])
+                } else {
+                    Vec3A::new(next(), next(), next())
+                };
+                Ray::new(origin, (target - origin).normalize())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_avx_and_portable_paths_find_the_same_hits_bit_for_bit() {
+        #[cfg(target_arch = "x86_64")]
+        let Some(avx) = crate::simd::Avx::detect() else {
+            return;
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx = Portable;
+        let (mesh, _) = TriangleMesh::new(bumpy_sphere(24));
+        let mut hits = 0;
+        for ray in rays() {
+            let portable = mesh.nearest(Portable, &ray, 0.0, f32::INFINITY, &mut ());
+            let wide = mesh.nearest(avx, &ray, 0.0, f32::INFINITY, &mut ());
+            assert_eq!(
+                portable.map(|(t, i)| (t.to_bits(), i)),
+                wide.map(|(t, i)| (t.to_bits(), i))
+            );
+            // The same t as every triangle tried (which of two triangles tied at one t is
+            // named may differ: the tree can prune a box whose entry rounds past the tie).
+            let brute = mesh.intersect_brute_force(&ray, 0.0, f32::INFINITY);
+            assert_eq!(portable.map(|(t, _)| t), brute.map(|(t, _)| t));
+            for t_max in [0.5, 2.0, 4.0] {
+                assert_eq!(
+                    mesh.any_hit(Portable, &ray, 1e-4, t_max, &mut ()),
+                    mesh.any_hit(avx, &ray, 1e-4, t_max, &mut ())
+                );
+            }
+            hits += usize::from(portable.is_some());
+        }
+        assert!(hits > 1000, "only {hits} hits");
     }
 }

@@ -12,6 +12,7 @@ use crate::geometry::{
     Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere, intersect_triangle_in,
     unit_normal,
 };
+use crate::simd::Portable;
 
 /// An entry of the top-level tree. `transform` indexes the world's transforms, or is
 /// [`Item::WORLD_SPACE`].
@@ -285,7 +286,7 @@ impl World {
                 test(0, t_max);
             }
             _ => {
-                self.top.traverse(ray, t_min, t_max, test);
+                self.top.traverse(Portable, ray, t_min, t_max, test);
             }
         }
         nearest.map(|n| self.hit(ray, n.t, n.found))
@@ -404,7 +405,7 @@ impl World {
         match self.items.len() {
             0 => false,
             1 => test(0),
-            _ => self.top.occluded(ray, t_min, t_max, test),
+            _ => self.top.occluded(Portable, ray, t_min, t_max, test),
         }
     }
 

@@ -7,7 +7,7 @@ mod ray;
 mod sphere;
 mod transform;
 mod triangle;
-mod triangle4;
+mod triangle8;
 
 pub use aabb::Aabb;
 pub use plane::{Plane, intersect_plane};
@@ -16,4 +16,4 @@ pub use sphere::{Sphere, intersect_sphere};
 pub use transform::{Transform, unit_normal};
 pub(crate) use triangle::intersect_triangle_in;
 pub use triangle::{intersect_triangle, triangle_normal};
-pub(crate) use triangle4::{RayLanes as TriangleRayLanes, Triangle4};
+pub(crate) use triangle8::{BLOCK as TRIANGLE_BLOCK, RayLanes as TriangleRayLanes, Triangle8};

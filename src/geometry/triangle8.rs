@@ -1,57 +1,101 @@
-//! Four triangles tested against one ray at once: the watertight test of `triangle.rs`, lane by
-//! lane, with the same operations in the same order, so that it gives bit for bit the same t.
+//! Eight triangles tested against one ray at once: the watertight test of `triangle.rs`, lane by
+//! lane, with the same operations in the same order, so that it gives bit for bit the same t, on
+//! either of [`crate::simd`]'s paths.
 
-use glam::{Vec3, Vec4};
-
-use glam::Mat3A;
+use glam::{Mat3A, Vec3};
 
 use super::Ray;
 use super::triangle::intersect_triangle_in;
+use crate::simd::{Lanes, Wide};
 
-/// A ray's watertight frame with every entry in all four lanes: worked out once per ray, not
+/// How many triangles a block holds.
+pub const BLOCK: usize = 8;
+
+/// A ray's watertight frame with every entry in all eight lanes: worked out once per ray, not
 /// once per block of triangles.
 #[derive(Debug, Clone, Copy)]
-pub struct RayLanes {
+pub struct RayLanes<K: Wide> {
     frame: Mat3A,
-    origin: [Vec4; 3],
+    origin: [K::F; 3],
     /// `rows[i][j]`: entry (i, j) of the ray-space matrix.
-    rows: [[Vec4; 3]; 3],
+    rows: [[K::F; 3]; 3],
 }
 
-impl RayLanes {
+impl<K: Wide> RayLanes<K> {
     /// The ray's frame, worked out once for every block of triangles the ray meets.
     #[inline(always)]
-    pub fn new(ray: &Ray) -> RayLanes {
+    pub fn new(wide: K, ray: &Ray) -> RayLanes<K> {
         let m = ray.to_ray_space();
         let columns = [m.x_axis, m.y_axis, m.z_axis];
         RayLanes {
             frame: m,
-            origin: [ray.origin.x, ray.origin.y, ray.origin.z].map(Vec4::splat),
-            rows: [0, 1, 2].map(|i| columns.map(|c| Vec4::splat(c[i]))),
+            origin: [
+                wide.splat(ray.origin.x),
+                wide.splat(ray.origin.y),
+                wide.splat(ray.origin.z),
+            ],
+            rows: [
+                [
+                    wide.splat(columns[0][0]),
+                    wide.splat(columns[1][0]),
+                    wide.splat(columns[2][0]),
+                ],
+                [
+                    wide.splat(columns[0][1]),
+                    wide.splat(columns[1][1]),
+                    wide.splat(columns[2][1]),
+                ],
+                [
+                    wide.splat(columns[0][2]),
+                    wide.splat(columns[1][2]),
+                    wide.splat(columns[2][2]),
+                ],
+            ],
         }
     }
 }
 
-/// Four triangles' vertices in structure-of-arrays form; unused lanes hold a zero-area triangle,
-/// which is never hit.
+/// One vertex of each lane's triangle in the ray's frame: row i of the matrix, one entry per
+/// lane-wide multiplication, as `Mat3A * Vec3A` does.
+#[inline(always)]
+fn to_ray_space<K: Wide>(
+    wide: K,
+    lanes: &RayLanes<K>,
+    vertex: &[[f32; BLOCK]; 3],
+) -> (K::F, K::F, K::F) {
+    let d = [
+        wide.load(&vertex[0]) - lanes.origin[0],
+        wide.load(&vertex[1]) - lanes.origin[1],
+        wide.load(&vertex[2]) - lanes.origin[2],
+    ];
+    let [r0, r1, r2] = &lanes.rows;
+    (
+        r0[0] * d[0] + r0[1] * d[1] + r0[2] * d[2],
+        r1[0] * d[0] + r1[1] * d[1] + r1[2] * d[2],
+        r2[0] * d[0] + r2[1] * d[1] + r2[2] * d[2],
+    )
+}
+
+/// Eight triangles' vertices in structure-of-arrays form; unused lanes hold a zero-area
+/// triangle, which is never hit.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[repr(C)]
-pub struct Triangle4 {
+#[repr(C, align(32))]
+pub struct Triangle8 {
     /// `vertices[k][axis]`: coordinate `axis` of vertex k of each lane's triangle.
-    vertices: [[Vec4; 3]; 3],
+    vertices: [[[f32; BLOCK]; 3]; 3],
     /// Each lane's triangle, as its index in the mesh.
-    pub index: [u32; 4],
+    pub index: [u32; BLOCK],
     /// Bit k set when lane k holds a triangle.
     used: u32,
 }
 
-impl Triangle4 {
-    /// Packs up to four triangles, which are numbered `first`, `first + 1`, ... in their mesh.
-    pub fn new(triangles: &[[Vec3; 3]], first: u32) -> Triangle4 {
-        debug_assert!(triangles.len() <= 4);
-        let mut packed = Triangle4 {
-            vertices: [[Vec4::ZERO; 3]; 3],
-            index: [u32::MAX; 4],
+impl Triangle8 {
+    /// Packs up to eight triangles, which are numbered `first`, `first + 1`, ... in their mesh.
+    pub fn new(triangles: &[[Vec3; 3]], first: u32) -> Triangle8 {
+        debug_assert!(triangles.len() <= BLOCK);
+        let mut packed = Triangle8 {
+            vertices: [[[0.0; BLOCK]; 3]; 3],
+            index: [u32::MAX; BLOCK],
             used: 0,
         };
         for (lane, (triangle, i)) in triangles.iter().zip(first..).enumerate() {
@@ -66,56 +110,43 @@ impl Triangle4 {
         packed
     }
 
-    /// How many of the four lanes hold a triangle.
+    /// How many of the eight lanes hold a triangle.
     #[inline(always)]
     pub fn len(&self) -> u32 {
         self.used.count_ones()
     }
 
-    /// The nearest of the four hits with t_min <= t <= t_max (ties to the lowest lane): its t
+    /// The nearest of the eight hits with t_min <= t <= t_max (ties to the lowest lane): its t
     /// and lane.
     #[inline(always)]
-    pub fn intersect(
+    pub fn intersect<K: Wide>(
         &self,
+        wide: K,
         ray: &Ray,
-        lanes: &RayLanes,
+        lanes: &RayLanes<K>,
         t_min: f32,
         t_max: f32,
     ) -> Option<(f32, usize)> {
-        // Row i of the matrix, one entry per lane-wide multiplication, as Mat3A * Vec3A does.
-        let transform = |v: &[Vec4; 3]| {
-            let d = [
-                v[0] - lanes.origin[0],
-                v[1] - lanes.origin[1],
-                v[2] - lanes.origin[2],
-            ];
-            let row = |r: &[Vec4; 3]| r[0] * d[0] + r[1] * d[1] + r[2] * d[2];
-            (
-                row(&lanes.rows[0]),
-                row(&lanes.rows[1]),
-                row(&lanes.rows[2]),
-            )
-        };
-        let (p0x, p0y, p0z) = transform(&self.vertices[0]);
-        let (p1x, p1y, p1z) = transform(&self.vertices[1]);
-        let (p2x, p2y, p2z) = transform(&self.vertices[2]);
+        let (p0x, p0y, p0z) = to_ray_space(wide, lanes, &self.vertices[0]);
+        let (p1x, p1y, p1z) = to_ray_space(wide, lanes, &self.vertices[1]);
+        let (p2x, p2y, p2z) = to_ray_space(wide, lanes, &self.vertices[2]);
         let e0 = p1x * p2y - p1y * p2x;
         let e1 = p2x * p0y - p2y * p0x;
         let e2 = p0x * p1y - p0y * p1x;
-        let zero = Vec4::ZERO;
+        let zero = wide.splat(0.0);
         // (Empty lanes have every edge function zero; they must not send each block that has
         // one down the slow path.)
-        if (e0.cmpeq(zero) | e1.cmpeq(zero) | e2.cmpeq(zero)).bitmask() & self.used != 0 {
+        if (e0.eq(zero) | e1.eq(zero) | e2.eq(zero)) & self.used != 0 {
             // A ray through an edge or vertex: the scalar test settles it in f64, lane by lane.
             return self.intersect_each(ray, &lanes.frame, t_min, t_max);
         }
-        let negative = e0.cmplt(zero) | e1.cmplt(zero) | e2.cmplt(zero);
-        let positive = e0.cmpgt(zero) | e1.cmpgt(zero) | e2.cmpgt(zero);
+        let negative = e0.lt(zero) | e1.lt(zero) | e2.lt(zero);
+        let positive = e0.gt(zero) | e1.gt(zero) | e2.gt(zero);
         let det = e0 + e1 + e2;
         let t = (e0 * p0z + e1 * p1z + e2 * p2z) / det;
-        let inside = !(negative & positive) & det.cmpne(zero);
-        let in_range = t.cmpge(Vec4::splat(t_min)) & t.cmple(Vec4::splat(t_max));
-        let mut mask = (inside & in_range).bitmask();
+        let inside = !(negative & positive) & det.ne(zero);
+        let in_range = t.ge(wide.splat(t_min)) & t.le(wide.splat(t_max));
+        let mut mask = inside & in_range;
         if mask == 0 {
             return None;
         }
@@ -140,10 +171,13 @@ impl Triangle4 {
         t_max: f32,
     ) -> Option<(f32, usize)> {
         let mut best: Option<(f32, usize)> = None;
-        for lane in 0..4 {
+        for lane in 0..BLOCK {
+            if self.used & (1 << lane) == 0 {
+                continue;
+            }
             let limit = best.map_or(t_max, |(t, _)| t);
             if let Some(t) = intersect_triangle_in(frame, ray, &self.triangle(lane), t_min, limit) {
-                // A tie keeps the lower lane, as the four-wide path does.
+                // A tie keeps the lower lane, as the eight-wide path does.
                 if best.is_none_or(|(best_t, _)| t < best_t) {
                     best = Some((t, lane));
                 }
@@ -163,6 +197,7 @@ impl Triangle4 {
 mod tests {
     use super::*;
     use crate::geometry::intersect_triangle;
+    use crate::simd::Portable;
     use glam::Vec3A;
 
     #[test]
@@ -185,10 +220,10 @@ mod tests {
         for t in &triangles {
             assert_eq!(intersect_triangle(&ray, t, 0.0, f32::INFINITY), Some(1.0));
         }
-        let block = Triangle4::new(&triangles, 0);
-        let lanes = RayLanes::new(&ray);
+        let block = Triangle8::new(&triangles, 0);
+        let lanes = RayLanes::new(Portable, &ray);
         assert_eq!(
-            block.intersect(&ray, &lanes, 0.0, f32::INFINITY),
+            block.intersect(Portable, &ray, &lanes, 0.0, f32::INFINITY),
             Some((1.0, 0))
         );
     }
@@ -212,7 +247,7 @@ mod tests {
                 Vec3::new(0.2, 0.8, 1.5),
             ],
         ];
-        let packed = Triangle4::new(&triangles, 7);
+        let packed = Triangle8::new(&triangles, 7);
         let mut hits = 0;
         for i in 0..400 {
             let x = (i % 20) as f32 / 13.0 - 0.4;
@@ -228,8 +263,11 @@ mod tests {
                     Some((intersect_triangle(&ray, t, 0.0, f32::INFINITY)?, lane))
                 })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
-            let lanes = RayLanes::new(&ray);
-            assert_eq!(packed.intersect(&ray, &lanes, 0.0, f32::INFINITY), scalar);
+            let lanes = RayLanes::new(Portable, &ray);
+            assert_eq!(
+                packed.intersect(Portable, &ray, &lanes, 0.0, f32::INFINITY),
+                scalar
+            );
             hits += scalar.is_some() as usize;
         }
         assert!(
@@ -240,13 +278,13 @@ mod tests {
 
     #[test]
     fn empty_lanes_are_never_hit() {
-        let packed = Triangle4::new(&[], 0);
+        let packed = Triangle8::new(&[], 0);
         let ray = Ray::new(Vec3A::new(0.0, 0.0, 1.0), -Vec3A::Z);
-        let lanes = RayLanes::new(&ray);
+        let lanes = RayLanes::new(Portable, &ray);
         assert_eq!(
-            packed.intersect(&ray, &lanes, f32::NEG_INFINITY, f32::INFINITY),
+            packed.intersect(Portable, &ray, &lanes, f32::NEG_INFINITY, f32::INFINITY),
             None
         );
-        assert_eq!(packed.index, [u32::MAX; 4]);
+        assert_eq!(packed.index, [u32::MAX; BLOCK]);
     }
 }

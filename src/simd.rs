@@ -1,0 +1,346 @@
+//! Eight lanes of `f32` for the tree's box test and the triangle blocks, in two implementations
+//! chosen once at run time: AVX (one 256-bit register) where the CPU has it, and a portable one
+//! (two of glam's `Vec4`, SSE2 on x86-64) everywhere else.
+//!
+//! Both perform the same IEEE operations in the same order, lane by lane, so they give the same
+//! bits: additions, subtractions, multiplications and divisions are exactly rounded on both; no
+//! fused multiply-add is used (it would round once where the other path rounds twice);
+//! `min`/`max` keep SSE's rule (the second operand when either is NaN) on both; comparisons are
+//! the same predicates (ordered, except `ne`, which is true for NaN on both).
+//!
+//! This is the crate's one module with `unsafe` code. The invariant every `unsafe` block here
+//! rests on: **a value of type [`Avx`] or [`Avx8`] exists only after
+//! `is_x86_feature_detected!("avx")` said yes** ([`Avx`] has a private field and one
+//! constructor, [`Avx::detect`]; every [`Avx8`] is made from an [`Avx`] or from other
+//! [`Avx8`]s). So the AVX intrinsics called on them run on a CPU that has AVX, which is all
+//! that their `unsafe` asks.
+
+#![allow(unsafe_code)]
+
+use std::ops::{Add, Div, Mul, Sub};
+
+use glam::Vec4;
+
+/// A way of doing eight-lane arithmetic: a token saying which instructions may be used.
+pub trait Wide: Copy {
+    /// Eight `f32` lanes.
+    type F: Lanes;
+    /// `value` in every lane.
+    fn splat(self, value: f32) -> Self::F;
+    /// Eight values from memory.
+    fn load(self, values: &[f32; 8]) -> Self::F;
+}
+
+/// Eight `f32` lanes and the lane-wise operations the kernels use. Comparisons return a bit
+/// mask: bit k for lane k.
+pub trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    /// Lane-wise `if self < other { self } else { other }` (so `other` when either is NaN).
+    fn min(self, other: Self) -> Self;
+    /// Lane-wise `if self > other { self } else { other }` (so `other` when either is NaN).
+    fn max(self, other: Self) -> Self;
+    /// `self <= other` (false for NaN).
+    fn le(self, other: Self) -> u32;
+    /// `self < other` (false for NaN).
+    fn lt(self, other: Self) -> u32;
+    /// `self > other` (false for NaN).
+    fn gt(self, other: Self) -> u32;
+    /// `self >= other` (false for NaN).
+    fn ge(self, other: Self) -> u32;
+    /// `self == other` (false for NaN).
+    fn eq(self, other: Self) -> u32;
+    /// `self != other` (true for NaN).
+    fn ne(self, other: Self) -> u32;
+    /// The lanes, in order.
+    fn to_array(self) -> [f32; 8];
+}
+
+/// Work that runs with whichever [`Wide`] the CPU allows (see [`dispatch`]).
+pub trait WithWide {
+    /// What the work returns.
+    type Output;
+    /// Does the work with `wide`'s instructions.
+    fn run<K: Wide>(self, wide: K) -> Self::Output;
+}
+
+/// Runs `job` with AVX where the CPU has it (compiled for AVX: the job's inlined code is
+/// vectorised 256 bits wide), and with the portable lanes otherwise. Both give the same result.
+#[inline(always)]
+pub fn dispatch<J: WithWide>(job: J) -> J::Output {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx) = Avx::detect() {
+        // SAFETY: `run` needs AVX, and `avx` exists only where the CPU has it.
+        return unsafe { run_with_avx(job, avx) };
+    }
+    job.run(Portable)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx,popcnt")]
+fn run_with_avx<J: WithWide>(job: J, avx: Avx) -> J::Output {
+    job.run(avx)
+}
+
+/// The portable lanes: two of glam's `Vec4` (SSE2 on x86-64, plain `f32` elsewhere).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Portable;
+
+/// Eight lanes as two `Vec4`.
+#[derive(Debug, Clone, Copy)]
+pub struct Portable8([Vec4; 2]);
+
+impl Wide for Portable {
+    type F = Portable8;
+
+    #[inline(always)]
+    fn splat(self, value: f32) -> Portable8 {
+        Portable8([Vec4::splat(value); 2])
+    }
+
+    #[inline(always)]
+    fn load(self, values: &[f32; 8]) -> Portable8 {
+        Portable8([
+            Vec4::from_slice(&values[..4]),
+            Vec4::from_slice(&values[4..]),
+        ])
+    }
+}
+
+macro_rules! portable_op {
+    ($trait:ident, $method:ident) => {
+        impl $trait for Portable8 {
+            type Output = Portable8;
+            #[inline(always)]
+            fn $method(self, other: Portable8) -> Portable8 {
+                Portable8([self.0[0].$method(other.0[0]), self.0[1].$method(other.0[1])])
+            }
+        }
+    };
+}
+portable_op!(Add, add);
+portable_op!(Sub, sub);
+portable_op!(Mul, mul);
+portable_op!(Div, div);
+
+macro_rules! portable_compare {
+    ($($name:ident => $glam:ident),*) => {
+        $(
+            #[inline(always)]
+            fn $name(self, other: Portable8) -> u32 {
+                self.0[0].$glam(other.0[0]).bitmask() | self.0[1].$glam(other.0[1]).bitmask() << 4
+            }
+        )*
+    };
+}
+
+impl Lanes for Portable8 {
+    #[inline(always)]
+    fn min(self, other: Portable8) -> Portable8 {
+        Portable8([self.0[0].min(other.0[0]), self.0[1].min(other.0[1])])
+    }
+
+    #[inline(always)]
+    fn max(self, other: Portable8) -> Portable8 {
+        Portable8([self.0[0].max(other.0[0]), self.0[1].max(other.0[1])])
+    }
+
+    portable_compare!(le => cmple, lt => cmplt, gt => cmpgt, ge => cmpge, eq => cmpeq, ne => cmpne);
+
+    #[inline(always)]
+    fn to_array(self) -> [f32; 8] {
+        let [low, high] = self.0;
+        let (low, high) = (low.to_array(), high.to_array());
+        [
+            low[0], low[1], low[2], low[3], high[0], high[1], high[2], high[3],
+        ]
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub use avx::{Avx, Avx8};
+
+#[cfg(target_arch = "x86_64")]
+mod avx {
+    use std::arch::x86_64::*;
+    use std::ops::{Add, Div, Mul, Sub};
+    use std::sync::OnceLock;
+
+    use super::{Lanes, Wide};
+
+    /// Proof that the CPU has AVX: made only by [`Avx::detect`].
+    #[derive(Debug, Clone, Copy)]
+    pub struct Avx(());
+
+    impl Avx {
+        /// `Some` where the CPU has AVX (and POPCNT, which every AVX CPU has), unless the
+        /// environment variable `RAYCAST_SIMD` is `portable`.
+        #[inline(always)]
+        pub fn detect() -> Option<Avx> {
+            static ALLOWED: OnceLock<bool> = OnceLock::new();
+            let allowed = *ALLOWED.get_or_init(|| {
+                std::env::var_os("RAYCAST_SIMD").is_none_or(|choice| choice != "portable")
+            });
+            (allowed
+                && std::is_x86_feature_detected!("avx")
+                && std::is_x86_feature_detected!("popcnt"))
+            .then_some(Avx(()))
+        }
+    }
+
+    /// Eight lanes in one AVX register; made only from an [`Avx`] (or other `Avx8`s).
+    #[derive(Debug, Clone, Copy)]
+    pub struct Avx8(__m256);
+
+    impl Wide for Avx {
+        type F = Avx8;
+
+        #[inline(always)]
+        fn splat(self, value: f32) -> Avx8 {
+            // SAFETY: `self` exists, so the CPU has AVX.
+            Avx8(unsafe { _mm256_set1_ps(value) })
+        }
+
+        #[inline(always)]
+        fn load(self, values: &[f32; 8]) -> Avx8 {
+            // SAFETY: AVX as above; `values` is eight readable f32 (unaligned load).
+            Avx8(unsafe { _mm256_loadu_ps(values.as_ptr()) })
+        }
+    }
+
+    macro_rules! avx_op {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for Avx8 {
+                type Output = Avx8;
+                #[inline(always)]
+                fn $method(self, other: Avx8) -> Avx8 {
+                    // SAFETY: an `Avx8` exists only where the CPU has AVX.
+                    Avx8(unsafe { $intrinsic(self.0, other.0) })
+                }
+            }
+        };
+    }
+    avx_op!(Add, add, _mm256_add_ps);
+    avx_op!(Sub, sub, _mm256_sub_ps);
+    avx_op!(Mul, mul, _mm256_mul_ps);
+    avx_op!(Div, div, _mm256_div_ps);
+
+    macro_rules! avx_compare {
+        ($($name:ident => $predicate:ident),*) => {
+            $(
+                #[inline(always)]
+                fn $name(self, other: Avx8) -> u32 {
+                    // SAFETY: an `Avx8` exists only where the CPU has AVX.
+                    unsafe { _mm256_movemask_ps(_mm256_cmp_ps::<$predicate>(self.0, other.0)) as u32 }
+                }
+            )*
+        };
+    }
+
+    impl Lanes for Avx8 {
+        #[inline(always)]
+        fn min(self, other: Avx8) -> Avx8 {
+            // SAFETY: as above. `_mm256_min_ps` keeps `_mm_min_ps`'s NaN rule.
+            Avx8(unsafe { _mm256_min_ps(self.0, other.0) })
+        }
+
+        #[inline(always)]
+        fn max(self, other: Avx8) -> Avx8 {
+            // SAFETY: as above.
+            Avx8(unsafe { _mm256_max_ps(self.0, other.0) })
+        }
+
+        // The predicates SSE's `cmple`, `cmplt`, ... use: ordered and signalling, except `ne`
+        // (unordered) and `eq` (ordered, quiet); signalling or not changes no result.
+        avx_compare!(
+            le => _CMP_LE_OS, lt => _CMP_LT_OS, gt => _CMP_GT_OS, ge => _CMP_GE_OS,
+            eq => _CMP_EQ_OQ, ne => _CMP_NEQ_UQ
+        );
+
+        #[inline(always)]
+        fn to_array(self) -> [f32; 8] {
+            let mut out = [0.0; 8];
+            // SAFETY: as above; `out` is eight writable f32 (unaligned store).
+            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
+            out
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Values that exercise rounding, signs, zeros, infinities and NaN.
+    const AWKWARD: [f32; 16] = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        0.1,
+        1.0 / 3.0,
+        f32::MIN_POSITIVE,
+        f32::MAX,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        1e-30,
+        -7.25,
+        3.0e8,
+        f32::EPSILON,
+        2.5,
+    ];
+
+    fn all_results<K: Wide>(wide: K, a: &[f32; 8], b: &[f32; 8]) -> (Vec<u32>, Vec<u32>) {
+        let (x, y) = (wide.load(a), wide.load(b));
+        let values = [
+            x + y,
+            x - y,
+            x * y,
+            x / y,
+            x.min(y),
+            x.max(y),
+            wide.splat(a[3]),
+        ];
+        let bits = values
+            .iter()
+            .flat_map(|v| v.to_array().map(f32::to_bits))
+            .collect();
+        let masks = vec![x.le(y), x.lt(y), x.gt(y), x.ge(y), x.eq(y), x.ne(y)];
+        (bits, masks)
+    }
+
+    #[test]
+    fn both_paths_give_the_same_bits() {
+        let Some(avx) = avx_if_any() else {
+            return;
+        };
+        for shift in 0..16 {
+            let a: [f32; 8] = std::array::from_fn(|i| AWKWARD[(i + shift) % 16]);
+            for step in 1..16 {
+                let b: [f32; 8] = std::array::from_fn(|i| AWKWARD[(i * step + 3) % 16]);
+                assert_eq!(all_results(Portable, &a, &b), all_results(avx, &a, &b));
+            }
+        }
+    }
+
+    #[test]
+    fn comparisons_and_min_follow_sse_rules_for_nan() {
+        let nan = Portable.splat(f32::NAN);
+        let one = Portable.splat(1.0);
+        assert_eq!(nan.le(one) | nan.eq(one), 0);
+        assert_eq!(nan.ne(one), 0xff);
+        assert_eq!(nan.min(one).to_array(), [1.0; 8]);
+        assert!(one.min(nan).to_array().iter().all(|v| v.is_nan()));
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    fn avx_if_any() -> Option<Avx> {
+        Avx::detect()
+    }
+
+    #[cfg(not(target_arch = "x86_64"))]
+    fn avx_if_any() -> Option<Portable> {
+        None
+    }
+}
