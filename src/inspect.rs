@@ -146,8 +146,8 @@ fn node(
         return out;
     }
     let normal = if inside { -world_normal } else { world_normal };
-    let materials = &scene.materials;
-    let diffuse_colour = materials.diffuse_at(material, point);
+    let surface = scene.materials.at(material, point);
+    let diffuse_colour = surface.diffuse();
     let ambient = scene.ambient * diffuse_colour;
     let mut local = ambient;
     let mut lights = Vec::new();
@@ -160,9 +160,7 @@ fn node(
             lights.push(json!({ "light": i, "kind": kind, "note": "the point is at the light" }));
             continue;
         };
-        let shaded = materials.shade(
-            material,
-            point,
+        let shaded = surface.shade(
             normal,
             direction,
             light.to_light,
@@ -238,13 +236,13 @@ fn node(
             }
             children.push(child);
         };
-        let reflective = materials.reflective_at(material, point);
+        let reflective = surface.reflective();
         if reflective != Vec3A::ZERO {
             spawn("reflected", reflective, Some(reflect(unit, normal)));
         }
-        let transparent = materials.transparent_at(material, point);
+        let transparent = surface.transparent();
         if transparent != Vec3A::ZERO {
-            let index = materials.index_of_refraction_at(material, point);
+            let index = surface.index_of_refraction();
             spawn(
                 "refracted",
                 transparent,

@@ -251,16 +251,13 @@ impl<'a> Tracer<'a> {
         }
         let normal = if inside { -hit.normal } else { hit.normal };
         let point = ray.at(hit.t);
-        let materials = &scene.materials;
-        let material = hit.material;
-        let mut colour = scene.ambient * materials.diffuse_at(material, point);
+        let surface = scene.materials.at(hit.material, point);
+        let mut colour = scene.ambient * surface.diffuse();
         for light in &scene.lights {
             let Some(light) = light.illuminate(point) else {
                 continue;
             };
-            let shaded = materials.shade(
-                material,
-                point,
+            let shaded = surface.shade(
                 normal,
                 direction,
                 light.to_light,
@@ -296,14 +293,14 @@ impl<'a> Tracer<'a> {
                     });
                 }
             };
-            let reflective = materials.reflective_at(material, point);
+            let reflective = surface.reflective();
             if reflective != Vec3A::ZERO {
                 spawn(reflective, reflect(unit, normal));
             }
-            let transparent = materials.transparent_at(material, point);
+            let transparent = surface.transparent();
             if transparent != Vec3A::ZERO {
                 // Outside is air (index 1); which side the ray is on says which way it crosses.
-                let index = materials.index_of_refraction_at(material, point);
+                let index = surface.index_of_refraction();
                 if let Some(refracted) = refract(unit, normal, crossing_ratio(index, inside)) {
                     spawn(transparent, refracted);
                 }

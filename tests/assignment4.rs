@@ -22,7 +22,7 @@
 
 mod common;
 
-use common::{later_dir, without};
+use common::{course_lines, later_dir, without};
 use std::io::Write as _;
 use std::path::Path;
 use std::process::Command;
@@ -34,19 +34,7 @@ use rayon::prelude::*;
 
 /// The course's assignment-4 command lines, as argument lists (without `raytracer`).
 fn assignment_4_lines(dir: &Path) -> Vec<Vec<String>> {
-    let commands = std::fs::read_to_string(dir.join("COMMANDS.txt")).unwrap();
-    commands
-        .lines()
-        .filter(|l| l.starts_with("raytracer -input scene4_"))
-        .map(|l| {
-            let command = l.split("->").next().unwrap();
-            command
-                .split_whitespace()
-                .skip(1)
-                .map(String::from)
-                .collect()
-        })
-        .collect()
+    course_lines(dir, &["scene4_"])
 }
 
 fn value_of<'a>(args: &'a [String], flag: &str) -> Option<&'a str> {

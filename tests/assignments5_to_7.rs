@@ -13,7 +13,7 @@
 
 mod common;
 
-use common::{later_dir, without};
+use common::{course_lines, later_dir, without};
 use std::io::Write as _;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -22,24 +22,7 @@ use rayon::prelude::*;
 
 /// The course's command lines of assignments 5 to 7, as argument lists.
 fn lines(dir: &Path) -> Vec<Vec<String>> {
-    let commands = std::fs::read_to_string(dir.join("COMMANDS.txt")).unwrap();
-    commands
-        .lines()
-        .filter(|l| {
-            ["scene5_", "scene6_", "scene7_"]
-                .iter()
-                .any(|s| l.starts_with(&format!("raytracer -input {s}")))
-        })
-        .map(|l| {
-            let command = l.split("->").next().unwrap();
-            let command = command.split("(preview only)").next().unwrap();
-            command
-                .split_whitespace()
-                .skip(1)
-                .map(String::from)
-                .collect()
-        })
-        .collect()
+    course_lines(dir, &["scene5_", "scene6_", "scene7_"])
 }
 
 /// The image files a line writes, with the size each must have.

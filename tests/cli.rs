@@ -1319,24 +1319,25 @@ fn inspect_accounts_for_a_course_pixel_by_hand() {
     let Some(scenes) = course_scenes() else {
         return;
     };
-    let run = |args: &[&str]| {
+    // Pixel (100, 100) of the course's scene2_01, as JSON or text.
+    let inspect = |form: &[&str]| {
         Command::new(env!("CARGO_BIN_EXE_raycast"))
-            .args(args)
+            .args([
+                "-input",
+                "scene2_01_diffuse.txt",
+                "-size",
+                "200",
+                "200",
+                "-inspect",
+                "100",
+                "100",
+            ])
+            .args(form)
             .current_dir(&scenes)
             .output()
             .unwrap()
     };
-    let output = run(&[
-        "-input",
-        "scene2_01_diffuse.txt",
-        "-size",
-        "200",
-        "200",
-        "-inspect",
-        "100",
-        "100",
-        "-json",
-    ]);
+    let output = inspect(&["-json"]);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let account: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
     let number = |v: &serde_json::Value| v.as_f64().unwrap();
@@ -1362,16 +1363,7 @@ fn inspect_accounts_for_a_course_pixel_by_hand() {
     assert!((number(&account["colour"][0]) - n_dot_l).abs() < 1e-5);
     assert_eq!(account["bytes"], serde_json::json!([210, 0, 0]));
     // The text form says the same.
-    let output = run(&[
-        "-input",
-        "scene2_01_diffuse.txt",
-        "-size",
-        "200",
-        "200",
-        "-inspect",
-        "100",
-        "100",
-    ]);
+    let output = inspect(&[]);
     let text = stdout(&output);
     assert!(text.contains("pixel (100, 100) of 200x200"), "{text}");
     assert!(text.contains("hit at t = 9.0001"), "{text}");

@@ -82,94 +82,29 @@ impl TriangleMesh {
         t_max: f32,
         tally: &mut T,
     ) -> Option<(f32, u32)> {
-        dispatch(Nearest {
-            mesh: self,
-            ray,
-            t_min,
-            t_max,
-            tally,
-        })
-    }
-
-    /// [`TriangleMesh::intersect_with`] with the lanes of `wide`.
-    #[inline(always)]
-    fn nearest<K: Wide, T: Tally>(
-        &self,
-        wide: K,
-        ray: &Ray,
-        t_min: f32,
-        t_max: f32,
-        tally: &mut T,
-    ) -> Option<(f32, u32)> {
-        let mut found = None;
-        // Set up on the first leaf: many rays that enter a mesh's box never reach one.
-        let mut lanes: Option<TriangleRayLanes<K>> = None;
-        self.bvh.traverse(
-            wide,
-            ray,
-            t_min,
-            t_max,
-            #[inline(always)]
-            |block, t_max| {
-                let block = &self.blocks[block as usize];
-                tally.tested(block.len());
-                let lanes = lanes.get_or_insert_with(
-                    #[inline(always)]
-                    || TriangleRayLanes::new(wide, ray),
-                );
-                let (t, lane) = block.intersect(wide, ray, lanes, t_min, t_max)?;
-                let index = block.index[lane];
-                if found
-                    .is_some_and(|(best, best_index)| t > best || t == best && index > best_index)
-                {
-                    return None;
-                }
-                found = Some((t, index));
-                Some(t)
-            },
-        );
-        found
+        dispatch(Nearest(self.query(ray, t_min, t_max, tally)))
     }
 
     /// Whether any triangle is hit in [t_min, t_max].
     #[inline(always)]
     pub fn occluded<T: Tally>(&self, ray: &Ray, t_min: f32, t_max: f32, tally: &mut T) -> bool {
-        dispatch(Occluded {
+        dispatch(AnyHit(self.query(ray, t_min, t_max, tally)))
+    }
+
+    fn query<'a, T>(
+        &'a self,
+        ray: &'a Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &'a mut T,
+    ) -> Query<'a, T> {
+        Query {
             mesh: self,
             ray,
             t_min,
             t_max,
             tally,
-        })
-    }
-
-    /// [`TriangleMesh::occluded`] with the lanes of `wide`.
-    #[inline(always)]
-    fn any_hit<K: Wide, T: Tally>(
-        &self,
-        wide: K,
-        ray: &Ray,
-        t_min: f32,
-        t_max: f32,
-        tally: &mut T,
-    ) -> bool {
-        let mut lanes: Option<TriangleRayLanes<K>> = None;
-        self.bvh.occluded(
-            wide,
-            ray,
-            t_min,
-            t_max,
-            #[inline(always)]
-            |block| {
-                let block = &self.blocks[block as usize];
-                tally.tested(block.len());
-                let lanes = lanes.get_or_insert_with(
-                    #[inline(always)]
-                    || TriangleRayLanes::new(wide, ray),
-                );
-                block.intersect(wide, ray, lanes, t_min, t_max).is_some()
-            },
-        )
+        }
     }
 
     /// Every triangle, one at a time, no tree: the brute-force twin the BVH is tested against.
@@ -202,41 +137,102 @@ impl TriangleMesh {
     }
 }
 
-/// A closest-hit query, as work for [`dispatch`].
-struct Nearest<'a, T> {
+/// A search of one mesh, before the lanes to do it with are chosen.
+struct Query<'a, T> {
     mesh: &'a TriangleMesh,
     ray: &'a Ray,
     t_min: f32,
     t_max: f32,
     tally: &'a mut T,
 }
+
+impl<T: Tally> Query<'_, T> {
+    /// The nearest hit, with the lanes of `wide`.
+    #[inline(always)]
+    fn nearest<K: Wide>(mut self, wide: K) -> Option<(f32, u32)> {
+        let mut found = None;
+        // Set up on the first leaf: many rays that enter a mesh's box never reach one.
+        let mut lanes: Option<TriangleRayLanes<K>> = None;
+        let (ray, t_min) = (self.ray, self.t_min);
+        self.mesh.bvh.traverse(
+            wide,
+            ray,
+            t_min,
+            self.t_max,
+            #[inline(always)]
+            |block, t_max| {
+                let (t, index) = self.hit_block(wide, &mut lanes, block, t_max)?;
+                if found
+                    .is_some_and(|(best, best_index)| t > best || t == best && index > best_index)
+                {
+                    return None;
+                }
+                found = Some((t, index));
+                Some(t)
+            },
+        );
+        found
+    }
+
+    /// Whether anything is hit, with the lanes of `wide`.
+    #[inline(always)]
+    fn any_hit<K: Wide>(mut self, wide: K) -> bool {
+        let mut lanes: Option<TriangleRayLanes<K>> = None;
+        let (ray, t_min, t_max) = (self.ray, self.t_min, self.t_max);
+        self.mesh.bvh.occluded(
+            wide,
+            ray,
+            t_min,
+            t_max,
+            #[inline(always)]
+            |block| self.hit_block(wide, &mut lanes, block, t_max).is_some(),
+        )
+    }
+
+    /// The nearest hit in leaf block `block` up to `t_max`: its t and triangle. The ray's lanes
+    /// are set up on the first block it reaches.
+    #[inline(always)]
+    fn hit_block<K: Wide>(
+        &mut self,
+        wide: K,
+        lanes: &mut Option<TriangleRayLanes<K>>,
+        block: u32,
+        t_max: f32,
+    ) -> Option<(f32, u32)> {
+        let block = &self.mesh.blocks[block as usize];
+        self.tally.tested(block.len());
+        let ray = self.ray;
+        // (Not `get_or_insert_with`: it is not inlined, which leaves the AVX set-up outlined.)
+        let lanes = match lanes {
+            Some(lanes) => lanes,
+            None => lanes.insert(TriangleRayLanes::new(wide, ray)),
+        };
+        let (t, lane) = block.intersect(wide, ray, lanes, self.t_min, t_max)?;
+        Some((t, block.index[lane]))
+    }
+}
+
+/// A closest-hit query, as work for [`dispatch`].
+struct Nearest<'a, T>(Query<'a, T>);
 
 impl<T: Tally> WithWide for Nearest<'_, T> {
     type Output = Option<(f32, u32)>;
 
     #[inline(always)]
     fn run<K: Wide>(self, wide: K) -> Self::Output {
-        self.mesh
-            .nearest(wide, self.ray, self.t_min, self.t_max, self.tally)
+        self.0.nearest(wide)
     }
 }
 
 /// An occlusion query, as work for [`dispatch`].
-struct Occluded<'a, T> {
-    mesh: &'a TriangleMesh,
-    ray: &'a Ray,
-    t_min: f32,
-    t_max: f32,
-    tally: &'a mut T,
-}
+struct AnyHit<'a, T>(Query<'a, T>);
 
-impl<T: Tally> WithWide for Occluded<'_, T> {
+impl<T: Tally> WithWide for AnyHit<'_, T> {
     type Output = bool;
 
     #[inline(always)]
     fn run<K: Wide>(self, wide: K) -> bool {
-        self.mesh
-            .any_hit(wide, self.ray, self.t_min, self.t_max, self.tally)
+        self.0.any_hit(wide)
     }
 }
 
@@ -306,8 +302,10 @@ mod tests {
         let (mesh, _) = TriangleMesh::new(bumpy_sphere(24));
         let mut hits = 0;
         for ray in rays() {
-            let portable = mesh.nearest(Portable, &ray, 0.0, f32::INFINITY, &mut ());
-            let wide = mesh.nearest(avx, &ray, 0.0, f32::INFINITY, &mut ());
+            let portable = mesh
+                .query(&ray, 0.0, f32::INFINITY, &mut ())
+                .nearest(Portable);
+            let wide = mesh.query(&ray, 0.0, f32::INFINITY, &mut ()).nearest(avx);
             assert_eq!(
                 portable.map(|(t, i)| (t.to_bits(), i)),
                 wide.map(|(t, i)| (t.to_bits(), i))
@@ -318,8 +316,8 @@ mod tests {
             assert_eq!(portable.map(|(t, _)| t), brute.map(|(t, _)| t));
             for t_max in [0.5, 2.0, 4.0] {
                 assert_eq!(
-                    mesh.any_hit(Portable, &ray, 1e-4, t_max, &mut ()),
-                    mesh.any_hit(avx, &ray, 1e-4, t_max, &mut ())
+                    mesh.query(&ray, 1e-4, t_max, &mut ()).any_hit(Portable),
+                    mesh.query(&ray, 1e-4, t_max, &mut ()).any_hit(avx)
                 );
             }
             hits += usize::from(portable.is_some());

@@ -4,10 +4,12 @@
 //! materials and interpolating their answers (the handout's 11/2 update: the shaded colours
 //! are interpolated, and so are the ambient, reflective and transparent terms).
 
+use arrayvec::ArrayVec;
 use glam::{DAffine3, Vec3A};
 
 use super::model::{self, Pattern};
 use super::perlin::octave_noise;
+use crate::parse::MAX_TEXTURE_DEPTH;
 
 /// A material of the scene; a texture refers to others by their index in [`Materials`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,21 +153,73 @@ impl Materials {
         &self.list[index as usize]
     }
 
-    /// `ask` of the material at `point`: for a texture, its two materials' answers interpolated
-    /// (only one is asked where the pattern is all one or the other, as everywhere on a
-    /// checkerboard).
+    /// The material at `index` as it is at `point`: every texture's weight on the way to its
+    /// Phong materials worked out once, for all the questions one hit asks (the ambient term,
+    /// each light, the mirror and glass terms), instead of once a question.
     #[inline]
-    fn blend(&self, index: u32, point: Vec3A, ask: &impl Fn(&Phong) -> Vec3A) -> Vec3A {
-        match self.get(index) {
+    pub fn at(&self, index: u32, point: Vec3A) -> Surface<'_> {
+        let mut weights = ArrayVec::new();
+        self.weigh(index, point, &mut weights);
+        Surface {
+            materials: self,
+            index,
+            weights,
+        }
+    }
+
+    /// Pushes the weight of each texture that answering at `point` visits, in the order
+    /// [`Surface::blend`] visits them (only one side where the pattern is all one or the other,
+    /// as everywhere on a checkerboard).
+    fn weigh(&self, index: u32, point: Vec3A, weights: &mut ArrayVec<f32, MAX_TEXTURES_VISITED>) {
+        if let Material::Texture(texture) = self.get(index) {
+            let weight = texture.weight(point);
+            weights.push(weight);
+            let [first, second] = texture.materials;
+            match weight {
+                0.0 => self.weigh(first, point, weights),
+                1.0 => self.weigh(second, point, weights),
+                _ => {
+                    self.weigh(first, point, weights);
+                    self.weigh(second, point, weights);
+                }
+            }
+        }
+    }
+}
+
+/// Textures nest at most [`MAX_TEXTURE_DEPTH`] deep, each blending two materials: a point
+/// visits at most this many.
+const MAX_TEXTURES_VISITED: usize = (1 << MAX_TEXTURE_DEPTH) - 1;
+
+/// A material at one point, from [`Materials::at`]: what shading asks of a hit.
+#[derive(Debug, Clone)]
+pub struct Surface<'a> {
+    materials: &'a Materials,
+    index: u32,
+    /// The weights of the textures visited, in visiting order.
+    weights: ArrayVec<f32, MAX_TEXTURES_VISITED>,
+}
+
+impl Surface<'_> {
+    /// `ask` of the material: for a texture, its two materials' answers interpolated.
+    #[inline]
+    fn blend(&self, ask: &impl Fn(&Phong) -> Vec3A) -> Vec3A {
+        self.blend_from(self.index, &mut 0, ask)
+    }
+
+    fn blend_from(&self, index: u32, next: &mut usize, ask: &impl Fn(&Phong) -> Vec3A) -> Vec3A {
+        match self.materials.get(index) {
             Material::Phong(phong) => ask(phong),
             Material::Texture(texture) => {
+                let weight = self.weights[*next];
+                *next += 1;
                 let [first, second] = texture.materials;
-                match texture.weight(point) {
-                    0.0 => self.blend(first, point, ask),
-                    1.0 => self.blend(second, point, ask),
+                match weight {
+                    0.0 => self.blend_from(first, next, ask),
+                    1.0 => self.blend_from(second, next, ask),
                     w => {
-                        let a = self.blend(first, point, ask);
-                        let b = self.blend(second, point, ask);
+                        let a = self.blend_from(first, next, ask);
+                        let b = self.blend_from(second, next, ask);
                         a + w * (b - a)
                     }
                 }
@@ -175,49 +229,42 @@ impl Materials {
 
     /// The colour that ambient light is multiplied by.
     #[inline]
-    pub fn diffuse_at(&self, index: u32, point: Vec3A) -> Vec3A {
-        self.blend(index, point, &|phong| phong.diffuse)
+    pub fn diffuse(&self) -> Vec3A {
+        self.blend(&|phong| phong.diffuse)
     }
 
     /// The light of one light source reflected toward the eye (the course's `Material::Shade`).
     /// `normal` and `to_light` are unit length, `normal` on the eye's side of the surface;
     /// `view` is the direction the eye looks along, of any length.
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     pub fn shade(
         &self,
-        index: u32,
-        point: Vec3A,
         normal: Vec3A,
         view: Vec3A,
         to_light: Vec3A,
         light: Vec3A,
         falloff: SpecularFalloff,
     ) -> Vec3A {
-        self.blend(index, point, &|phong| {
-            phong.shade(normal, view, to_light, light, falloff)
-        })
+        self.blend(&|phong| phong.shade(normal, view, to_light, light, falloff))
     }
 
-    /// What the mirror ray's colour is multiplied by at `point`.
+    /// What the mirror ray's colour is multiplied by.
     #[inline]
-    pub fn reflective_at(&self, index: u32, point: Vec3A) -> Vec3A {
-        self.blend(index, point, &|phong| phong.reflective)
+    pub fn reflective(&self) -> Vec3A {
+        self.blend(&|phong| phong.reflective)
     }
 
-    /// What the refracted ray's colour is multiplied by at `point`.
+    /// What the refracted ray's colour is multiplied by.
     #[inline]
-    pub fn transparent_at(&self, index: u32, point: Vec3A) -> Vec3A {
-        self.blend(index, point, &|phong| phong.transparent)
+    pub fn transparent(&self) -> Vec3A {
+        self.blend(&|phong| phong.transparent)
     }
 
-    /// The index of refraction at `point` (a texture's is its two materials' interpolated).
+    /// The index of refraction (a texture's is its two materials' interpolated).
     #[inline]
-    pub fn index_of_refraction_at(&self, index: u32, point: Vec3A) -> f32 {
-        self.blend(index, point, &|phong| {
-            Vec3A::splat(phong.index_of_refraction)
-        })
-        .x
+    pub fn index_of_refraction(&self) -> f32 {
+        self.blend(&|phong| Vec3A::splat(phong.index_of_refraction))
+            .x
     }
 }
 
@@ -353,13 +400,11 @@ mod tests {
             _ => unreachable!(),
         };
         assert!(w > 0.0 && w < 1.0);
-        let blended = materials.diffuse_at(2, p);
+        let blended = materials.at(2, p).diffuse();
         assert!((blended - Vec3A::new(1.0 - w, w, 0.0)).abs().max_element() < 1e-6);
-        assert_eq!(materials.reflective_at(2, p), Vec3A::splat(w));
+        assert_eq!(materials.at(2, p).reflective(), Vec3A::splat(w));
         // The shaded colour interpolates too (a light straight on: N·L = 1).
-        let shaded = materials.shade(
-            2,
-            p,
+        let shaded = materials.at(2, p).shade(
             Vec3A::Z,
             -Vec3A::Z,
             Vec3A::Z,
@@ -369,7 +414,7 @@ mod tests {
         assert!((shaded - blended).abs().max_element() < 1e-6);
         // A checkerboard of the noise texture and red: the noise in the origin's cube, red next
         // to it.
-        assert_eq!(materials.diffuse_at(3, p), blended);
-        assert_eq!(materials.diffuse_at(3, p + Vec3A::X), Vec3A::X);
+        assert_eq!(materials.at(3, p).diffuse(), blended);
+        assert_eq!(materials.at(3, p + Vec3A::X).diffuse(), Vec3A::X);
     }
 }

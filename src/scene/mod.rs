@@ -16,7 +16,7 @@ use glam::Vec3A;
 
 pub use builder::{BUILT_IN_CODE, SceneBuilder};
 pub use light::{Illumination, Light};
-pub use material::{Material, Materials, Phong, SpecularFalloff, Texture};
+pub use material::{Material, Materials, Phong, SpecularFalloff, Surface, Texture};
 pub use model::SceneDescription;
 
 use crate::accel::{World, WorldStats};

@@ -53,6 +53,30 @@ pub fn later_dir(suite: &str) -> Option<PathBuf> {
     )
 }
 
+/// The command lines of the course's `COMMANDS.txt` in `dir` whose scene names start with one of
+/// `prefixes`, as argument lists without `raytracer` (and without the file's remarks: `-> ...`
+/// and `(preview only)`).
+pub fn course_lines(dir: &Path, prefixes: &[&str]) -> Vec<Vec<String>> {
+    let commands = std::fs::read_to_string(dir.join("COMMANDS.txt")).unwrap();
+    commands
+        .lines()
+        .filter(|l| {
+            prefixes
+                .iter()
+                .any(|s| l.starts_with(&format!("raytracer -input {s}")))
+        })
+        .map(|l| {
+            let command = l.split("->").next().unwrap();
+            let command = command.split("(preview only)").next().unwrap();
+            command
+                .split_whitespace()
+                .skip(1)
+                .map(String::from)
+                .collect()
+        })
+        .collect()
+}
+
 /// `args` with `flag` (and the `values` words after it) taken out.
 pub fn without(args: &[String], flag: &str, values: usize) -> Vec<String> {
     let mut out = Vec::new();
