@@ -6,10 +6,13 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use arrayvec::ArrayVec;
 use glam::Vec3A;
 use rayon::prelude::*;
 
+use crate::accel::{Hit, PACKET};
 use crate::camera::{film_to_screen, pixel_to_screen};
+use crate::geometry::Ray;
 use crate::image_io::Image;
 use crate::sample::{Film, FilmSample, Sampling};
 use crate::scene::Scene;
@@ -17,6 +20,9 @@ use crate::shade;
 use crate::trace::{RayCounts, Scratch, TraceSettings, Tracer};
 
 const TILE: u32 = 16;
+/// Camera rays are searched in packets of this many rows and columns (see [`PACKET`]).
+const PACKET_SIDE: u32 = 4;
+const _: () = assert!((PACKET_SIDE * PACKET_SIDE) as usize <= PACKET);
 
 /// What to render and how.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -104,26 +110,35 @@ fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
     let background = shade::to_rgb(scene.background);
     let progress = Progress::new(settings.progress, samples.len().div_ceil(band_len.max(1)));
     let tracer = Tracer::new(scene, settings.trace);
-    let rays = samples
+    let scene = tracer.scene();
+    let traced = samples
         .par_chunks_mut(band_len.max(1))
         .enumerate()
         .map(|(band, pixels)| {
             let mut scratch = Scratch::default();
             let top = band as u32 * band_rows;
             let rows = (pixels.len() / width as usize) as u32;
+            let mut rays: ArrayVec<Ray, PACKET> = ArrayVec::new();
+            let mut indices: ArrayVec<usize, PACKET> = ArrayVec::new();
             for tile_left in (0..width).step_by(TILE as usize) {
-                for row in top..top + rows {
-                    for column in tile_left..(tile_left + TILE).min(width) {
-                        let index = ((row - top) * width + column) as usize;
-                        // Rows are stored top first; the camera counts them from the bottom.
-                        pixels[index] = sample(
-                            &tracer,
-                            settings,
-                            background,
-                            column,
-                            height - 1 - row,
-                            &mut scratch,
-                        );
+                let tile_right = (tile_left + TILE).min(width);
+                for packet_top in (top..top + rows).step_by(PACKET_SIDE as usize) {
+                    for packet_left in (tile_left..tile_right).step_by(PACKET_SIDE as usize) {
+                        rays.clear();
+                        indices.clear();
+                        for row in packet_top..(packet_top + PACKET_SIDE).min(top + rows) {
+                            for column in packet_left..(packet_left + PACKET_SIDE).min(tile_right) {
+                                // Rows are stored top first; the camera counts them from the
+                                // bottom.
+                                let (u, v) =
+                                    pixel_to_screen(column, height - 1 - row, width, height);
+                                rays.push(scene.camera.ray(u, v));
+                                indices.push(((row - top) * width + column) as usize);
+                            }
+                        }
+                        tracer.camera_rays(&rays, settings.colour, &mut scratch, |i, seen, hit| {
+                            pixels[indices[i]] = sample(settings, background, &rays[i], seen, hit);
+                        });
                     }
                 }
             }
@@ -144,7 +159,7 @@ fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
         colour: picture(settings.colour, |s| s.colour),
         normals: picture(settings.normals, |s| s.normal),
         depth: picture(settings.depth.is_some(), |s| [s.depth; 3]),
-        rays,
+        rays: traced,
         film: None,
     }
 }
@@ -215,19 +230,15 @@ fn render_film(scene: &Scene, settings: &RenderSettings) -> Rendered {
     }
 }
 
+/// A pixel's bytes, from what its camera ray saw and hit.
 #[inline]
 fn sample(
-    tracer: &Tracer,
     settings: &RenderSettings,
     background: [u8; 3],
-    i: u32,
-    j: u32,
-    scratch: &mut Scratch,
+    ray: &Ray,
+    colour: Vec3A,
+    hit: Option<Hit>,
 ) -> Sample {
-    let scene = tracer.scene();
-    let (u, v) = pixel_to_screen(i, j, settings.width, settings.height);
-    let ray = scene.camera.ray(u, v);
-    let (colour, hit) = tracer.camera_ray(&ray, settings.colour, scratch);
     let Some(hit) = hit else {
         return Sample {
             colour: if settings.colour { background } else { [0; 3] },

@@ -11,7 +11,7 @@ use glam::Vec3A;
 
 use std::ops::ControlFlow;
 
-use crate::accel::{Hit, Tallies};
+use crate::accel::{Hit, PACKET, Tallies};
 use crate::geometry::Ray;
 use crate::scene::{Scene, SpecularFalloff};
 
@@ -151,6 +151,43 @@ impl<'a> Tracer<'a> {
             Some(hit) => self.colour(ray, Some(hit), scratch),
         };
         (seen, hit)
+    }
+
+    /// [`Tracer::camera_ray`] for up to [`PACKET`] rays (a tile of the picture), which search
+    /// the scene together: `each(i, seen, hit)` gets ray i's results, the same as it alone
+    /// would get.
+    pub fn camera_rays(
+        &self,
+        rays: &[Ray],
+        colour: bool,
+        scratch: &mut Scratch,
+        mut each: impl FnMut(usize, Vec3A, Option<Hit>),
+    ) {
+        if self.settings.visualize_grid {
+            for (i, ray) in rays.iter().enumerate() {
+                let (seen, hit) = self.camera_ray(ray, colour, scratch);
+                each(i, seen, hit);
+            }
+            return;
+        }
+        scratch.counts.primary += rays.len() as u64;
+        let t_min = self.scene.camera.t_min();
+        let world = &self.scene.world;
+        let mut hits = [None; PACKET];
+        let hits = &mut hits[..rays.len()];
+        if self.settings.tally {
+            world.intersect_packet_with(rays, t_min, hits, &mut scratch.counts.tallies);
+        } else {
+            world.intersect_packet_with(rays, t_min, hits, &mut ());
+        }
+        for (i, (ray, hit)) in rays.iter().zip(hits.iter()).enumerate() {
+            let seen = match hit {
+                _ if !colour => Vec3A::ZERO,
+                None => self.scene.background,
+                Some(hit) => self.colour(ray, Some(hit), scratch),
+            };
+            each(i, seen, *hit);
+        }
     }
 
     /// The nearest hit, counted when `-stats` asks.

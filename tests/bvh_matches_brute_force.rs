@@ -1,6 +1,7 @@
 //! Property tests: the BVHs (top level and per mesh, through nested transforms and shared mesh
 //! instances), and the course's uniform grid, find exactly the hit that testing every primitive
-//! finds, and the same answer to shadow rays.
+//! finds, and the same answer to shadow rays; a packet of rays searched together finds exactly
+//! what each of its rays finds alone.
 
 use std::fmt::Write;
 use std::path::Path;
@@ -10,6 +11,8 @@ use proptest::prelude::*;
 use raycast::Scene;
 use raycast::geometry::Ray;
 use raycast::parse::parse_scene;
+
+mod common;
 
 /// An object of the generated scene: the tree the file spells out.
 #[derive(Debug, Clone)]
@@ -183,6 +186,44 @@ fn grid_ray() -> impl Strategy<Value = (bool, [f32; 3], [f32; 3])> {
     ]
 }
 
+/// A ray's origin and direction.
+type RaySpec = ([f32; 3], [f32; 3]);
+
+/// A packet of 16 rays as the camera makes them, a 4×4 tile: from one point through a small
+/// patch of directions (perspective), or along one direction from a small patch of points
+/// (orthographic); `spread` sets the patch's size, and a wide one mixes the directions' signs.
+fn packet() -> impl Strategy<Value = (bool, Vec<RaySpec>)> {
+    let direction = [-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0].prop_filter("a direction", |d| {
+        d.iter().map(|x| x * x).sum::<f32>() > 1e-2
+    });
+    let spread = prop_oneof![Just(0.0f32), 1e-4f32..1e-2, 1e-2f32..0.5];
+    (
+        any::<bool>(),
+        [-8.0f32..8.0, -8.0f32..8.0, -8.0f32..8.0],
+        direction,
+        spread,
+        any::<bool>(),
+    )
+        .prop_map(|(from_infinity, origin, direction, spread, perspective)| {
+            let d = Vec3A::from(direction).normalize();
+            let across = d.any_orthonormal_vector();
+            let up = d.cross(across);
+            let rays = (0..16)
+                .map(|k| {
+                    let (x, y) = ((k % 4) as f32 - 1.5, (k / 4) as f32 - 1.5);
+                    let offset = (x * across + y * up) * spread;
+                    let (o, d) = if perspective {
+                        (Vec3A::from(origin), d + offset)
+                    } else {
+                        (Vec3A::from(origin) + offset, d)
+                    };
+                    (o.to_array(), d.to_array())
+                })
+                .collect();
+            (from_infinity, rays)
+        })
+}
+
 fn scene_text(root: &[(u32, Node)], with_plane: bool, meshes: &[String; 2]) -> String {
     let mut text = String::from(
         "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }\n\
@@ -265,4 +306,95 @@ proptest! {
             prop_assert_eq!(fast, slow, "ray {:?} in scene\n{}", ray, text);
         }
     }
+
+    #[test]
+    fn a_packet_finds_what_each_of_its_rays_finds_alone(
+        root in prop::collection::vec((0u32..3, node()), 1..8),
+        packets in prop::collection::vec(packet(), 8),
+        with_plane in any::<bool>(),
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let meshes = [0, 1].map(|i| {
+            let path = dir.path().join(format!("m{i}.obj"));
+            std::fs::write(&path, bumpy_mesh_obj(i)).unwrap();
+            path.to_str().unwrap().to_string()
+        });
+        let text = scene_text(&root, with_plane, &meshes);
+        let description = parse_scene(Path::new("generated.txt"), &text)
+            .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
+        let (scene, _) = Scene::from_description(&description).unwrap();
+        for (from_infinity, rays) in packets {
+            let rays: Vec<Ray> = rays
+                .iter()
+                .map(|&(o, d)| Ray::new(Vec3A::from(o), Vec3A::from(d)))
+                .collect();
+            let t_min = if from_infinity { f32::NEG_INFINITY } else { 0.0 };
+            // Whole packets, and the short ones at a picture's edge.
+            for len in [16, 3] {
+                let mut together = vec![None; len];
+                scene.world.intersect_packet_with(&rays[..len], t_min, &mut together, &mut ());
+                for (ray, together) in rays.iter().zip(&together) {
+                    let alone = scene.world.intersect(ray, t_min);
+                    prop_assert_eq!(*together, alone, "ray {:?} in scene\n{}", ray, text);
+                }
+            }
+        }
+    }
+}
+
+/// Every scene of the course, seen through its own camera at 64×64: each 4×4 tile's rays
+/// searched as a packet find what each finds alone (the pictures' pixels, before shading).
+#[test]
+fn every_course_scene_finds_the_same_hits_by_packet() {
+    let dirs = [
+        common::data_dir(
+            "a1-a2 scenes",
+            "RAYCAST_CONFORMANCE_DIR",
+            "../shared/conformance",
+            "COMMANDS.txt",
+        ),
+        common::later_dir("a3-a7 scenes"),
+    ];
+    let mut scenes = 0;
+    for dir in dirs.into_iter().flatten() {
+        let mut paths: Vec<_> = std::fs::read_dir(dir.join("scenes"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "txt"))
+            .collect();
+        paths.sort();
+        for path in paths {
+            let Ok((scene, _)) = Scene::load(&path) else {
+                continue;
+            };
+            scenes += 1;
+            let t_min = scene.camera.t_min();
+            let size = 64;
+            for (top, left) in
+                (0..size / 4).flat_map(|r| (0..size / 4).map(move |c| (r * 4, c * 4)))
+            {
+                let rays: Vec<Ray> = (0..16)
+                    .map(|k| {
+                        let (u, v) =
+                            raycast::camera::pixel_to_screen(left + k % 4, top + k / 4, size, size);
+                        scene.camera.ray(u, v)
+                    })
+                    .collect();
+                let mut together = vec![None; 16];
+                scene
+                    .world
+                    .intersect_packet_with(&rays, t_min, &mut together, &mut ());
+                for (ray, together) in rays.iter().zip(&together) {
+                    assert_eq!(
+                        *together,
+                        scene.world.intersect(ray, t_min),
+                        "{}",
+                        path.display()
+                    );
+                }
+            }
+        }
+    }
+    let line = format!("course scenes by packet: {scenes} scenes, same hits\n");
+    let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
 }

@@ -51,8 +51,7 @@ impl Node {
         self.lanes |= 1 << lane;
     }
 
-    #[cfg(test)]
-    fn lane_bounds(&self, lane: usize) -> Aabb {
+    fn lane_box(&self, lane: usize) -> Aabb {
         Aabb {
             min: Vec3A::new(
                 self.bounds[0][0][lane],
@@ -329,6 +328,202 @@ impl Bvh {
             }
         }
     }
+}
+
+/// The most rays searched together as one packet (the camera's rays of a 4×4 tile).
+pub const PACKET: usize = 16;
+
+/// Bounds over a packet of rays whose directions have the same sign on each axis: for each
+/// axis, the least and greatest origin coordinate and reciprocal of the direction, in all lanes.
+///
+/// A box test over these bounds is conservative by construction, not by a margin: each ray's
+/// own test computes `(plane - origin) * inv_direction`, and both the subtraction and the
+/// multiplication, rounded, are monotone in each operand (for an operand of fixed sign). So the
+/// least of those products over the packet is the least of the two products at the bounds'
+/// corners, which is what [`frustum_lanes`] computes: no ray can meet a box, or meet it sooner,
+/// than the bounds say.
+pub struct Frustum<K: Wide> {
+    /// Per axis, the origin bound that gives the earliest near-plane t: the greatest origin
+    /// where the direction is positive, the least where it is negative.
+    near_origin: [K::F; 3],
+    /// Per axis, the origin bound that gives the latest far-plane t.
+    far_origin: [K::F; 3],
+    /// Per axis, the least and greatest reciprocal direction.
+    inv: [[K::F; 3]; 2],
+    near_side: [usize; 3],
+}
+
+impl<K: Wide> Frustum<K> {
+    /// The bounds over `rays`; `None` when there are none, or when their directions differ in
+    /// sign on some axis (rays on either side of an axis plane meet boxes in different orders).
+    #[inline(always)]
+    pub fn new(wide: K, rays: &[Ray]) -> Option<Self> {
+        let first = rays.first()?;
+        let negative = first.inv_direction.cmplt(Vec3A::ZERO);
+        let (mut origin_lo, mut origin_hi) = (first.origin, first.origin);
+        let (mut inv_lo, mut inv_hi) = (first.inv_direction, first.inv_direction);
+        for ray in &rays[1..] {
+            if ray.inv_direction.cmplt(Vec3A::ZERO) != negative {
+                return None;
+            }
+            origin_lo = origin_lo.min(ray.origin);
+            origin_hi = origin_hi.max(ray.origin);
+            inv_lo = inv_lo.min(ray.inv_direction);
+            inv_hi = inv_hi.max(ray.inv_direction);
+        }
+        // Where a direction is negative, the near plane is the far side of the origin bounds.
+        let near_origin = Vec3A::select(negative, origin_lo, origin_hi);
+        let far_origin = Vec3A::select(negative, origin_hi, origin_lo);
+        let negative = negative.bitmask();
+        Some(Frustum {
+            near_origin: splat3(wide, near_origin),
+            far_origin: splat3(wide, far_origin),
+            inv: [splat3(wide, inv_lo), splat3(wide, inv_hi)],
+            near_side: [0, 1, 2].map(|axis| ((negative >> axis) & 1) as usize),
+        })
+    }
+}
+
+/// Each of `v`'s coordinates in all lanes (not `map` with a closure: that is not inlined, which
+/// would leave AVX instructions behind a call).
+#[inline(always)]
+fn splat3<K: Wide>(wide: K, v: Vec3A) -> [K::F; 3] {
+    [wide.splat(v.x), wide.splat(v.y), wide.splat(v.z)]
+}
+
+/// A child waiting to be visited by a packet: lane `lane` of node `node`, entered at `t` at the
+/// earliest.
+#[derive(Debug, Clone, Copy)]
+struct PacketPending {
+    node: u32,
+    lane: u32,
+    t: f32,
+}
+
+impl Bvh {
+    /// Closest-hit traversal for a packet of rays at once, over the bounds `frustum` puts
+    /// around them: each node's eight boxes are tested once for the whole packet, nearest
+    /// first. `t_max` is the greatest of the rays' limits; `leaf(first, count, bounds, t_max)`
+    /// tests the leaf's entries against each ray that meets `bounds` (see [`ray_meets_box`])
+    /// and returns the new greatest limit. Returns the final one.
+    ///
+    /// Every ray reaches every leaf its own [`Bvh::traverse`] would, so with an order-free rule
+    /// for ties the hits are the same.
+    #[inline(always)]
+    pub fn traverse_packet<K: Wide>(
+        &self,
+        wide: K,
+        frustum: &Frustum<K>,
+        t_min: f32,
+        mut t_max: f32,
+        mut leaf: impl FnMut(u32, u32, &Aabb, f32) -> f32,
+    ) -> f32 {
+        if self.nodes.is_empty() {
+            return t_max;
+        }
+        let mut stack: ArrayVec<PacketPending, STACK> = ArrayVec::new();
+        let mut open = Some(0_u32);
+        loop {
+            if let Some(index) = open.take() {
+                let node = &self.nodes[index as usize];
+                let (entry, mut mask) = frustum_lanes(wide, node, frustum, t_min, t_max);
+                // The hit children, farthest first, so that the nearest is popped first.
+                let mut hits = [PacketPending {
+                    node: index,
+                    lane: 0,
+                    t: 0.0,
+                }; WIDTH];
+                let mut n = 0;
+                while mask != 0 {
+                    let lane = mask.trailing_zeros();
+                    mask &= mask - 1;
+                    let next = PacketPending {
+                        node: index,
+                        lane,
+                        t: entry[lane as usize],
+                    };
+                    let mut k = n;
+                    while k > 0 && hits[k - 1].t < next.t {
+                        hits[k] = hits[k - 1];
+                        k -= 1;
+                    }
+                    hits[k] = next;
+                    n += 1;
+                }
+                stack.extend(hits[..n].iter().copied());
+            }
+            let next = loop {
+                let Some(next) = stack.pop() else {
+                    return t_max;
+                };
+                if next.t <= t_max {
+                    break next;
+                }
+            };
+            let node = &self.nodes[next.node as usize];
+            let lane = next.lane as usize;
+            let (child, count) = (node.child[lane], u32::from(node.count[lane]));
+            if count == 0 {
+                open = Some(child);
+            } else {
+                t_max = leaf(child, count, &node.lane_box(lane), t_max);
+            }
+        }
+    }
+}
+
+/// The packet's bounds against a node's eight boxes: for each, the earliest entry of any ray
+/// of the packet, and a bit mask of the lanes some ray may meet.
+#[inline(always)]
+fn frustum_lanes<K: Wide>(
+    wide: K,
+    node: &Node,
+    frustum: &Frustum<K>,
+    t_min: f32,
+    t_max: f32,
+) -> ([f32; WIDTH], u32) {
+    let (nx, fx) = frustum_slab(wide, node, frustum, 0);
+    let (ny, fy) = frustum_slab(wide, node, frustum, 1);
+    let (nz, fz) = frustum_slab(wide, node, frustum, 2);
+    let entry = nx.max(ny).max(nz.max(wide.splat(t_min)));
+    let exit = fx.min(fy).min(fz.min(wide.splat(t_max)));
+    let mask = entry.le(exit) & node.lanes;
+    (entry.to_array(), mask)
+}
+
+/// The earliest t at which any ray of the packet crosses the near plane of each box on `axis`,
+/// and the latest at which any crosses the far plane.
+#[inline(always)]
+fn frustum_slab<K: Wide>(wide: K, node: &Node, frustum: &Frustum<K>, axis: usize) -> (K::F, K::F) {
+    let [inv_lo, inv_hi] = &frustum.inv;
+    let side = frustum.near_side[axis];
+    let near = wide.load(&node.bounds[side & 1][axis]) - frustum.near_origin[axis];
+    let far = wide.load(&node.bounds[(side ^ 1) & 1][axis]) - frustum.far_origin[axis];
+    (
+        (near * inv_lo[axis]).min(near * inv_hi[axis]),
+        (far * inv_lo[axis]).max(far * inv_hi[axis]),
+    )
+}
+
+/// Whether one ray meets a box within [t_min, t_max], by the very arithmetic of the eight-wide
+/// test in [`Bvh::traverse`] (one lane of it), so that a packet's rays test a leaf's contents
+/// exactly when each ray alone would.
+#[inline(always)]
+pub fn ray_meets_box(ray: &Ray, b: &Aabb, t_min: f32, t_max: f32) -> bool {
+    let (mut entry, mut exit) = (t_min, t_max);
+    for axis in 0..3 {
+        let inv = ray.inv_direction[axis];
+        let (near, far) = if inv < 0.0 {
+            (b.max[axis], b.min[axis])
+        } else {
+            (b.min[axis], b.max[axis])
+        };
+        let t_near = (near - ray.origin[axis]) * inv;
+        let t_far = (far - ray.origin[axis]) * inv;
+        entry = if entry > t_near { entry } else { t_near };
+        exit = if exit < t_far { exit } else { t_far };
+    }
+    entry <= exit
 }
 
 /// The ray against a node's eight boxes: entry distances, and a bit mask of the lanes hit.
@@ -733,7 +928,7 @@ mod tests {
                 if node.lanes & (1 << lane) == 0 {
                     continue;
                 }
-                let b = node.lane_bounds(lane);
+                let b = node.lane_box(lane);
                 // Lanes are padded, so a child may stick out of its parent by the padding.
                 assert_eq!(padded(padded(outer)).union(b), padded(padded(outer)));
                 let (child, count) = (node.child[lane], node.count[lane] as u32);

@@ -3,6 +3,7 @@
 
 use glam::{Vec3, Vec3A};
 
+use super::bvh::{Frustum, PACKET, ray_meets_box};
 use super::{Bvh, LeafSize, Tally};
 use crate::geometry::{
     Aabb, Ray, TRIANGLE_BLOCK, Triangle8, TriangleRayLanes, intersect_triangle, triangle_normal,
@@ -85,6 +86,31 @@ impl TriangleMesh {
         dispatch(Nearest(self.query(ray, t_min, t_max, tally)))
     }
 
+    /// [`TriangleMesh::intersect_with`] for up to [`PACKET`] rays at once, with the same results:
+    /// `limits[i]` is ray i's t_max; `found[i]` becomes its hit, if it has one within it, and
+    /// `limits[i]` that hit's t. Rays that share their directions' signs (neighbouring camera
+    /// rays, mostly) walk the tree together; others each alone.
+    #[inline(always)]
+    pub fn intersect_packet<T: Tally>(
+        &self,
+        rays: &[Ray],
+        t_min: f32,
+        limits: &mut [f32],
+        found: &mut [Option<(f32, u32)>],
+        tally: &mut T,
+    ) {
+        assert!(rays.len() <= PACKET && limits.len() == rays.len() && found.len() == rays.len());
+        found.fill(None);
+        dispatch(PacketNearest {
+            mesh: self,
+            rays,
+            t_min,
+            limits,
+            found,
+            tally,
+        });
+    }
+
     /// Whether any triangle is hit in [t_min, t_max].
     #[inline(always)]
     pub fn occluded<T: Tally>(&self, ray: &Ray, t_min: f32, t_max: f32, tally: &mut T) -> bool {
@@ -161,14 +187,8 @@ impl<T: Tally> Query<'_, T> {
             self.t_max,
             #[inline(always)]
             |block, t_max| {
-                let (t, index) = self.hit_block(wide, &mut lanes, block, t_max)?;
-                if found
-                    .is_some_and(|(best, best_index)| t > best || t == best && index > best_index)
-                {
-                    return None;
-                }
-                found = Some((t, index));
-                Some(t)
+                let hit = self.hit_block(wide, &mut lanes, block, t_max)?;
+                keep_nearer(&mut found, hit)
             },
         );
         found
@@ -199,16 +219,114 @@ impl<T: Tally> Query<'_, T> {
         block: u32,
         t_max: f32,
     ) -> Option<(f32, u32)> {
-        let block = &self.mesh.blocks[block as usize];
-        self.tally.tested(block.len());
-        let ray = self.ray;
+        self.mesh
+            .hit_block(wide, self.ray, lanes, block, self.t_min, t_max, self.tally)
+    }
+}
+
+impl TriangleMesh {
+    /// The nearest hit of `ray` in leaf block `block` with t_min <= t <= t_max: its t and
+    /// triangle. The ray's lanes are set up on the first block it reaches.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn hit_block<K: Wide, T: Tally>(
+        &self,
+        wide: K,
+        ray: &Ray,
+        lanes: &mut Option<TriangleRayLanes<K>>,
+        block: u32,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> Option<(f32, u32)> {
+        let block = &self.blocks[block as usize];
+        tally.tested(block.len());
         // (Not `get_or_insert_with`: it is not inlined, which leaves the AVX set-up outlined.)
         let lanes = match lanes {
             Some(lanes) => lanes,
             None => lanes.insert(TriangleRayLanes::new(wide, ray)),
         };
-        let (t, lane) = block.intersect(wide, ray, lanes, self.t_min, t_max)?;
+        let (t, lane) = block.intersect(wide, ray, lanes, t_min, t_max)?;
         Some((t, block.index[lane]))
+    }
+}
+
+/// Keeps `hit` if it is nearer than `found`, or as near and of a lower triangle: a rule that
+/// does not depend on the order triangles are met in, so that a ray searched alone, in a
+/// packet, or by brute force names the same triangle. Returns the new limit if kept.
+#[inline(always)]
+fn keep_nearer(found: &mut Option<(f32, u32)>, (t, index): (f32, u32)) -> Option<f32> {
+    if found.is_some_and(|(best, best_index)| t > best || t == best && index > best_index) {
+        return None;
+    }
+    *found = Some((t, index));
+    Some(t)
+}
+
+/// The closest-hit search of a packet of rays, as work for [`dispatch`]: `limits[i]` is ray
+/// i's t_max on the way in, and on the way out the t of its hit if it found one (in `found`).
+struct PacketNearest<'a, T> {
+    mesh: &'a TriangleMesh,
+    rays: &'a [Ray],
+    t_min: f32,
+    limits: &'a mut [f32],
+    found: &'a mut [Option<(f32, u32)>],
+    tally: &'a mut T,
+}
+
+impl<T: Tally> WithWide for PacketNearest<'_, T> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<K: Wide>(self, wide: K) {
+        let PacketNearest {
+            mesh,
+            rays,
+            t_min,
+            limits,
+            found,
+            tally,
+        } = self;
+        let Some(frustum) = Frustum::new(wide, rays) else {
+            for ((ray, limit), found) in rays.iter().zip(limits.iter_mut()).zip(found) {
+                if *limit >= t_min {
+                    *found = mesh.query(ray, t_min, *limit, tally).nearest(wide);
+                }
+            }
+            return;
+        };
+        let mut lanes: [Option<TriangleRayLanes<K>>; PACKET] = std::array::from_fn(|_| None);
+        let start = limits.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+        mesh.bvh.traverse_packet(
+            wide,
+            &frustum,
+            t_min,
+            start,
+            #[inline(always)]
+            |first, count, bounds, _| {
+                let mut greatest = f32::NEG_INFINITY;
+                for (i, ray) in rays.iter().enumerate() {
+                    if ray_meets_box(ray, bounds, t_min, limits[i]) {
+                        for block in first..first + count {
+                            let hit = mesh.hit_block(
+                                wide,
+                                ray,
+                                &mut lanes[i],
+                                block,
+                                t_min,
+                                limits[i],
+                                tally,
+                            );
+                            if let Some(t) = hit.and_then(|hit| keep_nearer(&mut found[i], hit)) {
+                                limits[i] = t;
+                            }
+                        }
+                    }
+                    greatest = greatest.max(limits[i]);
+                }
+                greatest
+            },
+        );
     }
 }
 
@@ -321,6 +439,64 @@ mod tests {
                 );
             }
             hits += usize::from(portable.is_some());
+        }
+        assert!(hits > 1000, "only {hits} hits");
+    }
+
+    type Hits = Option<(f32, u32)>;
+
+    #[test]
+    fn packets_find_what_each_ray_finds_alone_on_both_paths() {
+        let (mesh, _) = TriangleMesh::new(bumpy_sphere(24));
+        let mut hits = 0;
+        for (k, centre) in rays().iter().enumerate().take(400) {
+            // A 4×4 tile of rays around each test ray, from one point or along one direction,
+            // some so wide that their directions' signs differ.
+            let spread = [0.0, 1e-3, 3e-2, 0.4][k % 4];
+            let across = centre.direction.any_orthonormal_vector();
+            let up = centre.direction.cross(across);
+            let packet: Vec<Ray> = (0..PACKET)
+                .map(|i| {
+                    let offset = ((i % 4) as f32 * across + (i / 4) as f32 * up) * spread;
+                    if k % 8 < 4 {
+                        Ray::new(centre.origin, centre.direction + offset)
+                    } else {
+                        Ray::new(centre.origin + offset, centre.direction)
+                    }
+                })
+                .collect();
+            // Some rays start with a limit (a nearer hit elsewhere), one has none to give.
+            let start: Vec<f32> = (0..PACKET)
+                .map(|i| [f32::INFINITY, 3.0, f32::NEG_INFINITY, 2.5][i % 4])
+                .collect();
+            let alone: Vec<_> = packet
+                .iter()
+                .zip(&start)
+                .map(|(ray, &t_max)| {
+                    if t_max < 0.0 {
+                        return None;
+                    }
+                    mesh.query(ray, 0.0, t_max, &mut ()).nearest(Portable)
+                })
+                .collect();
+            let run = |job: &dyn Fn(&mut [f32], &mut [Hits])| {
+                let (mut limits, mut found) = (start.clone(), vec![None; PACKET]);
+                job(&mut limits, &mut found);
+                assert_eq!(found, alone, "packet around {centre:?}");
+            };
+            run(&|limits, found| mesh.intersect_packet(&packet, 0.0, limits, found, &mut ()));
+            run(&|limits, found| {
+                PacketNearest {
+                    mesh: &mesh,
+                    rays: &packet,
+                    t_min: 0.0,
+                    limits,
+                    found,
+                    tally: &mut (),
+                }
+                .run(Portable)
+            });
+            hits += alone.iter().flatten().count();
         }
         assert!(hits > 1000, "only {hits} hits");
     }

@@ -6,7 +6,7 @@ pub mod grid;
 mod mesh;
 mod world;
 
-pub use bvh::{Bvh, LeafSize};
+pub use bvh::{Bvh, LeafSize, PACKET};
 pub use grid::{Grid, GridError};
 pub use mesh::TriangleMesh;
 pub use world::{Hit, Item, World, WorldStats};

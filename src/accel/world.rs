@@ -6,6 +6,7 @@ use std::ops::ControlFlow;
 
 use glam::UVec3;
 
+use super::bvh::{Frustum, PACKET, ray_meets_box};
 use super::grid::{Extent, Primitive};
 use super::{Bvh, Grid, GridError, LeafSize, Tally, TriangleMesh};
 use crate::geometry::{
@@ -290,6 +291,114 @@ impl World {
             }
         }
         nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// [`World::intersect_with`] for up to [`PACKET`] rays at once (the camera's rays of a
+    /// tile), each hit exactly as that ray alone would find it: `hits[i]` is ray i's.
+    pub fn intersect_packet_with<T: Tally>(
+        &self,
+        rays: &[Ray],
+        t_min: f32,
+        hits: &mut [Option<Hit>],
+        tally: &mut T,
+    ) {
+        assert!(rays.len() <= PACKET && hits.len() == rays.len());
+        if self.grid.is_some() {
+            for (ray, hit) in rays.iter().zip(hits) {
+                *hit = self.intersect_with(ray, t_min, tally);
+            }
+            return;
+        }
+        let mut nearest: [Option<Nearest>; PACKET] = [None; PACKET];
+        for (ray, nearest) in rays.iter().zip(&mut nearest) {
+            tally.tested(self.planes.len() as u32);
+            *nearest = self.nearest_plane(ray, t_min);
+        }
+        let nearest = &mut nearest[..rays.len()];
+        match self.items.len() {
+            0 => {}
+            1 => self.packet_item(0, None, rays, t_min, nearest, tally),
+            _ => match Frustum::new(Portable, rays) {
+                Some(frustum) => {
+                    let limit = |n: &Option<Nearest>| n.map_or(f32::INFINITY, |n| n.t);
+                    let start = nearest.iter().map(limit).fold(f32::NEG_INFINITY, f32::max);
+                    self.top.traverse_packet(
+                        Portable,
+                        &frustum,
+                        t_min,
+                        start,
+                        |first, count, bounds, _| {
+                            for item in first..first + count {
+                                self.packet_item(item, Some(bounds), rays, t_min, nearest, tally);
+                            }
+                            nearest.iter().map(limit).fold(f32::NEG_INFINITY, f32::max)
+                        },
+                    );
+                }
+                None => {
+                    for (ray, nearest) in rays.iter().zip(nearest.iter_mut()) {
+                        let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+                        self.top.traverse(Portable, ray, t_min, t_max, |i, t_max| {
+                            let (t, triangle) = self.intersect_item(i, ray, t_min, t_max, tally)?;
+                            Nearest::item(t, i, triangle).replaces(nearest).then_some(t)
+                        });
+                    }
+                }
+            },
+        }
+        for ((ray, nearest), hit) in rays.iter().zip(nearest.iter()).zip(hits) {
+            *hit = nearest.map(|n| self.hit(ray, n.t, n.found));
+        }
+    }
+
+    /// Item `i` against the rays of a packet that meet `bounds` (its box in the top-level
+    /// tree; `None` when there is no tree, and every ray tests it). A mesh in world space is
+    /// searched by the packet; anything else ray by ray.
+    fn packet_item<T: Tally>(
+        &self,
+        i: u32,
+        bounds: Option<&Aabb>,
+        rays: &[Ray],
+        t_min: f32,
+        nearest: &mut [Option<Nearest>],
+        tally: &mut T,
+    ) {
+        let mut limits = [f32::NEG_INFINITY; PACKET];
+        let limits = &mut limits[..rays.len()];
+        for ((ray, nearest), limit) in rays.iter().zip(nearest.iter()).zip(limits.iter_mut()) {
+            let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+            // A ray that misses the item's box never tests it: a limit below t_min.
+            if bounds.is_none_or(|b| ray_meets_box(ray, b, t_min, t_max)) {
+                *limit = t_max;
+            }
+        }
+        let item = &self.items[i as usize];
+        match *item {
+            Item::Mesh {
+                mesh,
+                transform: Item::WORLD_SPACE,
+                ..
+            } => {
+                let mut found = [None; PACKET];
+                let found = &mut found[..rays.len()];
+                self.meshes[mesh as usize].intersect_packet(rays, t_min, limits, found, tally);
+                for (found, nearest) in found.iter().zip(nearest) {
+                    if let Some((t, triangle)) = *found {
+                        Nearest::item(t, i, triangle).replaces(nearest);
+                    }
+                }
+            }
+            _ => {
+                for ((ray, nearest), &limit) in rays.iter().zip(nearest).zip(limits.iter()) {
+                    if limit < t_min {
+                        continue;
+                    }
+                    if let Some((t, triangle)) = self.intersect_item(i, ray, t_min, limit, tally) {
+                        Nearest::item(t, i, triangle).replaces(nearest);
+                    }
+                }
+            }
+        }
     }
 
     /// The grid's search: cells in the ray's order, every primitive of each, until the nearest
