@@ -5,8 +5,11 @@
 //! is written to a temporary file beside its target and renamed into place only when all of a
 //! run's files are complete, so a failed run leaves no partial image and touches no existing one.
 
+use std::borrow::Cow;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
 
 use crate::error::Error;
 
@@ -48,29 +51,66 @@ impl ImageFormat {
     }
 }
 
-/// The whole file for `image` in `format`. A TGA's sides must be at most [`TGA_MAX_SIDE`]
-/// (the command line sees to that).
+/// The whole file for `image` in `format`, as one buffer.
 pub fn encode(image: &Image, format: ImageFormat) -> Vec<u8> {
+    encode_parts(image, format).into_vec()
+}
+
+/// A picture file's bytes, in the pieces they are written in: a PPM's pixels go out straight
+/// from the picture (a 4096² picture is 50 MB, and copying it behind a header took longer than
+/// writing it).
+pub struct Encoded<'a> {
+    parts: [Cow<'a, [u8]>; 2],
+}
+
+impl Encoded<'_> {
+    /// The file's length in bytes.
+    pub fn size(&self) -> u64 {
+        self.parts.iter().map(|part| part.len() as u64).sum()
+    }
+
+    /// Writes the file's bytes to `out`.
+    pub fn write_to(&self, out: &mut impl Write) -> std::io::Result<()> {
+        self.parts.iter().try_for_each(|part| out.write_all(part))
+    }
+
+    /// The file's bytes in one buffer.
+    pub fn into_vec(self) -> Vec<u8> {
+        let [head, rest] = self.parts;
+        let mut bytes = head.into_owned();
+        bytes.extend_from_slice(&rest);
+        bytes
+    }
+}
+
+/// The file for `image` in `format`. A TGA's sides must be at most [`TGA_MAX_SIDE`] (the
+/// command line sees to that).
+pub fn encode_parts(image: &Image, format: ImageFormat) -> Encoded<'_> {
     let (w, h) = (image.width, image.height);
-    match format {
+    let parts = match format {
         ImageFormat::Tga => {
-            let mut bytes = Vec::with_capacity(18 + image.pixels.len() * 3);
+            let mut header = Vec::with_capacity(18);
             // Uncompressed true colour (type 2), 24 bits, descriptor 32: rows top to bottom.
-            bytes.extend_from_slice(&[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
-            bytes.extend_from_slice(&(w as u16).to_le_bytes());
-            bytes.extend_from_slice(&(h as u16).to_le_bytes());
-            bytes.extend_from_slice(&[24, 32]);
-            bytes.resize(18 + image.pixels.len() * 3, 0);
-            for (out, &[r, g, b]) in bytes[18..].chunks_exact_mut(3).zip(&image.pixels) {
-                out.copy_from_slice(&[b, g, r]);
-            }
-            bytes
+            header.extend_from_slice(&[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+            header.extend_from_slice(&(w as u16).to_le_bytes());
+            header.extend_from_slice(&(h as u16).to_le_bytes());
+            header.extend_from_slice(&[24, 32]);
+            // Zeroed by the allocator, page by page as the threads fill them.
+            let mut body = vec![0_u8; image.pixels.len() * 3];
+            const ROW: usize = 4096;
+            body.par_chunks_mut(3 * ROW)
+                .zip(image.pixels.par_chunks(ROW))
+                .for_each(|(out, pixels)| {
+                    for (out, &[r, g, b]) in out.chunks_exact_mut(3).zip(pixels) {
+                        out.copy_from_slice(&[b, g, r]);
+                    }
+                });
+            [Cow::Owned(header), Cow::Owned(body)]
         }
-        ImageFormat::Ppm => {
-            let mut bytes = format!("P6\n{w} {h}\n255\n").into_bytes();
-            bytes.extend_from_slice(image.pixels.as_flattened());
-            bytes
-        }
+        ImageFormat::Ppm => [
+            Cow::Owned(format!("P6\n{w} {h}\n255\n").into_bytes()),
+            Cow::Borrowed(image.pixels.as_flattened()),
+        ],
         ImageFormat::Png => {
             use image::ImageEncoder;
             use image::codecs::png::{CompressionType, FilterType, PngEncoder};
@@ -88,9 +128,10 @@ pub fn encode(image: &Image, format: ImageFormat) -> Vec<u8> {
                     image::ExtendedColorType::Rgb8,
                 )
                 .expect("an in-memory PNG of a valid size cannot fail to encode");
-            bytes
+            [Cow::Owned(bytes), Cow::Borrowed(&[][..])]
         }
-    }
+    };
+    Encoded { parts }
 }
 
 /// The folder a file is (to be) in: `.` for a bare file name.
@@ -149,14 +190,15 @@ impl PendingOutputs {
     /// No fsync: the rename already guarantees that the process, however it stops, leaves the
     /// old file or the new one, never a mix; only a crash of the whole machine could lose the
     /// new image, and syncing took longer than tracing a million rays.
-    pub fn commit(mut self, contents: Vec<Vec<u8>>) -> Result<(), Error> {
+    pub fn commit(mut self, contents: &[Encoded]) -> Result<(), Error> {
         assert_eq!(
             self.files.len(),
             contents.len(),
             "one content for each reserved file"
         );
-        for ((path, file), bytes) in self.files.iter_mut().zip(&contents) {
-            file.write_all(bytes).map_err(|e| Error::Write {
+        for ((path, file), encoded) in self.files.iter_mut().zip(contents) {
+            reserve_blocks(file.as_file(), encoded.size());
+            encoded.write_to(file).map_err(|e| Error::Write {
                 path: path.clone(),
                 message: e.to_string(),
             })?;
@@ -169,6 +211,20 @@ impl PendingOutputs {
         }
         Ok(())
     }
+}
+
+/// Allocates a new file's blocks before it is written, where the system allows. On ext4 a file
+/// written without them, renamed over an existing one, is flushed toward the disk by the rename
+/// itself (its guard for programs that replace files without fsync): for a 50 MB picture that
+/// was 15-20 ms of the write, and more when the disk was busy. Best effort: if the blocks cannot
+/// be had, the write itself reports why.
+fn reserve_blocks(file: &std::fs::File, len: u64) {
+    #[cfg(target_os = "linux")]
+    if len > 0 {
+        let _ = rustix::fs::fallocate(file, rustix::fs::FallocateFlags::empty(), 0, len);
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = (file, len);
 }
 
 #[cfg(test)]

@@ -152,7 +152,7 @@ fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
         wanted.then(|| Image {
             width,
             height,
-            pixels: samples.iter().map(pick).collect(),
+            pixels: samples.par_iter().map(pick).collect(),
         })
     };
     Rendered {

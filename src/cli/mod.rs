@@ -201,17 +201,18 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
         let format = options
             .format_of(path)
             .expect("checked when parsing the command line");
-        let bytes = image_io::encode(image, format);
+        let encoded = image_io::encode_parts(image, format);
         if is_stdio(path) {
-            to_stdout = Some(bytes);
+            to_stdout = Some(encoded);
         } else {
-            contents.push(bytes);
+            contents.push(encoded);
         }
     }
-    pending.commit(contents)?;
-    if let Some(bytes) = to_stdout {
+    pending.commit(&contents)?;
+    if let Some(encoded) = to_stdout {
         let mut out = std::io::stdout().lock();
-        out.write_all(&bytes)
+        encoded
+            .write_to(&mut out)
             .and_then(|()| out.flush())
             .map_err(|e| Error::Write {
                 path: "standard output".into(),
