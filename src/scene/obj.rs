@@ -10,6 +10,7 @@
 use std::path::Path;
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 use crate::error::Diagnostic;
 use crate::parse::{MAX_MAGNITUDE, NUMBER_IN_RANGE, Span, describe};
@@ -33,20 +34,115 @@ const SKIPPED: &[&[u8]] = &[
     b"scrv", b"sp", b"end", b"con", b"ctech", b"stech", b"call", b"csh",
 ];
 
+/// Files at least this long are read in pieces on rayon's threads.
+const PARALLEL_BYTES: usize = 1 << 20;
+
 /// Reads an .obj file's bytes; `path` only names the file in messages. A face may use only the
 /// vertices defined above it, and every error carries a line and column.
+///
+/// A big file is cut at line ends into pieces read in parallel: a first pass counts each
+/// piece's lines and `v` statements, which tells every piece the number of its first line and
+/// how many vertices lie above it, so that each reads its faces' indices, and words its errors,
+/// exactly as one reading of the whole file would. The error reported is the first in the file.
 pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
+    let threads = rayon::current_num_threads();
+    if threads == 1 || bytes.len() < PARALLEL_BYTES {
+        return parse_piece(path, bytes, Start::FILE);
+    }
+    let pieces = split_at_lines(bytes, 4 * threads);
+    let counts: Vec<(u32, usize)> = pieces
+        .par_iter()
+        .map(|piece| {
+            let lines = memchr::memchr_iter(b'\n', piece).count();
+            (lines as u32, vertex_lines(piece))
+        })
+        .collect();
+    let mut starts = Vec::with_capacity(pieces.len());
+    let mut start = Start::FILE;
+    for &(lines, vertices) in &counts {
+        starts.push(start);
+        start = Start {
+            line: start.line + lines,
+            vertices: start.vertices + vertices,
+        };
+    }
+    let parsed: Vec<Result<ObjMesh, Diagnostic>> = pieces
+        .par_iter()
+        .zip(starts)
+        .map(|(piece, start)| parse_piece(path, piece, start))
+        .collect();
+    let mut mesh = ObjMesh::default();
+    for piece in parsed {
+        let piece = piece?;
+        mesh.positions.extend_from_slice(&piece.positions);
+        mesh.triangles.extend_from_slice(&piece.triangles);
+    }
+    Ok(mesh)
+}
+
+/// Where a piece of a file begins: the number of its first line, and the vertices defined in
+/// the file above it.
+#[derive(Debug, Clone, Copy)]
+struct Start {
+    line: u32,
+    vertices: usize,
+}
+
+impl Start {
+    const FILE: Start = Start {
+        line: 1,
+        vertices: 0,
+    };
+}
+
+/// `bytes` in about `count` pieces of similar length, each (but the last) ending with a newline.
+fn split_at_lines(bytes: &[u8], count: usize) -> Vec<&[u8]> {
+    let target = bytes.len().div_ceil(count).max(1);
+    let mut pieces = Vec::with_capacity(count);
+    let mut rest = bytes;
+    while !rest.is_empty() {
+        let end = match memchr::memchr(b'\n', &rest[target.min(rest.len() - 1)..]) {
+            Some(newline) => target.min(rest.len() - 1) + newline + 1,
+            None => rest.len(),
+        };
+        let (piece, tail) = rest.split_at(end);
+        pieces.push(piece);
+        rest = tail;
+    }
+    pieces
+}
+
+/// How many lines of `piece` are `v` statements (those that, read, define one vertex each).
+fn vertex_lines(piece: &[u8]) -> usize {
+    piece
+        .split(|&b| b == b'\n')
+        .filter(|line| {
+            let content = match memchr::memchr(b'#', line) {
+                Some(hash) => &line[..hash],
+                None => line,
+            };
+            let mut words = Words {
+                line: content,
+                pos: 0,
+            };
+            words.next().is_some_and(|(keyword, _)| keyword == b"v")
+        })
+        .count()
+}
+
+/// Reads one piece of a file, which begins at `start`.
+fn parse_piece(path: &Path, bytes: &[u8], start: Start) -> Result<ObjMesh, Diagnostic> {
     let mut mesh = ObjMesh::default();
     let mut face: Vec<u32> = Vec::new();
     let mut rest = bytes;
-    for line_number in 1.. {
+    for line_number in start.line.. {
         let line = match memchr::memchr(b'\n', rest) {
             Some(end) => {
                 let line = &rest[..end];
                 rest = &rest[end + 1..];
                 line
             }
-            None if rest.is_empty() && line_number > 1 => break,
+            None if rest.is_empty() && line_number > start.line => break,
             None => std::mem::take(&mut rest),
         };
         let content = match memchr::memchr(b'#', line) {
@@ -98,9 +194,10 @@ pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
             }
             b"f" => {
                 face.clear();
+                let defined = start.vertices + mesh.positions.len();
                 for (word, offset) in words.by_ref() {
-                    let index = vertex_index(word, mesh.positions.len()).ok_or_else(|| {
-                        let expected = match mesh.positions.len() {
+                    let index = vertex_index(word, defined).ok_or_else(|| {
+                        let expected = match defined {
                             0 => "a vertex defined before this face".to_string(),
                             n => format!("a vertex index from 1 to {n} (or -{n} to -1)"),
                         };
@@ -266,6 +363,63 @@ mod tests {
 
     fn parse(text: &str) -> Result<ObjMesh, String> {
         parse_obj(Path::new("m.obj"), text.as_bytes()).map_err(|e| e.to_string())
+    }
+
+    /// A file of over a megabyte in every form the reader knows: comments, skipped statements,
+    /// blank lines, `a/b/c` corners, polygons, negative indices reaching back a long way.
+    fn big_obj() -> String {
+        let mut text = String::from("# big\nmtllib x.mtl\n");
+        for i in 0..40_000 {
+            let x = i as f32 * 0.001;
+            text += &format!("v {x} {} -{}.5 # vertex {i}\n", i % 7, i % 11);
+            if i % 3 == 0 {
+                text += "vn 0 1 0\n\n";
+            }
+            if i >= 3 {
+                text += &format!("f {} -2 {}/1/1\n", i - 1, i + 1);
+            }
+            if i % 5 == 4 {
+                text += "f -1 -3 -4 -5\ng part\n";
+            }
+        }
+        text
+    }
+
+    fn parse_on(threads: usize, text: &str) -> Result<ObjMesh, String> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| parse(text))
+    }
+
+    #[test]
+    fn a_big_file_read_in_pieces_is_read_as_in_one() {
+        let text = big_obj();
+        assert!(text.len() >= PARALLEL_BYTES, "{} bytes", text.len());
+        let one = parse_on(1, &text).unwrap();
+        assert_eq!(one.positions.len(), 40_000);
+        assert!(one.triangles.len() > 40_000);
+        for threads in [2, 3, 8] {
+            assert_eq!(parse_on(threads, &text).as_ref(), Ok(&one), "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn a_big_files_first_error_is_named_as_in_one_reading() {
+        let text = big_obj();
+        // Two faults far apart: the first in the file is the one named, with its line.
+        let lines: Vec<&str> = text.lines().collect();
+        let (early, late) = (lines.len() * 2 / 3, lines.len() - 10);
+        let mut broken: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+        broken[early] = "f 1 2 99999".into();
+        broken[late] = "v 1 2 x".into();
+        let broken = broken.join("\n");
+        let one = parse_on(1, &broken).unwrap_err();
+        assert!(one.starts_with(&format!("m.obj:{}:", early + 1)), "{one}");
+        for threads in [2, 5] {
+            assert_eq!(parse_on(threads, &broken), Err(one.clone()), "{threads} threads");
+        }
     }
 
     #[test]
