@@ -401,7 +401,11 @@ mod tests {
         assert_eq!(one.positions.len(), 40_000);
         assert!(one.triangles.len() > 40_000);
         for threads in [2, 3, 8] {
-            assert_eq!(parse_on(threads, &text).as_ref(), Ok(&one), "{threads} threads");
+            assert_eq!(
+                parse_on(threads, &text).as_ref(),
+                Ok(&one),
+                "{threads} threads"
+            );
         }
     }
 
@@ -418,7 +422,11 @@ mod tests {
         let one = parse_on(1, &broken).unwrap_err();
         assert!(one.starts_with(&format!("m.obj:{}:", early + 1)), "{one}");
         for threads in [2, 5] {
-            assert_eq!(parse_on(threads, &broken), Err(one.clone()), "{threads} threads");
+            assert_eq!(
+                parse_on(threads, &broken),
+                Err(one.clone()),
+                "{threads} threads"
+            );
         }
     }
 
