@@ -340,7 +340,7 @@ pub const PACKET: usize = 16;
 /// own test computes `(plane - origin) * inv_direction`, and both the subtraction and the
 /// multiplication, rounded, are monotone in each operand (for an operand of fixed sign). So the
 /// least of those products over the packet is the least of the two products at the bounds'
-/// corners, which is what [`frustum_lanes`] computes: no ray can meet a box, or meet it sooner,
+/// corners, which is what the packet's box test computes: no ray can meet a box, or meet it sooner,
 /// than the bounds say.
 pub struct Frustum<K: Wide> {
     /// Per axis, the origin bound that gives the earliest near-plane t: the greatest origin

@@ -6,7 +6,7 @@ pub mod grid;
 mod mesh;
 mod world;
 
-pub use bvh::{Bvh, LeafSize, PACKET};
+pub use bvh::{Bvh, Frustum, LeafSize, PACKET, ray_meets_box};
 pub use grid::{Grid, GridError};
 pub use mesh::TriangleMesh;
 pub use world::{Hit, Item, World, WorldStats};
