@@ -10,6 +10,7 @@ use std::cmp::Ordering;
 
 use arrayvec::ArrayVec;
 use glam::Vec3A;
+use rayon::prelude::*;
 
 use crate::geometry::{Aabb, Ray};
 use crate::simd::{Lanes, Wide};
@@ -159,7 +160,11 @@ impl Bvh {
         if boxes.is_empty() {
             return (Bvh::default(), Vec::new());
         }
-        let mut prims: Vec<(Aabb, u32)> = boxes.iter().copied().zip(0..).collect();
+        let mut prims: Vec<(Aabb, u32)> = boxes
+            .par_iter()
+            .copied()
+            .zip(0..boxes.len() as u32)
+            .collect();
         let binary = build_binary(&mut prims, leaf);
         let order = prims.iter().map(|&(_, i)| i).collect();
         let nodes = collapse(&binary);
@@ -568,15 +573,25 @@ struct Extent {
 }
 
 impl Extent {
+    const EMPTY: Extent = Extent {
+        bounds: Aabb::EMPTY,
+        centres: Aabb::EMPTY,
+    };
+
     fn of(prims: &[(Aabb, u32)]) -> Extent {
-        prims.iter().fold(
-            Extent {
-                bounds: Aabb::EMPTY,
-                centres: Aabb::EMPTY,
-            },
-            |e, p| Extent {
-                bounds: e.bounds.union(p.0),
-                centres: e.centres.grow(centre(&p.0)),
+        prims.iter().fold(Extent::EMPTY, |e, p| Extent {
+            bounds: e.bounds.union(p.0),
+            centres: e.centres.grow(centre(&p.0)),
+        })
+    }
+
+    /// [`Extent::of`] on rayon's threads, for the whole input: the same boxes in any grouping.
+    fn of_all(prims: &[(Aabb, u32)]) -> Extent {
+        prims.par_chunks(PARALLEL_MIN).map(Extent::of).reduce(
+            || Extent::EMPTY,
+            |a, b| Extent {
+                bounds: a.bounds.union(b.bounds),
+                centres: a.centres.union(b.centres),
             },
         )
     }
@@ -586,7 +601,7 @@ impl Extent {
 /// children are `first` and `first + 1`. The top of the tree is built in parallel on rayon's
 /// threads; the tree is the same whatever the number of threads.
 fn build_binary(prims: &mut [(Aabb, u32)], leaf: LeafSize) -> Vec<BinaryNode> {
-    let root = Extent::of(prims);
+    let root = Extent::of_all(prims);
     build_subtree(prims, root, 0, 0, leaf)
 }
 
@@ -754,13 +769,29 @@ fn sah_split(
         }
     };
     if count >= SMALL_NODE {
-        let mut bins = [Bins::EMPTY; 3];
-        for p in items.iter() {
-            let bin = bins_of(centre(&p.0));
-            for (axis, axis_bins) in bins.iter_mut().enumerate() {
-                axis_bins.add(bin[axis], &p.0);
+        let bin_all = |mut bins: [Bins; 3], items: &[(Aabb, u32)]| {
+            for p in items {
+                let bin = bins_of(centre(&p.0));
+                for (axis, axis_bins) in bins.iter_mut().enumerate() {
+                    axis_bins.add(bin[axis], &p.0);
+                }
             }
-        }
+            bins
+        };
+        // The top nodes hold most of the primitives and are split before their subtrees can be
+        // built in parallel, so their binning is shared out; unions and counts give the same
+        // bins in any grouping.
+        let bins = if count >= PARALLEL_MIN {
+            items
+                .par_chunks(PARALLEL_MIN / 2)
+                .fold(|| [Bins::EMPTY; 3], bin_all)
+                .reduce(
+                    || [Bins::EMPTY; 3],
+                    |a, b| [0, 1, 2].map(|axis| a[axis].merge(&b[axis])),
+                )
+        } else {
+            bin_all([Bins::EMPTY; 3], items)
+        };
         for (axis, axis_bins) in bins.iter().enumerate() {
             if binnable(axis) {
                 consider(axis, axis_bins);
@@ -810,6 +841,16 @@ impl Bins {
         boxes: [Aabb::EMPTY; BINS],
         counts: [0; BINS],
     };
+
+    /// The bins of both `self`'s primitives and `other`'s.
+    fn merge(&self, other: &Bins) -> Bins {
+        let mut merged = *self;
+        for k in 0..BINS {
+            merged.boxes[k] = merged.boxes[k].union(other.boxes[k]);
+            merged.counts[k] += other.counts[k];
+        }
+        merged
+    }
 
     #[inline(always)]
     fn add(&mut self, bin: usize, b: &Aabb) {

@@ -2,6 +2,7 @@
 //! it.
 
 use glam::{Vec3, Vec3A};
+use rayon::prelude::*;
 
 use super::bvh::{Frustum, PACKET, ray_meets_box};
 use super::{Bvh, LeafSize, Tally};
@@ -24,11 +25,11 @@ impl TriangleMesh {
     /// index of each stored triangle.
     pub fn new(triangles: Vec<[Vec3; 3]>) -> (TriangleMesh, Vec<u32>) {
         let boxes: Vec<Aabb> = triangles
-            .iter()
+            .par_iter()
             .map(|t| Aabb::from_points(&[t[0].into(), t[1].into(), t[2].into()]))
             .collect();
         let (mut bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
-        let triangles: Vec<[Vec3; 3]> = order.iter().map(|&i| triangles[i as usize]).collect();
+        let triangles: Vec<[Vec3; 3]> = order.par_iter().map(|&i| triangles[i as usize]).collect();
         let mut blocks = Vec::with_capacity(triangles.len() / 4);
         bvh.map_leaves(|first, count| {
             let start = blocks.len() as u32;

@@ -1,5 +1,6 @@
 //! Everything a ray can hit, and the two-level search for the nearest of it.
 
+use arrayvec::ArrayVec;
 use glam::Vec3A;
 
 use std::ops::ControlFlow;
@@ -352,8 +353,8 @@ impl World {
     }
 
     /// Item `i` against the rays of a packet that meet `bounds` (its box in the top-level
-    /// tree; `None` when there is no tree, and every ray tests it). A mesh in world space is
-    /// searched by the packet; anything else ray by ray.
+    /// tree; `None` when there is no tree, and every ray tests it). A mesh is searched by the
+    /// packet; a sphere ray by ray.
     fn packet_item<T: Tally>(
         &self,
         i: u32,
@@ -375,10 +376,20 @@ impl World {
         let item = &self.items[i as usize];
         match *item {
             Item::Mesh {
-                mesh,
-                transform: Item::WORLD_SPACE,
-                ..
+                mesh, transform, ..
             } => {
+                // Under a Transform, the packet is carried into the mesh's space ray by ray,
+                // just as each ray alone would be; the bounds are then put around the carried
+                // rays, and t still counts along the world's rays.
+                let mut carried: ArrayVec<Ray, PACKET> = ArrayVec::new();
+                let rays = match transform {
+                    Item::WORLD_SPACE => rays,
+                    t => {
+                        let transform = &self.transforms[t as usize];
+                        carried.extend(rays.iter().map(|ray| transform.ray_to_object(ray)));
+                        &carried[..]
+                    }
+                };
                 let mut found = [None; PACKET];
                 let found = &mut found[..rays.len()];
                 self.meshes[mesh as usize].intersect_packet(rays, t_min, limits, found, tally);
