@@ -102,10 +102,11 @@ fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
     let mut colour = picture(settings.colour);
     let mut normals = picture(settings.normals);
     let mut depth = picture(settings.depth.is_some());
-    // Bands of TILE rows, thinner when the image is too short to give every thread several
-    // (a 4096x16 picture would otherwise be one band on one thread).
+    // Bands of TILE rows, thinner when the image is too short to give every thread eight (a
+    // 4096x16 picture would otherwise be one band on one thread, and at 1024² sixteen threads
+    // would get four bands each, too few to even out the bands' different costs).
     let threads = rayon::current_num_threads() as u32;
-    let band_rows = (height / (4 * threads)).clamp(1, TILE);
+    let band_rows = (height / (8 * threads)).clamp(1, TILE);
     let band_len = (width as usize * band_rows as usize).max(1);
     let band_count = pixels.div_ceil(band_len);
     let split = |picture| split_into_bands(picture, band_len, band_count);
