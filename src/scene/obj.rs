@@ -254,12 +254,19 @@ fn parse_coordinate(word: &[u8]) -> Result<f32, &'static str> {
     }
 }
 
-/// A plain decimal (`-0.0390041`) whose digits, read as an integer, stay below 2^24, read
-/// without `str::parse`: both that integer and the power of ten it is divided by are exact in
-/// f32, so the one division rounds correctly and gives the same float as `str::parse` (Clinger's
-/// fast path). Most coordinates in mesh files are of this kind; anything else returns `None`.
+/// A plain decimal (`-0.0390041`, `93.87400100000001`) read without `str::parse`, with the same
+/// result. Its digits, read as an integer, and the power of ten it is divided by are both exact
+/// (in f32 below 2^24 and 10^10, else in f64 below 2^53 and 10^22), so one division rounds
+/// correctly (Clinger's fast path). Through f64 the quotient is rounded twice, to f64 and then to
+/// f32, which for one division gives the once-rounded f32 all the same: f64 carries more than
+/// twice f32's precision plus two bits (Figueroa). Most coordinates in mesh files are of this
+/// kind; anything else returns `None`.
 fn short_decimal(word: &[u8]) -> Option<f32> {
     const POWERS: [f32; 11] = [1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10];
+    const LONG_POWERS: [f64; 23] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+        1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    ];
     let (negative, rest) = match word {
         [b'-', rest @ ..] => (true, rest),
         [b'+', rest @ ..] => (false, rest),
@@ -269,20 +276,24 @@ fn short_decimal(word: &[u8]) -> Option<f32> {
         Some(dot) => (&rest[..dot], &rest[dot + 1..]),
         None => (rest, &rest[..0]),
     };
-    if whole.is_empty() && fraction.is_empty() || fraction.len() >= POWERS.len() {
+    if whole.is_empty() && fraction.is_empty() || fraction.len() >= LONG_POWERS.len() {
         return None;
     }
-    let mut digits: u32 = 0;
+    let mut digits: u64 = 0;
     for &b in whole.iter().chain(fraction) {
         if !b.is_ascii_digit() {
             return None;
         }
-        digits = digits.checked_mul(10)?.checked_add(u32::from(b - b'0'))?;
-        if digits >= 1 << 24 {
+        digits = digits * 10 + u64::from(b - b'0');
+        if digits >= 1 << 53 {
             return None;
         }
     }
-    let magnitude = digits as f32 / POWERS[fraction.len()];
+    let magnitude = if digits < 1 << 24 && fraction.len() < POWERS.len() {
+        digits as f32 / POWERS[fraction.len()]
+    } else {
+        (digits as f64 / LONG_POWERS[fraction.len()]) as f32
+    };
     Some(if negative { -magnitude } else { magnitude })
 }
 
@@ -457,6 +468,29 @@ mod tests {
             }
         }
         assert!(fast > 50_000, "only {fast} took the fast path");
+        // Long ones (as exporters write them: `93.87400100000001`), through f64.
+        let mut long = 0;
+        for _ in 0..200_000 {
+            let r = next();
+            let whole = r % 1_000_000;
+            let places = 6 + (r >> 20) % 14;
+            let fraction = next() % 10u64.pow(places as u32);
+            let sign = if r >> 63 == 1 { "-" } else { "" };
+            let text = format!("{sign}{whole}.{fraction:0width$}", width = places as usize);
+            let expected: f32 = text.parse().unwrap();
+            if let Some(value) = short_decimal(text.as_bytes()) {
+                assert_eq!(value.to_bits(), expected.to_bits(), "{text}");
+                long += 1;
+            }
+        }
+        assert!(long > 50_000, "only {long} long ones took the fast path");
+        // Halfway between two floats: rounded once, to even.
+        for text in ["16777217", "16777219", "0.16777217", "33554435"] {
+            let expected: f32 = text.parse().unwrap();
+            assert_eq!(short_decimal(text.as_bytes()), Some(expected), "{text}");
+        }
+        // Just off halfway, in more digits than f64 holds exactly: left to `str::parse`.
+        assert_eq!(short_decimal(b"16777217.000000001"), None);
         for odd in ["", ".", "-", "+", "1e5", "1.2.3", "0x10", "nan", "inf", "١"] {
             assert_eq!(short_decimal(odd.as_bytes()), None, "{odd}");
         }
