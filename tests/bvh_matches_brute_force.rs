@@ -237,6 +237,24 @@ fn scene_text(root: &[(u32, Node)], with_plane: bool, meshes: &[String; 2]) -> S
     text
 }
 
+/// The scene of `root` (and a floor, if `with_plane`), loaded, with its text for messages.
+fn generated_scene(
+    root: &[(u32, Node)],
+    with_plane: bool,
+) -> Result<(String, Scene), TestCaseError> {
+    let dir = tempfile::tempdir().unwrap();
+    let meshes = [0, 1].map(|i| {
+        let path = dir.path().join(format!("m{i}.obj"));
+        std::fs::write(&path, bumpy_mesh_obj(i)).unwrap();
+        path.to_str().unwrap().to_string()
+    });
+    let text = scene_text(root, with_plane, &meshes);
+    let description = parse_scene(Path::new("generated.txt"), &text)
+        .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
+    let (scene, _) = Scene::from_description(&description).unwrap();
+    Ok((text, scene))
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
@@ -247,16 +265,7 @@ proptest! {
         with_plane in any::<bool>(),
         cells in [1u32..12, 1u32..12, 1u32..12],
     ) {
-        let dir = tempfile::tempdir().unwrap();
-        let meshes = [0, 1].map(|i| {
-            let path = dir.path().join(format!("m{i}.obj"));
-            std::fs::write(&path, bumpy_mesh_obj(i)).unwrap();
-            path.to_str().unwrap().to_string()
-        });
-        let text = scene_text(&root, with_plane, &meshes);
-        let description = parse_scene(Path::new("generated.txt"), &text)
-            .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
-        let (mut scene, _) = Scene::from_description(&description).unwrap();
+        let (text, mut scene) = generated_scene(&root, with_plane)?;
         scene.world.use_grid(glam::UVec3::from(cells)).unwrap();
         for (from_infinity, origin, direction) in rays {
             let ray = Ray::new(Vec3A::from(origin), Vec3A::from(direction).normalize());
@@ -280,24 +289,7 @@ proptest! {
         rays in prop::collection::vec(ray(), 64),
         with_plane in any::<bool>(),
     ) {
-        let dir = tempfile::tempdir().unwrap();
-        let meshes = [0, 1].map(|i| {
-            let path = dir.path().join(format!("m{i}.obj"));
-            std::fs::write(&path, bumpy_mesh_obj(i)).unwrap();
-            path.to_str().unwrap().to_string()
-        });
-        let mut text = String::from(
-            "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }\n\
-             Materials { numMaterials 3 Material { } Material { } Material { } }\n",
-        );
-        let mut objects = root.clone();
-        if with_plane {
-            objects.push((2, Node::Plane));
-        }
-        write_node(&Node::Group(objects), &meshes, &mut text);
-        let description = parse_scene(Path::new("generated.txt"), &text)
-            .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
-        let (scene, _) = Scene::from_description(&description).unwrap();
+        let (text, scene) = generated_scene(&root, with_plane)?;
         for (from_infinity, origin, direction) in rays {
             let ray = Ray::new(Vec3A::from(origin), Vec3A::from(direction).normalize());
             let t_min = if from_infinity { f32::NEG_INFINITY } else { 0.0 };
@@ -313,16 +305,7 @@ proptest! {
         packets in prop::collection::vec(packet(), 8),
         with_plane in any::<bool>(),
     ) {
-        let dir = tempfile::tempdir().unwrap();
-        let meshes = [0, 1].map(|i| {
-            let path = dir.path().join(format!("m{i}.obj"));
-            std::fs::write(&path, bumpy_mesh_obj(i)).unwrap();
-            path.to_str().unwrap().to_string()
-        });
-        let text = scene_text(&root, with_plane, &meshes);
-        let description = parse_scene(Path::new("generated.txt"), &text)
-            .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
-        let (scene, _) = Scene::from_description(&description).unwrap();
+        let (text, scene) = generated_scene(&root, with_plane)?;
         for (from_infinity, rays) in packets {
             let rays: Vec<Ray> = rays
                 .iter()

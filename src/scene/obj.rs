@@ -117,14 +117,7 @@ fn vertex_lines(piece: &[u8]) -> usize {
     piece
         .split(|&b| b == b'\n')
         .filter(|line| {
-            let content = match memchr::memchr(b'#', line) {
-                Some(hash) => &line[..hash],
-                None => line,
-            };
-            let mut words = Words {
-                line: content,
-                pos: 0,
-            };
+            let (_, mut words) = statement(line);
             words.next().is_some_and(|(keyword, _)| keyword == b"v")
         })
         .count()
@@ -145,14 +138,7 @@ fn parse_piece(path: &Path, bytes: &[u8], start: Start) -> Result<ObjMesh, Diagn
             None if rest.is_empty() && line_number > start.line => break,
             None => std::mem::take(&mut rest),
         };
-        let content = match memchr::memchr(b'#', line) {
-            Some(hash) => &line[..hash],
-            None => line,
-        };
-        let mut words = Words {
-            line: content,
-            pos: 0,
-        };
+        let (content, mut words) = statement(line);
         let Some((keyword, keyword_at)) = words.next() else {
             continue;
         };
@@ -341,6 +327,21 @@ fn show(word: &[u8]) -> String {
 /// The character column of a byte offset, counted from 1.
 fn column(line: &[u8], offset: usize) -> u32 {
     crate::parse::column_after(&line[..offset])
+}
+
+/// A line without its comment, and the words of what is left.
+fn statement(line: &[u8]) -> (&[u8], Words<'_>) {
+    let content = match memchr::memchr(b'#', line) {
+        Some(hash) => &line[..hash],
+        None => line,
+    };
+    (
+        content,
+        Words {
+            line: content,
+            pos: 0,
+        },
+    )
 }
 
 /// Whitespace-separated words of one line, with their byte offsets.
