@@ -1,7 +1,8 @@
 //! The pixel loop: bands of 16 rows spread over rayon's threads, each band walked in 16×16
 //! tiles (neighbouring rays then meet the same nodes while they are in cache), each pixel one
-//! camera ray through its centre, handed to the [`Tracer`]. Every pixel is computed the same way
-//! whichever thread takes it, so any thread count gives the same image.
+//! camera ray through its centre, handed to the [`Tracer`] 4×4 at a time, a packet that
+//! searches the scene together. Every pixel is computed the same way whichever thread takes it,
+//! so any thread count gives the same image.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -127,35 +128,11 @@ fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
         .into_par_iter()
         .enumerate()
         .map(|(band, mut out)| {
-            let mut scratch = Scratch::default();
             let top = band as u32 * band_rows;
             let rows = band_rows.min(height - top);
-            let mut rays: ArrayVec<Ray, PACKET> = ArrayVec::new();
-            let mut indices: ArrayVec<usize, PACKET> = ArrayVec::new();
-            for tile_left in (0..width).step_by(TILE as usize) {
-                let tile_right = (tile_left + TILE).min(width);
-                for packet_top in (top..top + rows).step_by(PACKET_SIDE as usize) {
-                    for packet_left in (tile_left..tile_right).step_by(PACKET_SIDE as usize) {
-                        rays.clear();
-                        indices.clear();
-                        for row in packet_top..(packet_top + PACKET_SIDE).min(top + rows) {
-                            for column in packet_left..(packet_left + PACKET_SIDE).min(tile_right) {
-                                // Rows are stored top first; the camera counts them from the
-                                // bottom.
-                                let (u, v) =
-                                    pixel_to_screen(column, height - 1 - row, width, height);
-                                rays.push(scene.camera.ray(u, v));
-                                indices.push(((row - top) * width + column) as usize);
-                            }
-                        }
-                        tracer.camera_rays(&rays, settings.colour, &mut scratch, |i, seen, hit| {
-                            out.set(indices[i], settings, background, &rays[i], seen, hit);
-                        });
-                    }
-                }
-            }
+            let counts = render_band(&tracer, settings, background, top..top + rows, &mut out);
             progress.advance();
-            scratch.counts
+            counts
         })
         .reduce(RayCounts::default, |a, b| a + b);
     progress.finish();
@@ -174,6 +151,43 @@ fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
         rays: traced,
         film: None,
     }
+}
+
+/// The pixels of rows `rows` (a band, whose first row is the band's first pixel), tile by
+/// tile, each tile's camera rays cast in packets of PACKET_SIDE × PACKET_SIDE.
+fn render_band(
+    tracer: &Tracer,
+    settings: &RenderSettings,
+    background: [u8; 3],
+    rows: std::ops::Range<u32>,
+    out: &mut Band,
+) -> RayCounts {
+    let (width, height) = (settings.width, settings.height);
+    let camera = &tracer.scene().camera;
+    let mut scratch = Scratch::default();
+    let mut rays: ArrayVec<Ray, PACKET> = ArrayVec::new();
+    let mut indices: ArrayVec<usize, PACKET> = ArrayVec::new();
+    for tile_left in (0..width).step_by(TILE as usize) {
+        let tile_right = (tile_left + TILE).min(width);
+        for packet_top in rows.clone().step_by(PACKET_SIDE as usize) {
+            for packet_left in (tile_left..tile_right).step_by(PACKET_SIDE as usize) {
+                rays.clear();
+                indices.clear();
+                for row in packet_top..(packet_top + PACKET_SIDE).min(rows.end) {
+                    for column in packet_left..(packet_left + PACKET_SIDE).min(tile_right) {
+                        // Rows are stored top first; the camera counts them from the bottom.
+                        let (u, v) = pixel_to_screen(column, height - 1 - row, width, height);
+                        rays.push(camera.ray(u, v));
+                        indices.push(((row - rows.start) * width + column) as usize);
+                    }
+                }
+                tracer.camera_rays(&rays, settings.colour, &mut scratch, |i, seen, hit| {
+                    out.set(indices[i], settings, background, &rays[i], seen, hit);
+                });
+            }
+        }
+    }
+    scratch.counts
 }
 
 /// A picture (if it was asked for) as `band_count` runs of `band_len` pixels (the last shorter).
