@@ -1,6 +1,6 @@
 //! The pixel loop: bands of 16 rows spread over rayon's threads, each band walked in 16×16
 //! tiles (neighbouring rays then meet the same nodes while they are in cache), each pixel one
-//! camera ray through its centre, handed to the [`Tracer`] 4×4 at a time, a packet that
+//! camera ray through its centre, handed to the [`Tracer`] 8×8 at a time, a packet that
 //! searches the scene together. Every pixel is computed the same way whichever thread takes it,
 //! so any thread count gives the same image.
 
@@ -22,7 +22,7 @@ use crate::trace::{RayCounts, Scratch, TraceSettings, Tracer};
 
 const TILE: u32 = 16;
 /// Camera rays are searched in packets of this many rows and columns (see [`PACKET`]).
-const PACKET_SIDE: u32 = 4;
+const PACKET_SIDE: u32 = 8;
 const _: () = assert!((PACKET_SIDE * PACKET_SIDE) as usize <= PACKET);
 
 /// What to render and how.

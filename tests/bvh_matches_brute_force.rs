@@ -189,7 +189,7 @@ fn grid_ray() -> impl Strategy<Value = (bool, [f32; 3], [f32; 3])> {
 /// A ray's origin and direction.
 type RaySpec = ([f32; 3], [f32; 3]);
 
-/// A packet of 16 rays as the camera makes them, a 4×4 tile: from one point through a small
+/// A packet of 64 rays as the camera makes them, an 8×8 tile: from one point through a small
 /// patch of directions (perspective), or along one direction from a small patch of points
 /// (orthographic); `spread` sets the patch's size, and a wide one mixes the directions' signs.
 fn packet() -> impl Strategy<Value = (bool, Vec<RaySpec>)> {
@@ -208,9 +208,9 @@ fn packet() -> impl Strategy<Value = (bool, Vec<RaySpec>)> {
             let d = Vec3A::from(direction).normalize();
             let across = d.any_orthonormal_vector();
             let up = d.cross(across);
-            let rays = (0..16)
+            let rays = (0..64)
                 .map(|k| {
-                    let (x, y) = ((k % 4) as f32 - 1.5, (k / 4) as f32 - 1.5);
+                    let (x, y) = ((k % 8) as f32 - 3.5, (k / 8) as f32 - 3.5);
                     let offset = (x * across + y * up) * spread;
                     let (o, d) = if perspective {
                         (Vec3A::from(origin), d + offset)
@@ -313,7 +313,7 @@ proptest! {
                 .collect();
             let t_min = if from_infinity { f32::NEG_INFINITY } else { 0.0 };
             // Whole packets, and the short ones at a picture's edge.
-            for len in [16, 3] {
+            for len in [64, 24, 3] {
                 let mut together = vec![None; len];
                 scene.world.intersect_packet_with(&rays[..len], t_min, &mut together, &mut ());
                 for (ray, together) in rays.iter().zip(&together) {
@@ -325,7 +325,7 @@ proptest! {
     }
 }
 
-/// Every scene of the course, seen through its own camera at 64×64: each 4×4 tile's rays
+/// Every scene of the course, seen through its own camera at 64×64: each 8×8 tile's rays
 /// searched as a packet find what each finds alone (the pictures' pixels, before shading).
 #[test]
 fn every_course_scene_finds_the_same_hits_by_packet() {
@@ -354,16 +354,16 @@ fn every_course_scene_finds_the_same_hits_by_packet() {
             let t_min = scene.camera.t_min();
             let size = 64;
             for (top, left) in
-                (0..size / 4).flat_map(|r| (0..size / 4).map(move |c| (r * 4, c * 4)))
+                (0..size / 8).flat_map(|r| (0..size / 8).map(move |c| (r * 8, c * 8)))
             {
-                let rays: Vec<Ray> = (0..16)
+                let rays: Vec<Ray> = (0..64)
                     .map(|k| {
                         let (u, v) =
-                            raycast::camera::pixel_to_screen(left + k % 4, top + k / 4, size, size);
+                            raycast::camera::pixel_to_screen(left + k % 8, top + k / 8, size, size);
                         scene.camera.ray(u, v)
                     })
                     .collect();
-                let mut together = vec![None; 16];
+                let mut together = vec![None; 64];
                 scene
                     .world
                     .intersect_packet_with(&rays, t_min, &mut together, &mut ());

@@ -335,8 +335,8 @@ impl Bvh {
     }
 }
 
-/// The most rays searched together as one packet (the camera's rays of a 4×4 tile).
-pub const PACKET: usize = 16;
+/// The most rays searched together as one packet (the camera's rays of an 8×8 tile).
+pub const PACKET: usize = 64;
 
 /// Bounds over a packet of rays whose directions have the same sign on each axis: for each
 /// axis, the least and greatest origin coordinate and reciprocal of the direction, in all lanes.
@@ -394,6 +394,56 @@ impl<K: Wide> Frustum<K> {
 #[inline(always)]
 fn splat3<K: Wide>(wide: K, v: Vec3A) -> [K::F; 3] {
     [wide.splat(v.x), wide.splat(v.y), wide.splat(v.z)]
+}
+
+/// A packet's rays in parts whose directions agree in sign, each with its bounds: the whole
+/// packet where it can be; else its halves (a tile's top and bottom rows), and theirs, down to
+/// parts of [`SMALLEST_PART`]; a part that still disagrees comes with `None`, to be searched
+/// ray by ray.
+pub struct CoherentParts<'r, K: Wide> {
+    wide: K,
+    rays: &'r [Ray],
+    pending: ArrayVec<std::ops::Range<usize>, 8>,
+}
+
+/// Parts of a packet are not split below this many rays.
+pub const SMALLEST_PART: usize = 16;
+
+impl<'r, K: Wide> CoherentParts<'r, K> {
+    /// The parts of `rays`, in no particular order.
+    #[inline(always)]
+    pub fn new(wide: K, rays: &'r [Ray]) -> Self {
+        let mut pending = ArrayVec::new();
+        pending.push(0..rays.len());
+        CoherentParts {
+            wide,
+            rays,
+            pending,
+        }
+    }
+}
+
+impl<K: Wide> Iterator for CoherentParts<'_, K> {
+    type Item = (std::ops::Range<usize>, Option<Frustum<K>>);
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            let part = self.pending.pop()?;
+            if part.is_empty() {
+                continue;
+            }
+            if let Some(frustum) = Frustum::new(self.wide, &self.rays[part.clone()]) {
+                return Some((part, Some(frustum)));
+            }
+            if part.len() <= SMALLEST_PART {
+                return Some((part, None));
+            }
+            let middle = part.start + part.len() / 2;
+            self.pending.push(middle..part.end);
+            self.pending.push(part.start..middle);
+        }
+    }
 }
 
 /// A child waiting to be visited by a packet: lane `lane` of node `node`, entered at `t` at the

@@ -4,7 +4,7 @@
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::bvh::{Frustum, PACKET, ray_meets_box};
+use super::bvh::{CoherentParts, PACKET, ray_meets_box};
 use super::{Bvh, LeafSize, Tally};
 use crate::geometry::{
     Aabb, Ray, TRIANGLE_BLOCK, Triangle8, TriangleRayLanes, intersect_triangle, triangle_normal,
@@ -288,46 +288,58 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
             found,
             tally,
         } = self;
-        let Some(frustum) = Frustum::new(wide, rays) else {
-            for ((ray, limit), found) in rays.iter().zip(limits.iter_mut()).zip(found) {
-                if *limit >= t_min {
-                    *found = mesh.query(ray, t_min, *limit, tally).nearest(wide);
-                }
-            }
-            return;
-        };
         let mut lanes: [Option<TriangleRayLanes<K>>; PACKET] = std::array::from_fn(|_| None);
-        let start = limits.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
-        mesh.bvh.traverse_packet(
-            wide,
-            &frustum,
-            t_min,
-            start,
-            #[inline(always)]
-            |first, count, bounds, _| {
-                let mut greatest = f32::NEG_INFINITY;
-                for (i, ray) in rays.iter().enumerate() {
-                    if ray_meets_box(ray, bounds, t_min, limits[i]) {
-                        for block in first..first + count {
-                            let hit = mesh.hit_block(
-                                wide,
-                                ray,
-                                &mut lanes[i],
-                                block,
-                                t_min,
-                                limits[i],
-                                tally,
-                            );
-                            if let Some(t) = hit.and_then(|hit| keep_nearer(&mut found[i], hit)) {
-                                limits[i] = t;
-                            }
+        for (part, frustum) in CoherentParts::new(wide, rays) {
+            let offset = part.start;
+            let (rays, limits, found) = (
+                &rays[part.clone()],
+                &mut limits[part.clone()],
+                &mut found[part],
+            );
+            let Some(frustum) = frustum else {
+                for ((ray, limit), found) in rays.iter().zip(limits.iter_mut()).zip(found) {
+                    if *limit >= t_min {
+                        *found = mesh.query(ray, t_min, *limit, tally).nearest(wide);
+                        if let Some((t, _)) = *found {
+                            *limit = t;
                         }
                     }
-                    greatest = greatest.max(limits[i]);
                 }
-                greatest
-            },
-        );
+                continue;
+            };
+            let start = limits.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+            mesh.bvh.traverse_packet(
+                wide,
+                &frustum,
+                t_min,
+                start,
+                #[inline(always)]
+                |first, count, bounds, _| {
+                    let mut greatest = f32::NEG_INFINITY;
+                    for (i, ray) in rays.iter().enumerate() {
+                        if ray_meets_box(ray, bounds, t_min, limits[i]) {
+                            for block in first..first + count {
+                                let hit = mesh.hit_block(
+                                    wide,
+                                    ray,
+                                    &mut lanes[offset + i],
+                                    block,
+                                    t_min,
+                                    limits[i],
+                                    tally,
+                                );
+                                if let Some(t) = hit.and_then(|hit| keep_nearer(&mut found[i], hit))
+                                {
+                                    limits[i] = t;
+                                }
+                            }
+                        }
+                        greatest = greatest.max(limits[i]);
+                    }
+                    greatest
+                },
+            );
+        }
     }
 }
 
@@ -451,14 +463,15 @@ mod tests {
         let (mesh, _) = TriangleMesh::new(bumpy_sphere(24));
         let mut hits = 0;
         for (k, centre) in rays().iter().enumerate().take(400) {
-            // A 4×4 tile of rays around each test ray, from one point or along one direction,
-            // some so wide that their directions' signs differ.
+            // An 8×8 tile of rays around each test ray, from one point or along one direction,
+            // some so wide that their directions' signs differ (and the tile is searched in
+            // parts).
             let spread = [0.0, 1e-3, 3e-2, 0.4][k % 4];
             let across = centre.direction.any_orthonormal_vector();
             let up = centre.direction.cross(across);
             let packet: Vec<Ray> = (0..PACKET)
                 .map(|i| {
-                    let offset = ((i % 4) as f32 * across + (i / 4) as f32 * up) * spread;
+                    let offset = ((i % 8) as f32 * across + (i / 8) as f32 * up) * spread;
                     if k % 8 < 4 {
                         Ray::new(centre.origin, centre.direction + offset)
                     } else {

@@ -7,7 +7,7 @@ use std::ops::ControlFlow;
 
 use glam::UVec3;
 
-use super::bvh::{Frustum, PACKET, ray_meets_box};
+use super::bvh::{CoherentParts, PACKET, ray_meets_box};
 use super::grid::{Extent, Primitive};
 use super::{Bvh, Grid, GridError, LeafSize, Tally, TriangleMesh};
 use crate::geometry::{
@@ -319,8 +319,20 @@ impl World {
         match self.items.len() {
             0 => {}
             1 => self.packet_item(0, None, rays, t_min, nearest, tally),
-            _ => match Frustum::new(Portable, rays) {
-                Some(frustum) => {
+            _ => {
+                for (part, frustum) in CoherentParts::new(Portable, rays) {
+                    let (rays, nearest) = (&rays[part.clone()], &mut nearest[part]);
+                    let Some(frustum) = frustum else {
+                        for (ray, nearest) in rays.iter().zip(nearest.iter_mut()) {
+                            let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+                            self.top.traverse(Portable, ray, t_min, t_max, |i, t_max| {
+                                let (t, triangle) =
+                                    self.intersect_item(i, ray, t_min, t_max, tally)?;
+                                Nearest::item(t, i, triangle).replaces(nearest).then_some(t)
+                            });
+                        }
+                        continue;
+                    };
                     let limit = |n: &Option<Nearest>| n.map_or(f32::INFINITY, |n| n.t);
                     let start = nearest.iter().map(limit).fold(f32::NEG_INFINITY, f32::max);
                     self.top.traverse_packet(
@@ -336,16 +348,7 @@ impl World {
                         },
                     );
                 }
-                None => {
-                    for (ray, nearest) in rays.iter().zip(nearest.iter_mut()) {
-                        let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
-                        self.top.traverse(Portable, ray, t_min, t_max, |i, t_max| {
-                            let (t, triangle) = self.intersect_item(i, ray, t_min, t_max, tally)?;
-                            Nearest::item(t, i, triangle).replaces(nearest).then_some(t)
-                        });
-                    }
-                }
-            },
+            }
         }
         for ((ray, nearest), hit) in rays.iter().zip(nearest.iter()).zip(hits) {
             *hit = nearest.map(|n| self.hit(ray, n.t, n.found));
