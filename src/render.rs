@@ -1,7 +1,7 @@
-//! The pixel loop: bands of 16 rows spread over rayon's threads, each band walked in 16×16
-//! tiles (neighbouring rays then meet the same nodes while they are in cache), each pixel one
-//! camera ray through its centre, handed to the [`Tracer`] 8×8 at a time, a packet that
-//! searches the scene together. Every pixel is computed the same way whichever thread takes it,
+//! The pixel loop: bands of up to 16 rows spread over rayon's threads, each band walked in
+//! tiles 16 pixels wide (neighbouring rays then meet the same nodes while they are in cache),
+//! each pixel one camera ray through its centre, handed to the [`Tracer`] in blocks of 8×8 (or
+//! as many rows as the band has), a packet that searches the scene together. Every pixel is computed the same way whichever thread takes it,
 //! so any thread count gives the same image.
 
 use std::sync::atomic::{AtomicBool, Ordering};

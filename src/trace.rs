@@ -153,7 +153,7 @@ impl<'a> Tracer<'a> {
         (seen, hit)
     }
 
-    /// [`Tracer::camera_ray`] for up to [`PACKET`] rays (a tile of the picture), which search
+    /// [`Tracer::camera_ray`] for up to [`PACKET`] rays (a block of pixels), which search
     /// the scene together: `each(i, seen, hit)` gets ray i's results, the same as it alone
     /// would get.
     pub fn camera_rays(

@@ -381,3 +381,31 @@ fn every_course_scene_finds_the_same_hits_by_packet() {
     let line = format!("course scenes by packet: {scenes} scenes, same hits\n");
     let _ = std::io::Write::write_all(&mut std::io::stderr(), line.as_bytes());
 }
+
+/// A packet whose bounds take in a sphere's box while each of its rays passes beside it: under
+/// the orthographic camera (whose rays start at t = -∞) no ray may test the sphere.
+#[test]
+fn a_packet_ray_that_misses_a_box_tests_nothing_in_it() {
+    let text = "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }\n\
+                Materials { numMaterials 1 Material { } }\n\
+                Group { numObjects 2 MaterialIndex 0\n\
+                Sphere { center 0 0 0 radius 0.5 }\n\
+                Sphere { center 0 10 0 radius 0.5 } }\n";
+    let description = parse_scene(Path::new("beside.txt"), text).unwrap();
+    let (scene, _) = Scene::from_description(&description).unwrap();
+    let rays: Vec<Ray> = (0..16)
+        .map(|k| {
+            let x = if k % 2 == 0 { -2.0 } else { 2.0 };
+            Ray::new(Vec3A::new(x, (k / 2) as f32 * 0.01, 10.0), -Vec3A::Z)
+        })
+        .collect();
+    let t_min = scene.camera.t_min();
+    assert_eq!(t_min, f32::NEG_INFINITY);
+    let mut hits = vec![None; rays.len()];
+    let mut tallies = raycast::accel::Tallies::default();
+    scene
+        .world
+        .intersect_packet_with(&rays, t_min, &mut hits, &mut tallies);
+    assert_eq!(hits, vec![None; rays.len()]);
+    assert_eq!(tallies.intersections, 0);
+}

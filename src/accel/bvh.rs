@@ -335,7 +335,7 @@ impl Bvh {
     }
 }
 
-/// The most rays searched together as one packet (the camera's rays of an 8×8 tile).
+/// The most rays searched together as one packet (the camera's rays of an 8×8 block of pixels).
 pub const PACKET: usize = 64;
 
 /// Bounds over a packet of rays whose directions have the same sign on each axis: for each
@@ -343,11 +343,11 @@ pub const PACKET: usize = 64;
 ///
 /// A box test over these bounds is conservative by construction, not by a margin: each ray's
 /// own test computes `(plane - origin) * inv_direction`, and both the subtraction and the
-/// multiplication, rounded, are monotone in each operand (for an operand of fixed sign). So the
-/// least of those products over the packet is the least of the two products at the bounds'
-/// corners, which is what the packet's box test computes: no ray can meet a box, or meet it sooner,
-/// than the bounds say.
-pub struct Frustum<K: Wide> {
+/// multiplication, rounded, are monotone in each operand (for an operand of fixed sign). So no
+/// ray's product is below the least of the products at the bounds' corners (a corner may pair
+/// one ray's origin with another's direction), which is what the packet's box test computes:
+/// no ray can meet a box, or meet it sooner, than the bounds say.
+pub struct PacketBounds<K: Wide> {
     /// Per axis, the origin bound that gives the earliest near-plane t: the greatest origin
     /// where the direction is positive, the least where it is negative.
     near_origin: [K::F; 3],
@@ -355,10 +355,11 @@ pub struct Frustum<K: Wide> {
     far_origin: [K::F; 3],
     /// Per axis, the least and greatest reciprocal direction.
     inv: [[K::F; 3]; 2],
+    /// Per axis, which of a box's bounds (0: min, 1: max) is its near side for every ray.
     near_side: [usize; 3],
 }
 
-impl<K: Wide> Frustum<K> {
+impl<K: Wide> PacketBounds<K> {
     /// The bounds over `rays`; `None` when there are none, or when their directions differ in
     /// sign on some axis (rays on either side of an axis plane meet boxes in different orders).
     #[inline(always)]
@@ -380,7 +381,7 @@ impl<K: Wide> Frustum<K> {
         let near_origin = Vec3A::select(negative, origin_lo, origin_hi);
         let far_origin = Vec3A::select(negative, origin_hi, origin_lo);
         let negative = negative.bitmask();
-        Some(Frustum {
+        Some(PacketBounds {
             near_origin: splat3(wide, near_origin),
             far_origin: splat3(wide, far_origin),
             inv: [splat3(wide, inv_lo), splat3(wide, inv_hi)],
@@ -397,9 +398,9 @@ fn splat3<K: Wide>(wide: K, v: Vec3A) -> [K::F; 3] {
 }
 
 /// A packet's rays in parts whose directions agree in sign, each with its bounds: the whole
-/// packet where it can be; else its halves (a tile's top and bottom rows), and theirs, down to
-/// parts of [`SMALLEST_PART`]; a part that still disagrees comes with `None`, to be searched
-/// ray by ray.
+/// packet where it can be; else its halves (a block's top and bottom four rows), and theirs,
+/// down to parts of [`SMALLEST_PART`]; a part that still disagrees comes with `None`, to be
+/// searched ray by ray.
 pub struct CoherentParts<'r, K: Wide> {
     wide: K,
     rays: &'r [Ray],
@@ -410,7 +411,7 @@ pub struct CoherentParts<'r, K: Wide> {
 pub const SMALLEST_PART: usize = 16;
 
 impl<'r, K: Wide> CoherentParts<'r, K> {
-    /// The parts of `rays`, in no particular order.
+    /// The parts of `rays`, in the rays' order.
     #[inline(always)]
     pub fn new(wide: K, rays: &'r [Ray]) -> Self {
         let mut pending = ArrayVec::new();
@@ -424,7 +425,7 @@ impl<'r, K: Wide> CoherentParts<'r, K> {
 }
 
 impl<K: Wide> Iterator for CoherentParts<'_, K> {
-    type Item = (std::ops::Range<usize>, Option<Frustum<K>>);
+    type Item = (std::ops::Range<usize>, Option<PacketBounds<K>>);
 
     #[inline(always)]
     fn next(&mut self) -> Option<Self::Item> {
@@ -433,8 +434,8 @@ impl<K: Wide> Iterator for CoherentParts<'_, K> {
             if part.is_empty() {
                 continue;
             }
-            if let Some(frustum) = Frustum::new(self.wide, &self.rays[part.clone()]) {
-                return Some((part, Some(frustum)));
+            if let Some(bounds) = PacketBounds::new(self.wide, &self.rays[part.clone()]) {
+                return Some((part, Some(bounds)));
             }
             if part.len() <= SMALLEST_PART {
                 return Some((part, None));
@@ -456,22 +457,24 @@ struct PacketPending {
 }
 
 impl Bvh {
-    /// Closest-hit traversal for a packet of rays at once, over the bounds `frustum` puts
+    /// Closest-hit traversal for a packet of rays at once, under the bounds `packet` puts
     /// around them: each node's eight boxes are tested once for the whole packet, nearest
-    /// first. `t_max` is the greatest of the rays' limits; `leaf(first, count, bounds, t_max)`
-    /// tests the leaf's entries against each ray that meets `bounds` (see [`ray_meets_box`])
-    /// and returns the new greatest limit. Returns the final one.
+    /// first. `t_max` is the greatest of the rays' limits; `leaf(first, count, bounds)` tests
+    /// the leaf's entries against each ray that meets the leaf's box `bounds` (see
+    /// [`ray_meets_box`]) and returns the new greatest limit. Returns the final one.
     ///
-    /// Every ray reaches every leaf its own [`Bvh::traverse`] would, so with an order-free rule
-    /// for ties the hits are the same.
+    /// Every ray reaches every leaf its own [`Bvh::traverse`] would reach with the same limit.
+    /// Its limit may fall in another order here, so the hits are the same given an order-free
+    /// rule for ties and boxes whose entry never rounds past a hit inside them (they are padded
+    /// by a few ulps: see `padded`).
     #[inline(always)]
     pub fn traverse_packet<K: Wide>(
         &self,
         wide: K,
-        frustum: &Frustum<K>,
+        packet: &PacketBounds<K>,
         t_min: f32,
         mut t_max: f32,
-        mut leaf: impl FnMut(u32, u32, &Aabb, f32) -> f32,
+        mut leaf: impl FnMut(u32, u32, &Aabb) -> f32,
     ) -> f32 {
         if self.nodes.is_empty() {
             return t_max;
@@ -481,7 +484,7 @@ impl Bvh {
         loop {
             if let Some(index) = open.take() {
                 let node = &self.nodes[index as usize];
-                let (entry, mut mask) = frustum_lanes(wide, node, frustum, t_min, t_max);
+                let (entry, mut mask) = packet_lanes(wide, node, packet, t_min, t_max);
                 // The hit children, farthest first, so that the nearest is popped first.
                 let mut hits = [PacketPending {
                     node: index,
@@ -521,39 +524,44 @@ impl Bvh {
             if count == 0 {
                 open = Some(child);
             } else {
-                t_max = leaf(child, count, &node.lane_box(lane), t_max);
+                t_max = leaf(child, count, &node.lane_box(lane));
             }
         }
     }
 }
 
-/// The packet's bounds against a node's eight boxes: for each, the earliest entry of any ray
-/// of the packet, and a bit mask of the lanes some ray may meet.
+/// The packet's bounds against a node's eight boxes: for each, a t no later than any ray of the
+/// packet enters it, and a bit mask of the lanes some ray may meet.
 #[inline(always)]
-fn frustum_lanes<K: Wide>(
+fn packet_lanes<K: Wide>(
     wide: K,
     node: &Node,
-    frustum: &Frustum<K>,
+    bounds: &PacketBounds<K>,
     t_min: f32,
     t_max: f32,
 ) -> ([f32; WIDTH], u32) {
-    let (nx, fx) = frustum_slab(wide, node, frustum, 0);
-    let (ny, fy) = frustum_slab(wide, node, frustum, 1);
-    let (nz, fz) = frustum_slab(wide, node, frustum, 2);
+    let (nx, fx) = packet_slab(wide, node, bounds, 0);
+    let (ny, fy) = packet_slab(wide, node, bounds, 1);
+    let (nz, fz) = packet_slab(wide, node, bounds, 2);
     let entry = nx.max(ny).max(nz.max(wide.splat(t_min)));
     let exit = fx.min(fy).min(fz.min(wide.splat(t_max)));
     let mask = entry.le(exit) & node.lanes;
     (entry.to_array(), mask)
 }
 
-/// The earliest t at which any ray of the packet crosses the near plane of each box on `axis`,
-/// and the latest at which any crosses the far plane.
+/// For each box, on `axis`: a t no later than any ray of the packet crosses the near plane, and
+/// one no earlier than any crosses the far plane.
 #[inline(always)]
-fn frustum_slab<K: Wide>(wide: K, node: &Node, frustum: &Frustum<K>, axis: usize) -> (K::F, K::F) {
-    let [inv_lo, inv_hi] = &frustum.inv;
-    let side = frustum.near_side[axis];
-    let near = wide.load(&node.bounds[side & 1][axis]) - frustum.near_origin[axis];
-    let far = wide.load(&node.bounds[(side ^ 1) & 1][axis]) - frustum.far_origin[axis];
+fn packet_slab<K: Wide>(
+    wide: K,
+    node: &Node,
+    bounds: &PacketBounds<K>,
+    axis: usize,
+) -> (K::F, K::F) {
+    let [inv_lo, inv_hi] = &bounds.inv;
+    let side = bounds.near_side[axis];
+    let near = wide.load(&node.bounds[side & 1][axis]) - bounds.near_origin[axis];
+    let far = wide.load(&node.bounds[(side ^ 1) & 1][axis]) - bounds.far_origin[axis];
     (
         (near * inv_lo[axis]).min(near * inv_hi[axis]),
         (far * inv_lo[axis]).max(far * inv_hi[axis]),
@@ -565,19 +573,24 @@ fn frustum_slab<K: Wide>(wide: K, node: &Node, frustum: &Frustum<K>, axis: usize
 /// exactly when each ray alone would.
 #[inline(always)]
 pub fn ray_meets_box(ray: &Ray, b: &Aabb, t_min: f32, t_max: f32) -> bool {
-    let (mut entry, mut exit) = (t_min, t_max);
-    for axis in 0..3 {
+    let slab = |axis: usize| {
         let inv = ray.inv_direction[axis];
         let (near, far) = if inv < 0.0 {
             (b.max[axis], b.min[axis])
         } else {
             (b.min[axis], b.max[axis])
         };
-        let t_near = (near - ray.origin[axis]) * inv;
-        let t_far = (far - ray.origin[axis]) * inv;
-        entry = if entry > t_near { entry } else { t_near };
-        exit = if exit < t_far { exit } else { t_far };
-    }
+        (
+            (near - ray.origin[axis]) * inv,
+            (far - ray.origin[axis]) * inv,
+        )
+    };
+    // `Lanes::max` and `min`, grouped as in `hit_lanes`: the same answer even for a NaN.
+    let max = |a: f32, b: f32| if a > b { a } else { b };
+    let min = |a: f32, b: f32| if a < b { a } else { b };
+    let ((nx, fx), (ny, fy), (nz, fz)) = (slab(0), slab(1), slab(2));
+    let entry = max(max(nx, ny), max(nz, t_min));
+    let exit = min(min(fx, fy), min(fz, t_max));
     entry <= exit
 }
 

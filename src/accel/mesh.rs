@@ -88,9 +88,10 @@ impl TriangleMesh {
     }
 
     /// [`TriangleMesh::intersect_with`] for up to [`PACKET`] rays at once, with the same results:
-    /// `limits[i]` is ray i's t_max; `found[i]` becomes its hit, if it has one within it, and
-    /// `limits[i]` that hit's t. Rays that share their directions' signs (neighbouring camera
-    /// rays, mostly) walk the tree together; others each alone.
+    /// `limits[i]` is ray i's t_max, or [`ASKS_NOTHING`] for a ray that is not to search;
+    /// `found[i]` becomes its hit, if it has one within it, and `limits[i]` that hit's t. Rays
+    /// that share their directions' signs (neighbouring camera rays, mostly) walk the tree
+    /// together; others each alone.
     #[inline(always)]
     pub fn intersect_packet<T: Tally>(
         &self,
@@ -264,6 +265,10 @@ fn keep_nearer(found: &mut Option<(f32, u32)>, (t, index): (f32, u32)) -> Option
     Some(t)
 }
 
+/// A packet ray's limit that asks nothing of it (it missed the mesh's box, say): not "below
+/// t_min", since the orthographic camera's t_min is already -∞.
+pub const ASKS_NOTHING: f32 = f32::NEG_INFINITY;
+
 /// The closest-hit search of a packet of rays, as work for [`dispatch`]: `limits[i]` is ray
 /// i's t_max on the way in, and on the way out the t of its hit if it found one (in `found`).
 struct PacketNearest<'a, T> {
@@ -289,16 +294,16 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
             tally,
         } = self;
         let mut lanes: [Option<TriangleRayLanes<K>>; PACKET] = std::array::from_fn(|_| None);
-        for (part, frustum) in CoherentParts::new(wide, rays) {
+        for (part, around) in CoherentParts::new(wide, rays) {
             let offset = part.start;
             let (rays, limits, found) = (
                 &rays[part.clone()],
                 &mut limits[part.clone()],
                 &mut found[part],
             );
-            let Some(frustum) = frustum else {
+            let Some(around) = around else {
                 for ((ray, limit), found) in rays.iter().zip(limits.iter_mut()).zip(found) {
-                    if *limit >= t_min {
+                    if *limit != ASKS_NOTHING {
                         *found = mesh.query(ray, t_min, *limit, tally).nearest(wide);
                         if let Some((t, _)) = *found {
                             *limit = t;
@@ -307,17 +312,21 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
                 }
                 continue;
             };
-            let start = limits.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b));
+            let start = limits.iter().fold(ASKS_NOTHING, |a, &b| a.max(b));
+            if start == ASKS_NOTHING {
+                continue;
+            }
             mesh.bvh.traverse_packet(
                 wide,
-                &frustum,
+                &around,
                 t_min,
                 start,
                 #[inline(always)]
-                |first, count, bounds, _| {
-                    let mut greatest = f32::NEG_INFINITY;
+                |first, count, bounds| {
+                    let mut greatest = ASKS_NOTHING;
                     for (i, ray) in rays.iter().enumerate() {
-                        if ray_meets_box(ray, bounds, t_min, limits[i]) {
+                        let asks = limits[i] != ASKS_NOTHING;
+                        if asks && ray_meets_box(ray, bounds, t_min, limits[i]) {
                             for block in first..first + count {
                                 let hit = mesh.hit_block(
                                     wide,

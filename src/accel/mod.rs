@@ -6,9 +6,9 @@ pub mod grid;
 mod mesh;
 mod world;
 
-pub use bvh::{Bvh, Frustum, LeafSize, PACKET, ray_meets_box};
+pub use bvh::{Bvh, LeafSize, PACKET, PacketBounds, ray_meets_box};
 pub use grid::{Grid, GridError};
-pub use mesh::TriangleMesh;
+pub use mesh::{ASKS_NOTHING, TriangleMesh};
 pub use world::{Hit, Item, World, WorldStats};
 
 /// What a search counts for the course's `-stats`: primitives tested (whether hit or not) and

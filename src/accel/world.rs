@@ -9,7 +9,7 @@ use glam::UVec3;
 
 use super::bvh::{CoherentParts, PACKET, ray_meets_box};
 use super::grid::{Extent, Primitive};
-use super::{Bvh, Grid, GridError, LeafSize, Tally, TriangleMesh};
+use super::{ASKS_NOTHING, Bvh, Grid, GridError, LeafSize, Tally, TriangleMesh};
 use crate::geometry::{
     Aabb, Plane, Ray, Sphere, Transform, intersect_plane, intersect_sphere, intersect_triangle_in,
     unit_normal,
@@ -294,8 +294,10 @@ impl World {
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
-    /// [`World::intersect_with`] for up to [`PACKET`] rays at once (the camera's rays of a
-    /// tile), each hit exactly as that ray alone would find it: `hits[i]` is ray i's.
+    /// [`World::intersect_with`] for up to [`PACKET`] rays at once (the camera's rays of a block
+    /// of pixels), each hit exactly as that ray alone would find it: `hits[i]` is ray i's. The
+    /// primitives counted for `-stats` are those the packet's rays test, which are not always
+    /// those each would test alone (a ray's limit falls in another order).
     pub fn intersect_packet_with<T: Tally>(
         &self,
         rays: &[Ray],
@@ -320,9 +322,9 @@ impl World {
             0 => {}
             1 => self.packet_item(0, None, rays, t_min, nearest, tally),
             _ => {
-                for (part, frustum) in CoherentParts::new(Portable, rays) {
+                for (part, around) in CoherentParts::new(Portable, rays) {
                     let (rays, nearest) = (&rays[part.clone()], &mut nearest[part]);
-                    let Some(frustum) = frustum else {
+                    let Some(around) = around else {
                         for (ray, nearest) in rays.iter().zip(nearest.iter_mut()) {
                             let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
                             self.top.traverse(Portable, ray, t_min, t_max, |i, t_max| {
@@ -337,10 +339,10 @@ impl World {
                     let start = nearest.iter().map(limit).fold(f32::NEG_INFINITY, f32::max);
                     self.top.traverse_packet(
                         Portable,
-                        &frustum,
+                        &around,
                         t_min,
                         start,
-                        |first, count, bounds, _| {
+                        |first, count, bounds| {
                             for item in first..first + count {
                                 self.packet_item(item, Some(bounds), rays, t_min, nearest, tally);
                             }
@@ -367,11 +369,11 @@ impl World {
         nearest: &mut [Option<Nearest>],
         tally: &mut T,
     ) {
-        let mut limits = [f32::NEG_INFINITY; PACKET];
+        let mut limits = [ASKS_NOTHING; PACKET];
         let limits = &mut limits[..rays.len()];
         for ((ray, nearest), limit) in rays.iter().zip(nearest.iter()).zip(limits.iter_mut()) {
             let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
-            // A ray that misses the item's box never tests it: a limit below t_min.
+            // A ray that misses the item's box never tests it.
             if bounds.is_none_or(|b| ray_meets_box(ray, b, t_min, t_max)) {
                 *limit = t_max;
             }
@@ -404,7 +406,7 @@ impl World {
             }
             _ => {
                 for ((ray, nearest), &limit) in rays.iter().zip(nearest).zip(limits.iter()) {
-                    if limit < t_min {
+                    if limit == ASKS_NOTHING {
                         continue;
                     }
                     if let Some((t, triangle)) = self.intersect_item(i, ray, t_min, limit, tally) {
