@@ -484,7 +484,7 @@ impl Bvh {
         loop {
             if let Some(index) = open.take() {
                 let node = &self.nodes[index as usize];
-                let (entry, mut mask) = packet_lanes(wide, node, packet, t_min, t_max);
+                let (entry, mut mask) = hit_lanes(wide, node, packet, t_min, t_max);
                 // The hit children, farthest first, so that the nearest is popped first.
                 let mut hits = [PacketPending {
                     node: index,
@@ -530,44 +530,6 @@ impl Bvh {
     }
 }
 
-/// The packet's bounds against a node's eight boxes: for each, a t no later than any ray of the
-/// packet enters it, and a bit mask of the lanes some ray may meet.
-#[inline(always)]
-fn packet_lanes<K: Wide>(
-    wide: K,
-    node: &Node,
-    bounds: &PacketBounds<K>,
-    t_min: f32,
-    t_max: f32,
-) -> ([f32; WIDTH], u32) {
-    let (nx, fx) = packet_slab(wide, node, bounds, 0);
-    let (ny, fy) = packet_slab(wide, node, bounds, 1);
-    let (nz, fz) = packet_slab(wide, node, bounds, 2);
-    let entry = nx.max(ny).max(nz.max(wide.splat(t_min)));
-    let exit = fx.min(fy).min(fz.min(wide.splat(t_max)));
-    let mask = entry.le(exit) & node.lanes;
-    (entry.to_array(), mask)
-}
-
-/// For each box, on `axis`: a t no later than any ray of the packet crosses the near plane, and
-/// one no earlier than any crosses the far plane.
-#[inline(always)]
-fn packet_slab<K: Wide>(
-    wide: K,
-    node: &Node,
-    bounds: &PacketBounds<K>,
-    axis: usize,
-) -> (K::F, K::F) {
-    let [inv_lo, inv_hi] = &bounds.inv;
-    let side = bounds.near_side[axis];
-    let near = wide.load(&node.bounds[side & 1][axis]) - bounds.near_origin[axis];
-    let far = wide.load(&node.bounds[(side ^ 1) & 1][axis]) - bounds.far_origin[axis];
-    (
-        (near * inv_lo[axis]).min(near * inv_hi[axis]),
-        (far * inv_lo[axis]).max(far * inv_hi[axis]),
-    )
-}
-
 /// Whether one ray meets a box within [t_min, t_max], by the very arithmetic of the eight-wide
 /// test in [`Bvh::traverse`] (one lane of it), so that a packet's rays test a leaf's contents
 /// exactly when each ray alone would.
@@ -594,33 +556,56 @@ pub fn ray_meets_box(ray: &Ray, b: &Aabb, t_min: f32, t_max: f32) -> bool {
     entry <= exit
 }
 
-/// The ray against a node's eight boxes: entry distances, and a bit mask of the lanes hit.
+/// What the eight-wide box test asks of a ray, or of a packet's bounds: on an axis, for each of
+/// a node's boxes, when the near plane is crossed and when the far one is (for a packet, no
+/// later and no earlier than any of its rays).
+trait Slabs<K: Wide> {
+    fn slab(&self, wide: K, node: &Node, axis: usize) -> (K::F, K::F);
+}
+
+impl<K: Wide> Slabs<K> for BoxRayLanes<K> {
+    #[inline(always)]
+    fn slab(&self, wide: K, node: &Node, axis: usize) -> (K::F, K::F) {
+        let near = wide.load(&node.bounds[self.near_side[axis] & 1][axis]);
+        let far = wide.load(&node.bounds[(self.near_side[axis] ^ 1) & 1][axis]);
+        (
+            (near - self.origin[axis]) * self.inv_direction[axis],
+            (far - self.origin[axis]) * self.inv_direction[axis],
+        )
+    }
+}
+
+impl<K: Wide> Slabs<K> for PacketBounds<K> {
+    #[inline(always)]
+    fn slab(&self, wide: K, node: &Node, axis: usize) -> (K::F, K::F) {
+        let [inv_lo, inv_hi] = &self.inv;
+        let side = self.near_side[axis];
+        let near = wide.load(&node.bounds[side & 1][axis]) - self.near_origin[axis];
+        let far = wide.load(&node.bounds[(side ^ 1) & 1][axis]) - self.far_origin[axis];
+        (
+            (near * inv_lo[axis]).min(near * inv_hi[axis]),
+            (far * inv_lo[axis]).max(far * inv_hi[axis]),
+        )
+    }
+}
+
+/// A ray (or a packet's bounds) against a node's eight boxes: entry distances, and a bit mask of
+/// the lanes hit.
 #[inline(always)]
 fn hit_lanes<K: Wide>(
     wide: K,
     node: &Node,
-    ray: &BoxRayLanes<K>,
+    ray: &impl Slabs<K>,
     t_min: f32,
     t_max: f32,
 ) -> ([f32; WIDTH], u32) {
-    let (nx, fx) = slab(wide, node, ray, 0);
-    let (ny, fy) = slab(wide, node, ray, 1);
-    let (nz, fz) = slab(wide, node, ray, 2);
+    let (nx, fx) = ray.slab(wide, node, 0);
+    let (ny, fy) = ray.slab(wide, node, 1);
+    let (nz, fz) = ray.slab(wide, node, 2);
     let entry = nx.max(ny).max(nz.max(wide.splat(t_min)));
     let exit = fx.min(fy).min(fz.min(wide.splat(t_max)));
     let mask = entry.le(exit) & node.lanes;
     (entry.to_array(), mask)
-}
-
-/// The t at which the ray crosses the near and the far plane of each box on `axis`.
-#[inline(always)]
-fn slab<K: Wide>(wide: K, node: &Node, ray: &BoxRayLanes<K>, axis: usize) -> (K::F, K::F) {
-    let near = wide.load(&node.bounds[ray.near_side[axis] & 1][axis]);
-    let far = wide.load(&node.bounds[(ray.near_side[axis] ^ 1) & 1][axis]);
-    (
-        (near - ray.origin[axis]) * ray.inv_direction[axis],
-        (far - ray.origin[axis]) * ray.inv_direction[axis],
-    )
 }
 
 /// Centroids are kept doubled (min + max): the same order, one multiplication fewer.

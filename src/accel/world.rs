@@ -128,6 +128,12 @@ struct Nearest {
     found: Found,
 }
 
+/// How far a search need still look, given the nearest hit so far.
+#[inline(always)]
+fn search_limit(nearest: &Option<Nearest>) -> f32 {
+    nearest.map_or(f32::INFINITY, |n| n.t)
+}
+
 impl Nearest {
     fn plane(t: f32, plane: u32) -> Nearest {
         Nearest {
@@ -275,12 +281,23 @@ impl World {
             self.grid_nearest(grid, ray, t_min, &mut nearest, tally);
             return nearest.map(|n| self.hit(ray, n.t, n.found));
         }
-        let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+        self.nearest_item(ray, t_min, &mut nearest, tally);
+        nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// The items' part of [`World::intersect_with`]: replaces `nearest` with a nearer item hit.
+    #[inline(always)]
+    fn nearest_item<T: Tally>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        nearest: &mut Option<Nearest>,
+        tally: &mut T,
+    ) {
+        let t_max = search_limit(nearest);
         let mut test = |i, t_max| {
             let (t, triangle) = self.intersect_item(i, ray, t_min, t_max, tally)?;
-            Nearest::item(t, i, triangle)
-                .replaces(&mut nearest)
-                .then_some(t)
+            Nearest::item(t, i, triangle).replaces(nearest).then_some(t)
         };
         // A scene of one mesh (the common case for big meshes) needs no top-level tree.
         match self.items.len() {
@@ -291,7 +308,6 @@ impl World {
                 self.top.traverse(Portable, ray, t_min, t_max, test);
             }
         }
-        nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
     /// [`World::intersect_with`] for up to [`PACKET`] rays at once (the camera's rays of a block
@@ -326,17 +342,14 @@ impl World {
                     let (rays, nearest) = (&rays[part.clone()], &mut nearest[part]);
                     let Some(around) = around else {
                         for (ray, nearest) in rays.iter().zip(nearest.iter_mut()) {
-                            let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
-                            self.top.traverse(Portable, ray, t_min, t_max, |i, t_max| {
-                                let (t, triangle) =
-                                    self.intersect_item(i, ray, t_min, t_max, tally)?;
-                                Nearest::item(t, i, triangle).replaces(nearest).then_some(t)
-                            });
+                            self.nearest_item(ray, t_min, nearest, tally);
                         }
                         continue;
                     };
-                    let limit = |n: &Option<Nearest>| n.map_or(f32::INFINITY, |n| n.t);
-                    let start = nearest.iter().map(limit).fold(f32::NEG_INFINITY, f32::max);
+                    let start = nearest
+                        .iter()
+                        .map(search_limit)
+                        .fold(f32::NEG_INFINITY, f32::max);
                     self.top.traverse_packet(
                         Portable,
                         &around,
@@ -346,7 +359,10 @@ impl World {
                             for item in first..first + count {
                                 self.packet_item(item, Some(bounds), rays, t_min, nearest, tally);
                             }
-                            nearest.iter().map(limit).fold(f32::NEG_INFINITY, f32::max)
+                            nearest
+                                .iter()
+                                .map(search_limit)
+                                .fold(f32::NEG_INFINITY, f32::max)
                         },
                     );
                 }
@@ -372,7 +388,7 @@ impl World {
         let mut limits = [ASKS_NOTHING; PACKET];
         let limits = &mut limits[..rays.len()];
         for ((ray, nearest), limit) in rays.iter().zip(nearest.iter()).zip(limits.iter_mut()) {
-            let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+            let t_max = search_limit(nearest);
             // A ray that misses the item's box never tests it.
             if bounds.is_none_or(|b| ray_meets_box(ray, b, t_min, t_max)) {
                 *limit = t_max;
@@ -428,13 +444,13 @@ impl World {
         nearest: &mut Option<Nearest>,
         tally: &mut T,
     ) {
-        let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+        let t_max = search_limit(nearest);
         let mut local = None;
         grid.walk(ray, t_min, t_max, |cell| {
             tally.cell();
             for p in cell.primitives {
                 tally.tested(1);
-                let limit = nearest.map_or(f32::INFINITY, |n| n.t);
+                let limit = search_limit(nearest);
                 if let Some(t) = self.intersect_primitive(p, ray, t_min, limit, &mut local) {
                     Nearest::item(t, p.item, p.triangle).replaces(nearest);
                 }
@@ -564,7 +580,7 @@ impl World {
     pub fn intersect_brute_force(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
         let mut nearest = self.nearest_plane(ray, t_min);
         for (i, item) in self.items.iter().enumerate() {
-            let t_max = nearest.map_or(f32::INFINITY, |n| n.t);
+            let t_max = search_limit(&nearest);
             let local = self.ray_into(item, ray);
             let hit = match *item {
                 Item::Sphere { sphere, .. } => {
@@ -587,7 +603,7 @@ impl World {
     fn nearest_plane(&self, ray: &Ray, t_min: f32) -> Option<Nearest> {
         let mut nearest = None;
         for (i, (plane, _)) in self.planes.iter().enumerate() {
-            let t_max = nearest.map_or(f32::INFINITY, |n: Nearest| n.t);
+            let t_max = search_limit(&nearest);
             if let Some(t) = intersect_plane(ray, plane, t_min, t_max) {
                 Nearest::plane(t, i as u32).replaces(&mut nearest);
             }
