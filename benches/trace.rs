@@ -12,8 +12,8 @@ use divan::Bencher;
 use divan::counter::ItemsCount;
 use glam::Vec3;
 use raycast::accel::TriangleMesh;
+use raycast::parse::obj::parse_obj;
 use raycast::render::{RenderSettings, render};
-use raycast::scene::obj::parse_obj;
 use raycast::{Scene, parse::parse_scene};
 
 fn main() {

@@ -10,8 +10,10 @@ use std::path::PathBuf;
 
 use raycast::glam::DVec3;
 use raycast::image_io::{self, ImageFormat};
+use raycast::parse::description::{
+    CameraSpec, LightSpec, MaterialSpec, Pattern, PhongSpec, Shape, TextureSpec,
+};
 use raycast::render::render;
-use raycast::scene::model::{CameraSpec, LightSpec, Material, Pattern, Phong, Shape, Texture};
 use raycast::trace::TraceSettings;
 use raycast::{DMat4, RenderSettings, SceneBuilder, Vec3};
 
@@ -21,29 +23,29 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from("target/built_in_code.png"));
 
-    let white = Material::Phong(Phong::diffuse(Vec3::splat(0.9)));
-    let dark = Material::Phong(Phong::diffuse(Vec3::splat(0.15)));
-    let checker = Material::Texture(Texture {
+    let white = MaterialSpec::Phong(PhongSpec::diffuse(Vec3::splat(0.9)));
+    let dark = MaterialSpec::Phong(PhongSpec::diffuse(Vec3::splat(0.15)));
+    let checker = MaterialSpec::Texture(TextureSpec {
         pattern: Pattern::Checkerboard,
         to_texture: DMat4::from_translation(DVec3::new(0.0, 0.5, 0.0)),
         materials: [0, 1],
     });
-    let red = Material::Phong(Phong {
+    let red = MaterialSpec::Phong(PhongSpec {
         specular: Vec3::splat(0.6),
         exponent: 40.0,
-        ..Phong::diffuse(Vec3::new(0.85, 0.15, 0.1))
+        ..PhongSpec::diffuse(Vec3::new(0.85, 0.15, 0.1))
     });
-    let mirror = Material::Phong(Phong {
+    let mirror = MaterialSpec::Phong(PhongSpec {
         reflective: Vec3::splat(0.85),
-        ..Phong::diffuse(Vec3::splat(0.05))
+        ..PhongSpec::diffuse(Vec3::splat(0.05))
     });
-    let glass = Material::Phong(Phong {
+    let glass = MaterialSpec::Phong(PhongSpec {
         specular: Vec3::splat(0.9),
         exponent: 100.0,
         reflective: Vec3::splat(0.1),
         transparent: Vec3::splat(0.85),
         index_of_refraction: 1.5,
-        ..Phong::diffuse(Vec3::ZERO)
+        ..PhongSpec::diffuse(Vec3::ZERO)
     });
 
     let scene = SceneBuilder::new(CameraSpec::perspective(

@@ -3,7 +3,7 @@
 use glam::Vec3A;
 
 use crate::geometry::Ray;
-use crate::scene::model::{CameraSpec, Projection};
+use crate::parse::description::{CameraSpec, Projection};
 
 /// A camera ready to cast rays: its unit frame, worked out once, and its projection.
 #[derive(Debug, Clone, Copy, PartialEq)]

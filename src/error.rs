@@ -3,7 +3,21 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::parse::Span;
+/// A place in a text file, both counted from 1; columns count characters, not bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Span {
+    /// From 1.
+    pub line: u32,
+    /// From 1, in characters.
+    pub column: u32,
+}
+
+impl Span {
+    /// The place at `line` and `column`, both counted from 1.
+    pub fn new(line: u32, column: u32) -> Self {
+        Span { line, column }
+    }
+}
 
 /// A problem at one place in an input file: `file:line:column: message`.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -12,17 +12,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use crate::error::Error;
-
-/// An 8-bit RGB picture, top row first.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Image {
-    /// In pixels.
-    pub width: u32,
-    /// In pixels.
-    pub height: u32,
-    /// `width × height` pixels as R, G, B bytes: rows top first, each from the left.
-    pub pixels: Vec<[u8; 3]>,
-}
+use crate::shade::Image;
 
 /// A picture file's format, chosen by the extension of its name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -144,6 +134,14 @@ pub(crate) fn folder_of(path: &Path) -> &Path {
 
 /// A TGA can say at most 65535 pixels a side.
 pub const TGA_MAX_SIDE: u32 = u16::MAX as u32;
+
+/// The largest side accepted, and the most pixels: about 270 million, which at 7 bytes a pixel
+/// while rendering and up to three 3-byte pictures after is about 4.5 GB at the peak.
+pub const MAX_SIDE: u32 = 32768;
+/// See [`MAX_SIDE`].
+pub const MAX_PIXELS: u64 = 1 << 28;
+// Every size accepted fits a TGA header's 16-bit sides.
+const _: () = assert!(MAX_SIDE <= TGA_MAX_SIDE);
 
 /// Output files of one run, each reserved as a temporary file in its target's folder before the
 /// render starts (so an unwritable folder is found before any work), and renamed into place

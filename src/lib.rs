@@ -8,7 +8,7 @@
 //!
 //! ```
 //! use raycast::{RenderSettings, SceneBuilder, Vec3};
-//! use raycast::scene::model::{CameraSpec, LightSpec, Material, Phong, Shape};
+//! use raycast::parse::description::{CameraSpec, LightSpec, Material, Phong, Shape};
 //!
 //! let scene = SceneBuilder::new(CameraSpec::orthographic(
 //!     Vec3::new(0.0, 0.0, 10.0), Vec3::NEG_Z, Vec3::Y, 5.0))
@@ -23,7 +23,7 @@
 //! ```
 //!
 //! The stages, each a module that knows only those before it: scene text ([`parse`]) → scene
-//! description ([`scene::model`]) → render-ready [`Scene`] (lights and materials in [`scene`],
+//! description ([`parse::description`]) → render-ready [`Scene`] (lights and materials in [`scene`],
 //! geometry in [`geometry`], trees and the course's grid in [`accel`]) → rays from the
 //! [`camera`], placed by the samplers of [`sample`] → the pixel loop ([`render`]) → the ray
 //! tracer ([`trace`]) and pixel values ([`shade`]) → files ([`image_io`]).
@@ -48,8 +48,9 @@ pub mod shade;
 pub mod simd;
 pub mod trace;
 
-pub use error::{Diagnostic, Error};
+pub use error::{Diagnostic, Error, Span};
 /// The vector and matrix types the API uses, from `glam`.
 pub use glam::{self, DMat4, UVec3, Vec2, Vec3, Vec3A};
 pub use render::{RenderSettings, Rendered};
 pub use scene::{Scene, SceneBuilder};
+pub use shade::Image;

@@ -14,10 +14,10 @@ use rayon::prelude::*;
 use crate::accel::{Hit, PACKET};
 use crate::camera::{film_to_screen, pixel_to_screen};
 use crate::geometry::Ray;
-use crate::image_io::Image;
 use crate::sample::{Film, FilmSample, Sampling};
 use crate::scene::Scene;
 use crate::shade;
+use crate::shade::Image;
 use crate::trace::{RayCounts, Scratch, TraceSettings, Tracer};
 
 const TILE: u32 = 16;

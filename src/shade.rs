@@ -1,9 +1,21 @@
 //! From hits and colours to pixels: the normal and depth pictures, and the course's rule for
-//! turning a colour into bytes. (The colour itself comes from [`crate::trace`].)
+//! turning a colour into bytes, and the 8-bit picture they fill. (The colour itself comes from
+//! the tracer.)
 
 use glam::Vec3A;
 
 use crate::accel::Hit;
+
+/// An 8-bit RGB picture, top row first.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Image {
+    /// In pixels.
+    pub width: u32,
+    /// In pixels.
+    pub height: u32,
+    /// `width × height` pixels as R, G, B bytes: rows top first, each from the left.
+    pub pixels: Vec<[u8; 3]>,
+}
 
 /// |n|: the normal's components as a colour.
 #[inline]

@@ -28,8 +28,8 @@ use std::time::Instant;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed, TestCaseError, TestError, TestRunner};
 
+use raycast::parse::obj::parse_obj;
 use raycast::parse::parse_scene;
-use raycast::scene::obj::parse_obj;
 use raycast::{Error, RenderSettings, Scene};
 
 const DEFAULT_CASES: u32 = 100_000;

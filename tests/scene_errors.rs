@@ -342,8 +342,8 @@ fn an_object_before_any_material_index() {
 fn materials_and_lights(
     blocks: &str,
 ) -> (
-    Vec<raycast::scene::model::Material>,
-    Vec<raycast::scene::model::LightSpec>,
+    Vec<raycast::parse::description::MaterialSpec>,
+    Vec<raycast::parse::description::LightSpec>,
 ) {
     let description = parse_scene(Path::new("s.txt"), &format!("{CAMERA}\n{blocks}\n")).unwrap();
     (description.materials, description.lights)
@@ -352,7 +352,7 @@ fn materials_and_lights(
 #[test]
 fn phong_fields_are_optional_and_in_any_order() {
     use glam::Vec3;
-    use raycast::scene::model::{Material, Phong};
+    use raycast::parse::description::{MaterialSpec, PhongSpec};
     let (materials, _) = materials_and_lights(
         "Materials { numMaterials 3
             PhongMaterial { }
@@ -360,10 +360,10 @@ fn phong_fields_are_optional_and_in_any_order() {
                 reflectiveColor 0.4 0.5 0.6 specularColor 0.7 0.8 0.9 diffuseColor 0 0.5 1 }
             PhongMaterial { exponent 0 exponent 3 } }",
     );
-    assert_eq!(materials[0], Material::Phong(Phong::default()));
+    assert_eq!(materials[0], MaterialSpec::Phong(PhongSpec::default()));
     assert_eq!(
         materials[0],
-        Material::Phong(Phong {
+        MaterialSpec::Phong(PhongSpec {
             diffuse: Vec3::ONE,
             specular: Vec3::ZERO,
             exponent: 1.0,
@@ -374,7 +374,7 @@ fn phong_fields_are_optional_and_in_any_order() {
     );
     assert_eq!(
         materials[1],
-        Material::Phong(Phong {
+        MaterialSpec::Phong(PhongSpec {
             diffuse: Vec3::new(0.0, 0.5, 1.0),
             specular: Vec3::new(0.7, 0.8, 0.9),
             exponent: 20.0,
@@ -386,14 +386,14 @@ fn phong_fields_are_optional_and_in_any_order() {
     // As the course's parser: a field given twice keeps its last value.
     assert!(matches!(
         materials[2],
-        Material::Phong(Phong { exponent: 3.0, .. })
+        MaterialSpec::Phong(PhongSpec { exponent: 3.0, .. })
     ));
 }
 
 #[test]
 fn point_lights_with_and_without_attenuation() {
     use glam::Vec3;
-    use raycast::scene::model::LightSpec;
+    use raycast::parse::description::LightSpec;
     let (_, lights) = materials_and_lights(
         "Lights { numLights 3
             PointLight { position 1 2 3 color 0.5 0.5 0.5 }
@@ -1136,9 +1136,8 @@ fn mirroring_transforms_keep_front_faces_and_normals() {
     const SIZE: u32 = 64;
     assert!(assert_hits_are_finite(&mirrored, SIZE) > 500);
     let (a, b) = (render_scene(&plain, SIZE), render_scene(&mirrored, SIZE));
-    let flipped = |image: &raycast::image_io::Image, i: u32, j: u32| {
-        image.pixels[(j * SIZE + (SIZE - 1 - i)) as usize]
-    };
+    let flipped =
+        |image: &raycast::Image, i: u32, j: u32| image.pixels[(j * SIZE + (SIZE - 1 - i)) as usize];
     let mut differing = 0;
     let mut black = 0;
     for j in 0..SIZE {
@@ -1230,7 +1229,7 @@ fn texture_error(texture: &str) -> String {
 
 #[test]
 fn textures_in_the_course_grammar() {
-    use raycast::scene::model::{Material, Pattern};
+    use raycast::parse::description::{MaterialSpec, Pattern};
     let (materials, _) = materials_and_lights(
         "Materials { numMaterials 6 Material { } Material { diffuseColor 1 0 0 }
             Checkerboard { materialIndex 0 materialIndex 1 }
@@ -1241,7 +1240,7 @@ fn textures_in_the_course_grammar() {
                 frequency 7 amplitude 2 } }",
     );
     let texture = |i: usize| match materials[i] {
-        Material::Texture(t) => t,
+        MaterialSpec::Texture(t) => t,
         other => panic!("{other:?}"),
     };
     assert_eq!(texture(2).pattern, Pattern::Checkerboard);
@@ -1374,9 +1373,9 @@ fn textures_nest_at_most_eight_deep() {
 fn a_description_built_in_code_is_held_to_the_files_rules() {
     use glam::Vec3;
     use raycast::SceneBuilder;
-    use raycast::scene::model::{CameraSpec, LightSpec, Material, Phong, Shape};
+    use raycast::parse::description::{CameraSpec, LightSpec, MaterialSpec, PhongSpec, Shape};
     let camera = CameraSpec::orthographic(Vec3::new(0.0, 0.0, 10.0), Vec3::NEG_Z, Vec3::Y, 5.0);
-    let base = || SceneBuilder::new(camera).material(Material::Phong(Phong::default()));
+    let base = || SceneBuilder::new(camera).material(MaterialSpec::Phong(PhongSpec::default()));
     let error = |builder: SceneBuilder| builder.build().unwrap_err().to_string();
     let sphere = |radius| Shape::Sphere {
         center: Vec3::ZERO,

@@ -43,10 +43,10 @@ use glam::{DMat4, DVec3, Vec3, Vec3A};
 use raycast::accel::World;
 use raycast::camera::{Camera, pixel_to_screen};
 use raycast::geometry::{Ray, intersect_triangle};
+use raycast::parse::description::{CameraSpec, Projection};
+use raycast::parse::obj::parse_obj;
 use raycast::parse::parse_scene;
 use raycast::render::render;
-use raycast::scene::model::{CameraSpec, Projection};
-use raycast::scene::obj::parse_obj;
 use raycast::{RenderSettings, Scene};
 use rayon::prelude::*;
 

@@ -12,7 +12,7 @@ use std::cmp::Reverse;
 use std::collections::HashMap;
 use std::ops::{Range, RangeInclusive};
 
-use crate::image_io::Image;
+use crate::shade::Image;
 
 /// A stable code for each kind of mistake, as `raycast check` reports it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

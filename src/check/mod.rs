@@ -17,7 +17,7 @@ pub use report::write_report;
 pub use run::Ending;
 pub use suite::{Line, Suite};
 
-use crate::image_io::Image;
+use crate::shade::Image;
 
 /// How `check` runs and grades.
 #[derive(Debug, Clone, PartialEq)]
@@ -303,8 +303,8 @@ pub fn read_image(path: &Path) -> Result<Image, String> {
     let mut reader =
         image::ImageReader::open(path).map_err(|e| format!("The image cannot be opened: {e}"))?;
     let mut limits = image::Limits::default();
-    limits.max_image_width = Some(crate::cli::MAX_SIDE);
-    limits.max_image_height = Some(crate::cli::MAX_SIDE);
+    limits.max_image_width = Some(crate::image_io::MAX_SIDE);
+    limits.max_image_height = Some(crate::image_io::MAX_SIDE);
     limits.max_alloc = Some(1 << 30);
     reader.limits(limits);
     // TGA has no signature: the guess falls back on the extension.

@@ -24,7 +24,7 @@ pub fn write_report(dir: &Path, graded: &[Graded], tolerance: u8) -> Result<(), 
     let mut blocks = String::new();
     for (k, g) in order.iter().enumerate() {
         let file = |kind: &str| format!("{k:03}-{}-{kind}.png", safe(&g.name));
-        let write = |kind: &str, image: &crate::image_io::Image| -> Result<String, String> {
+        let write = |kind: &str, image: &crate::shade::Image| -> Result<String, String> {
             let name = file(kind);
             std::fs::write(dir.join(&name), image_io::encode(image, ImageFormat::Png))
                 .map_err(fail)?;

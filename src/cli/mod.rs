@@ -13,8 +13,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 pub use options::{
-    Command, Group, MAX_FILM_SAMPLES, MAX_FILTER_REACH, MAX_PIXELS, MAX_SAMPLES, MAX_SIDE,
-    MAX_THREADS, OPTIONS, OptionSpec, Options, is_stdio, parse_args, usage,
+    Command, Group, MAX_FILM_SAMPLES, MAX_FILTER_REACH, MAX_SAMPLES, MAX_THREADS, OPTIONS,
+    OptionSpec, Options, is_stdio, parse_args, usage,
 };
 
 use crate::error::Error;

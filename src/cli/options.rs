@@ -8,7 +8,7 @@
 use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
 
-use crate::image_io::{self, ImageFormat};
+use crate::image_io::{self, ImageFormat, MAX_PIXELS, MAX_SIDE};
 use crate::sample::{Filter, Sampler, Sampling};
 use crate::scene::SpecularFalloff;
 use crate::trace::TraceSettings;
@@ -279,14 +279,6 @@ one of -output, -normals, -depth, -render_samples and -render_filter is needed."
     );
     text
 }
-
-/// The largest side accepted, and the most pixels: about 270 million, which at 7 bytes a pixel
-/// while rendering and up to three 3-byte pictures after is about 4.5 GB at the peak.
-pub const MAX_SIDE: u32 = 32768;
-/// See [`MAX_SIDE`].
-pub const MAX_PIXELS: u64 = 1 << 28;
-// Every size accepted fits a TGA header's 16-bit sides.
-const _: () = assert!(MAX_SIDE <= image_io::TGA_MAX_SIDE);
 
 /// The most threads `-threads` may ask for: far more than any machine has cores, and few enough
 /// that starting them cannot exhaust the system's threads or memory (each has its own stack).

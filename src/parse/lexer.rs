@@ -3,21 +3,7 @@
 //! The course's format has no comments and no punctuation of its own: braces are words like any
 //! other, so a lexer only has to find the words and remember where they were.
 
-/// A place in a text file, both counted from 1; columns count characters, not bytes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Span {
-    /// From 1.
-    pub line: u32,
-    /// From 1, in characters.
-    pub column: u32,
-}
-
-impl Span {
-    /// The place at `line` and `column`, both counted from 1.
-    pub fn new(line: u32, column: u32) -> Self {
-        Span { line, column }
-    }
-}
+use crate::error::Span;
 
 /// One word of the text and where it starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

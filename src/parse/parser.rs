@@ -6,13 +6,14 @@ use std::path::Path;
 
 use glam::{DMat4, DVec3, Vec3};
 
-use super::lexer::{Lexer, Span, Token, describe, invalid_utf8_span};
-use crate::error::{Diagnostic, Error};
-use crate::scene::model::{
-    CameraSpec, LightSpec, Material, Pattern, Phong, PlacedObject, Projection, SceneDescription,
-    Shape, Texture,
+use super::description::{
+    CameraSpec, LightSpec, MaterialSpec, Pattern, PhongSpec, PlacedObject, Projection,
+    SceneDescription, Shape, TextureSpec,
 };
-use crate::scene::validate;
+use super::lexer::{Lexer, Token, describe, invalid_utf8_span};
+use super::validate;
+use crate::error::Span;
+use crate::error::{Diagnostic, Error};
 
 type Result<T> = std::result::Result<T, Diagnostic>;
 
@@ -286,7 +287,7 @@ impl<'a> Parser<'a> {
         })
     }
 
-    fn materials(&mut self) -> Result<Vec<Material>> {
+    fn materials(&mut self) -> Result<Vec<MaterialSpec>> {
         self.keyword("{")?;
         let (count, _) = self.count("numMaterials")?;
         let mut materials = Vec::new();
@@ -301,7 +302,7 @@ impl<'a> Parser<'a> {
                 // Assignment 1's files say PhongMaterial, assignment 2's say Material.
                 "Material" | "PhongMaterial" => {
                     self.keyword("{")?;
-                    (Material::Phong(self.phong_fields()?), 0)
+                    (MaterialSpec::Phong(self.phong_fields()?), 0)
                 }
                 "Checkerboard" | "Noise" | "Marble" | "Wood" => {
                     let texture = self.texture(token, read)?;
@@ -310,7 +311,7 @@ impl<'a> Parser<'a> {
                             Diagnostic::expected(self.path, token.span, &expected, &found)
                         },
                     )?;
-                    (Material::Texture(texture), depth)
+                    (MaterialSpec::Texture(texture), depth)
                 }
                 _ => return Err(self.unexpected(token, MATERIAL)),
             };
@@ -324,7 +325,7 @@ impl<'a> Parser<'a> {
     /// `Checkerboard|Noise|Marble|Wood { [Transform { ops }] materialIndex a materialIndex b
     /// [octaves n [frequency f amplitude a]] }`, in the course's fixed order; `own` is the
     /// texture's own index among the materials.
-    fn texture(&mut self, keyword: Token, own: u32) -> Result<Texture> {
+    fn texture(&mut self, keyword: Token, own: u32) -> Result<TextureSpec> {
         self.keyword("{")?;
         let mut to_texture = DMat4::IDENTITY;
         let mut token = self.next("Transform or materialIndex")?;
@@ -380,7 +381,7 @@ impl<'a> Parser<'a> {
             }
         };
         self.keyword("}")?;
-        Ok(Texture {
+        Ok(TextureSpec {
             pattern,
             to_texture,
             materials: [first, second],
@@ -414,10 +415,10 @@ impl<'a> Parser<'a> {
 
     /// A material's fields, each optional, in any order (a field given twice: the last counts,
     /// as in the course's parser), up to the closing brace.
-    fn phong_fields(&mut self) -> Result<Phong> {
+    fn phong_fields(&mut self) -> Result<PhongSpec> {
         const FIELD: &str = "diffuseColor, specularColor, exponent, reflectiveColor, \
                              transparentColor, indexOfRefraction or '}'";
-        let mut material = Phong::default();
+        let mut material = PhongSpec::default();
         loop {
             let token = self.next(FIELD)?;
             match token.text {

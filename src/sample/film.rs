@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
 use super::Filter;
-use crate::image_io::Image;
+use crate::shade::Image;
 use crate::shade::to_rgb;
 
 /// The samples of an image: for pixel (i, j), i from the left and j from the bottom, and its

@@ -8,13 +8,13 @@ use std::time::Instant;
 use glam::{DMat4, DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::model::{PlacedObject, SceneDescription, Shape};
-use super::obj::parse_obj;
 use super::{Light, LoadStats, Material, Materials, Scene};
 use crate::accel::{Item, TriangleMesh, World};
 use crate::camera::Camera;
 use crate::error::{Diagnostic, Error};
 use crate::geometry::{Aabb, Plane, Sphere, Transform, triangle_normal};
+use crate::parse::description::{PlacedObject, SceneDescription, Shape};
+use crate::parse::obj::parse_obj;
 use crate::parse::{MAX_MAGNITUDE, show_number};
 
 /// [`Scene::load`]: reads the scene file, then builds it; the parse time includes the reading.
@@ -280,7 +280,7 @@ impl<'a> MeshLoader<'a> {
         }
     }
 
-    fn load(&mut self, file: &str, span: crate::parse::Span) -> Result<u32, Error> {
+    fn load(&mut self, file: &str, span: crate::error::Span) -> Result<u32, Error> {
         let beside_scene = self.scene.parent().unwrap_or(Path::new("")).join(file);
         let mut tried = vec![beside_scene];
         // A scene in the working directory has both places the same: name it once in messages.

@@ -5,12 +5,13 @@ use std::path::PathBuf;
 
 use glam::{DMat4, Vec3};
 
-use super::model::{
-    CameraSpec, LightSpec, Material, Phong, PlacedObject, Projection, SceneDescription, Shape,
-};
 use super::{LoadStats, Scene};
 use crate::error::Error;
-use crate::parse::Span;
+use crate::error::Span;
+use crate::parse::description::{
+    CameraSpec, LightSpec, MaterialSpec, PhongSpec, PlacedObject, Projection, SceneDescription,
+    Shape,
+};
 
 /// What a scene built in code is called in messages.
 pub const BUILT_IN_CODE: &str = "<scene built in code>";
@@ -21,20 +22,20 @@ pub const BUILT_IN_CODE: &str = "<scene built in code>";
 ///
 /// ```
 /// use raycast::{Vec3, SceneBuilder};
-/// use raycast::scene::model::{CameraSpec, LightSpec, Material, Phong, Shape};
+/// use raycast::parse::description::{CameraSpec, LightSpec, MaterialSpec, PhongSpec, Shape};
 ///
 /// let scene = SceneBuilder::new(CameraSpec::perspective(
 ///     Vec3::new(0.0, 1.0, 6.0), Vec3::new(0.0, -0.1, -1.0), Vec3::Y, 40.0))
 ///     .background(Vec3::new(0.4, 0.5, 0.7))
 ///     .light(LightSpec::directional(Vec3::new(-1.0, -1.0, -1.0), Vec3::ONE))
-///     .material(Material::Phong(Phong::diffuse(Vec3::new(0.9, 0.2, 0.1))))
+///     .material(MaterialSpec::Phong(PhongSpec::diffuse(Vec3::new(0.9, 0.2, 0.1))))
 ///     .object(Shape::Sphere { center: Vec3::new(0.0, 1.0, 0.0), radius: 1.0 }, 0)
 ///     .build()?;
 /// assert_eq!(scene.world.stats().spheres, 1);
 ///
 /// // A radius of -1 is refused, as the parser refuses it in a file.
 /// let wrong = SceneBuilder::new(CameraSpec::orthographic(Vec3::Z, -Vec3::Z, Vec3::Y, 5.0))
-///     .material(Material::Phong(Phong::default()))
+///     .material(MaterialSpec::Phong(PhongSpec::default()))
 ///     .object(Shape::Sphere { center: Vec3::ZERO, radius: -1.0 }, 0)
 ///     .build();
 /// assert_eq!(
@@ -85,7 +86,7 @@ impl SceneBuilder {
     }
 
     /// Adds a material; materials are numbered from 0 in the order added.
-    pub fn material(mut self, material: Material) -> Self {
+    pub fn material(mut self, material: MaterialSpec) -> Self {
         self.description.materials.push(material);
         self
     }
@@ -176,12 +177,12 @@ impl LightSpec {
     }
 }
 
-impl Phong {
+impl PhongSpec {
     /// A plain diffuse material of `color`, the rest the course's defaults.
-    pub fn diffuse(color: Vec3) -> Phong {
-        Phong {
+    pub fn diffuse(color: Vec3) -> PhongSpec {
+        PhongSpec {
             diffuse: color,
-            ..Phong::default()
+            ..PhongSpec::default()
         }
     }
 }

@@ -3,7 +3,7 @@
 
 use glam::Vec3A;
 
-use super::model::LightSpec;
+use crate::parse::description::LightSpec;
 
 /// A light of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -7,9 +7,9 @@
 use arrayvec::ArrayVec;
 use glam::{DAffine3, Vec3A};
 
-use super::model::{self, Pattern};
 use super::perlin::octave_noise;
 use crate::parse::MAX_TEXTURE_DEPTH;
+use crate::parse::description::{self, Pattern};
 
 /// A material of the scene; a texture refers to others by their index in [`Materials`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,9 +71,9 @@ pub struct Materials {
 impl Material {
     /// A material as the file gives it, in the form shading uses: colours as SIMD vectors, the
     /// texture's matrix as an affine map.
-    pub fn new(spec: &model::Material) -> Material {
+    pub fn new(spec: &description::MaterialSpec) -> Material {
         match spec {
-            model::Material::Phong(phong) => Material::Phong(Phong {
+            description::MaterialSpec::Phong(phong) => Material::Phong(Phong {
                 diffuse: phong.diffuse.into(),
                 specular: phong.specular.into(),
                 exponent: phong.exponent,
@@ -81,7 +81,7 @@ impl Material {
                 transparent: phong.transparent.into(),
                 index_of_refraction: phong.index_of_refraction,
             }),
-            model::Material::Texture(texture) => Material::Texture(Texture {
+            description::MaterialSpec::Texture(texture) => Material::Texture(Texture {
                 pattern: texture.pattern,
                 to_texture: DAffine3::from_mat4(texture.to_texture),
                 materials: texture.materials,

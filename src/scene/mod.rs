@@ -4,10 +4,7 @@ mod build;
 mod builder;
 pub mod light;
 pub mod material;
-pub mod model;
-pub mod obj;
 pub mod perlin;
-pub(crate) mod validate;
 
 use std::path::Path;
 use std::time::Duration;
@@ -17,11 +14,12 @@ use glam::Vec3A;
 pub use builder::{BUILT_IN_CODE, SceneBuilder};
 pub use light::{Illumination, Light};
 pub use material::{Material, Materials, Phong, SpecularFalloff, Surface, Texture};
-pub use model::SceneDescription;
 
 use crate::accel::{World, WorldStats};
 use crate::camera::Camera;
 use crate::error::Error;
+pub use crate::parse::SceneDescription;
+use crate::parse::validate;
 
 /// A scene ready to render.
 #[derive(Debug, Clone)]

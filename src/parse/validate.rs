@@ -6,13 +6,12 @@
 
 use glam::{DMat4, Vec3};
 
-use super::model::{
-    CameraSpec, LightSpec, Material, Pattern, Phong, Projection, SceneDescription, Shape, Texture,
+use super::description::{
+    CameraSpec, LightSpec, MaterialSpec, Pattern, PhongSpec, Projection, SceneDescription, Shape,
+    TextureSpec,
 };
-use crate::error::Diagnostic;
-use crate::parse::{
-    MAX_MAGNITUDE, MAX_OCTAVES, MAX_TEXTURE_DEPTH, NUMBER_IN_RANGE, Span, show_vector,
-};
+use crate::error::{Diagnostic, Span};
+use crate::parse::{MAX_MAGNITUDE, MAX_OCTAVES, MAX_TEXTURE_DEPTH, NUMBER_IN_RANGE, show_vector};
 
 /// Checks `description`; the first rule broken is the error. Camera, lights and materials have
 /// no place in the description, so their errors name the item instead of a line.
@@ -175,10 +174,10 @@ fn light(light: &LightSpec) -> Result<(), Broken> {
 }
 
 /// Checks material `own`; returns how deep its textures nest (0 for a Phong material).
-fn material(material: &Material, own: usize, depths: &[u32]) -> Result<u32, Broken> {
+fn material(material: &MaterialSpec, own: usize, depths: &[u32]) -> Result<u32, Broken> {
     match material {
-        Material::Phong(phong) => {
-            let Phong {
+        MaterialSpec::Phong(phong) => {
+            let PhongSpec {
                 diffuse,
                 specular,
                 exponent,
@@ -200,7 +199,7 @@ fn material(material: &Material, own: usize, depths: &[u32]) -> Result<u32, Brok
             }
             Ok(0)
         }
-        Material::Texture(texture) => {
+        MaterialSpec::Texture(texture) => {
             for &m in &texture.materials {
                 if m as usize >= own {
                     return Err((texture_material_expected(own), format!("'{m}'")));
@@ -332,7 +331,7 @@ pub(crate) fn texture_material_expected(own: usize) -> String {
 
 /// How deep `texture` nests, its materials nesting `depths` deep; refused past
 /// [`MAX_TEXTURE_DEPTH`].
-pub(crate) fn texture_depth(texture: &Texture, depths: &[u32]) -> Result<u32, Broken> {
+pub(crate) fn texture_depth(texture: &TextureSpec, depths: &[u32]) -> Result<u32, Broken> {
     let depth = 1 + texture
         .materials
         .map(|m| depths[m as usize])

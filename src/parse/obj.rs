@@ -13,7 +13,8 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::error::Diagnostic;
-use crate::parse::{MAX_MAGNITUDE, NUMBER_IN_RANGE, Span, describe};
+use crate::error::Span;
+use crate::parse::{MAX_MAGNITUDE, NUMBER_IN_RANGE, describe};
 
 /// A triangle soup: vertex positions and, per triangle, three indices into them.
 #[derive(Debug, Clone, Default, PartialEq)]

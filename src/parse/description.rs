@@ -5,12 +5,10 @@ use std::path::PathBuf;
 
 use glam::{DMat4, Vec3};
 
-use crate::parse::Span;
+use crate::error::Span;
 
-/// A scene file read but not yet built: what [`Scene::from_description`] turns into a scene
-/// ready to render.
-///
-/// [`Scene::from_description`]: crate::scene::Scene::from_description
+/// A scene file read but not yet built: what `Scene::from_description` (a later stage) turns
+/// into a scene ready to render.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneDescription {
     /// The scene file, as named by the user; messages and relative mesh paths start from it.
@@ -25,7 +23,7 @@ pub struct SceneDescription {
     /// diffuse colour.
     pub lights: Vec<LightSpec>,
     /// In the file's order: objects and textures refer to them by index.
-    pub materials: Vec<Material>,
+    pub materials: Vec<MaterialSpec>,
     /// Object-to-world matrices of the scene's Transform blocks, nesting already multiplied in.
     pub transforms: Vec<DMat4>,
     /// Every primitive and mesh of the scene, groups flattened away.
@@ -86,17 +84,17 @@ pub enum LightSpec {
 
 /// A material as the file gives it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Material {
+pub enum MaterialSpec {
     /// A Phong material (`Material` or `PhongMaterial` in the file).
-    Phong(Phong),
+    Phong(PhongSpec),
     /// A solid texture (assignment 6) over two earlier materials.
-    Texture(Texture),
+    Texture(TextureSpec),
 }
 
 /// A solid texture: a pattern in texture space that chooses, or blends, between two materials
 /// listed before it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Texture {
+pub struct TextureSpec {
     /// Which of the course's textures, with its parameters.
     pub pattern: Pattern,
     /// World space to texture space (the identity when the file gives no `Transform`).
@@ -137,7 +135,7 @@ pub enum Pattern {
 
 /// A Phong material (assignment 4's `PhongMaterial`, every field optional).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Phong {
+pub struct PhongSpec {
     /// The colour a lit surface scatters in every direction, which ambient light is also
     /// multiplied by; white by default.
     pub diffuse: Vec3,
@@ -153,10 +151,10 @@ pub struct Phong {
     pub index_of_refraction: f32,
 }
 
-impl Default for Phong {
+impl Default for PhongSpec {
     /// The staff parser's defaults: white diffuse, nothing else, exponent 1, index 1.
-    fn default() -> Phong {
-        Phong {
+    fn default() -> PhongSpec {
+        PhongSpec {
             diffuse: Vec3::ONE,
             specular: Vec3::ZERO,
             exponent: 1.0,
