@@ -109,10 +109,10 @@ fn scene(name: &str) -> Scene {
                 sphere_path().display()
             );
             let description = parse_scene(Path::new("sphere_1m.txt"), &text).unwrap();
-            return Scene::from_description(&description).unwrap().0;
+            return Scene::from_description(&description).unwrap();
         }
     };
-    Scene::load(&path).unwrap().0
+    Scene::load(&path).unwrap()
 }
 
 #[divan::bench(args = MESHES, sample_count = 10, sample_size = 1)]

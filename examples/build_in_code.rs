@@ -61,32 +61,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Vec3::splat(0.8),
     ))
     .light(LightSpec::point(Vec3::new(2.0, 4.0, 3.0), Vec3::splat(0.3)))
-    .material(white) // 0
-    .material(dark) // 1
-    .material(checker) // 2
-    .material(red) // 3
-    .material(mirror) // 4
-    .material(glass) // 5
+    // A texture picks from materials added before it, by index: white is 0, dark 1.
+    .named_material("white", white)
+    .named_material("dark", dark)
+    .named_material("checker", checker)
+    .named_material("red", red)
+    .named_material("mirror", mirror)
+    .named_material("glass", glass)
     .object(
         Shape::Plane {
             normal: Vec3::Y,
             offset: 0.0,
         },
-        2,
+        "checker",
     )
     .object(
         Shape::Sphere {
             center: Vec3::new(-1.8, 1.0, -0.5),
             radius: 1.0,
         },
-        3,
+        "red",
     )
     .object(
         Shape::Sphere {
             center: Vec3::new(1.8, 1.0, -1.0),
             radius: 1.0,
         },
-        4,
+        "mirror",
     )
     // A glass ellipsoid: a unit sphere, squashed and lifted by a transform.
     .placed(
@@ -94,7 +95,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             center: Vec3::ZERO,
             radius: 1.0,
         },
-        5,
+        "glass",
         DMat4::from_translation(DVec3::new(0.0, 0.6, 1.2))
             * DMat4::from_scale(DVec3::new(0.8, 0.6, 0.8)),
     )

@@ -7,26 +7,36 @@
 //! pictures; [`image_io`] writes them.
 //!
 //! ```
-//! use raycast::{RenderSettings, SceneBuilder, Vec3};
-//! use raycast::parse::description::{CameraSpec, LightSpec, Material, Phong, Shape};
+//! use raycast::parse::description::{CameraSpec, LightSpec, MaterialSpec, PhongSpec, Shape};
+//! use raycast::{RenderSettings, Scene, SceneBuilder, Vec3, image_io};
 //!
-//! let scene = SceneBuilder::new(CameraSpec::orthographic(
+//! // A scene from a file: `Scene::load(Path::new("scene.txt"))?`; or built in code:
+//! let scene: Scene = SceneBuilder::new(CameraSpec::orthographic(
 //!     Vec3::new(0.0, 0.0, 10.0), Vec3::NEG_Z, Vec3::Y, 5.0))
 //!     .background(Vec3::ZERO)
-//!     .material(Material::Phong(Phong::diffuse(Vec3::X)))
-//!     .object(Shape::Sphere { center: Vec3::ZERO, radius: 1.0 }, 0)
+//!     .ambient_light(Vec3::splat(0.2))
+//!     .light(LightSpec::directional(Vec3::NEG_Z, Vec3::ONE))
+//!     .named_material("red", MaterialSpec::Phong(PhongSpec::diffuse(Vec3::X)))
+//!     .object(Shape::Sphere { center: Vec3::ZERO, radius: 1.0 }, "red")
 //!     .build()?;
+//! // Rays from the camera, traced and shaded, into an 8-bit picture...
 //! let image = raycast::render::render(&scene, &RenderSettings::new(20, 20)).colour.unwrap();
-//! assert_eq!(image.pixels[10 * 20 + 10], [255, 0, 0]); // the sphere, flat red (no lights)
+//! // ...lit nearly head-on: ambient 0.2 plus almost all of the white light, clamped to full red.
+//! assert_eq!(image.pixels[10 * 20 + 10], [255, 0, 0]);
 //! assert_eq!(image.pixels[0], [0, 0, 0]); // the background
+//! // ...and to a file's bytes (TGA in the course's layout, PPM or PNG).
+//! let tga = image_io::encode(&image, image_io::ImageFormat::Tga);
+//! assert_eq!(tga.len(), 18 + 20 * 20 * 3);
 //! # Ok::<(), raycast::Error>(())
 //! ```
 //!
-//! The stages, each a module that knows only those before it: scene text ([`parse`]) → scene
-//! description ([`parse::description`]) → render-ready [`Scene`] (lights and materials in [`scene`],
-//! geometry in [`geometry`], trees and the course's grid in [`accel`]) → rays from the
-//! [`camera`], placed by the samplers of [`sample`] → the pixel loop ([`render`]) → the ray
-//! tracer ([`trace`]) and pixel values ([`shade`]) → files ([`image_io`]).
+//! The stages, each a module that imports only those before it (docs/architecture.md): scene
+//! text ([`parse`]) → scene description ([`parse::description`]) → trees and the course's grid
+//! over the [`geometry`] ([`accel`]) and the [`camera`] → render-ready [`Scene`] (lights and
+//! materials in [`scene`]) → the ray tracer ([`trace`]), pixel values ([`shade`]) and the
+//! samplers and film of [`sample`] → the pixel loop ([`render`]) and one pixel's account
+//! ([`inspect`]) → files ([`image_io`]); the grader ([`check`]) and the command line ([`cli`])
+//! on top.
 
 // `unsafe` only in `simd`, which allows it and says why each use is sound.
 #![deny(unsafe_code)]

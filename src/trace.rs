@@ -485,7 +485,7 @@ mod tests {
 
     fn scene(text: &str) -> Scene {
         let description = parse_scene(Path::new("t.txt"), text).unwrap();
-        Scene::from_description(&description).unwrap().0
+        Scene::from_description(&description).unwrap()
     }
 
     const MIRRORS: &str = "

@@ -249,7 +249,7 @@ fn point_light_attenuation_follows_each_scenes_terms() {
         let args = line_for(&lines, output);
         let image = render(&scenes, args);
         let scene_path = scenes.join(value_of(args, "-input").unwrap());
-        let (scene, _) = Scene::load(&scene_path).unwrap();
+        let scene = Scene::load(&scene_path).unwrap();
         let (width, height) = image.dimensions();
         let byte = |x: f32| ((x * 255.0) as i32).clamp(0, 255);
         let (mut lit, mut checked) = (0, 0);

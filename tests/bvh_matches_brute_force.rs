@@ -251,7 +251,7 @@ fn generated_scene(
     let text = scene_text(root, with_plane, &meshes);
     let description = parse_scene(Path::new("generated.txt"), &text)
         .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
-    let (scene, _) = Scene::from_description(&description).unwrap();
+    let scene = Scene::from_description(&description).unwrap();
     Ok((text, scene))
 }
 
@@ -347,7 +347,7 @@ fn every_course_scene_finds_the_same_hits_by_packet() {
             .collect();
         paths.sort();
         for path in paths {
-            let Ok((scene, _)) = Scene::load(&path) else {
+            let Ok(scene) = Scene::load(&path) else {
                 continue;
             };
             scenes += 1;
@@ -392,7 +392,7 @@ fn a_packet_ray_that_misses_a_box_tests_nothing_in_it() {
                 Sphere { center 0 0 0 radius 0.5 }\n\
                 Sphere { center 0 10 0 radius 0.5 } }\n";
     let description = parse_scene(Path::new("beside.txt"), text).unwrap();
-    let (scene, _) = Scene::from_description(&description).unwrap();
+    let scene = Scene::from_description(&description).unwrap();
     let rays: Vec<Ray> = (0..16)
         .map(|k| {
             let x = if k % 2 == 0 { -2.0 } else { 2.0 };

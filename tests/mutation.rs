@@ -528,7 +528,7 @@ fn check_scene(
     };
     counts.add(loaded.is_ok());
     match loaded {
-        Ok((scene, _)) => render(&scene, shade_back),
+        Ok(scene) => render(&scene, shade_back),
         Err(error) => check_error(&error, &path, bytes),
     }
 }
@@ -560,7 +560,7 @@ fn check_obj(
             )
             .unwrap();
             match Scene::load(&scene) {
-                Ok((scene, _)) => {
+                Ok(scene) => {
                     counts.add(true);
                     render(&scene, shade_back)
                 }

@@ -593,19 +593,19 @@ fn singular_transforms_are_refused() {
         parse_error(&with_group(&format!(
             "Group {{ numObjects 1 MaterialIndex 0 Transform {{ Scale 1 0 1 {sphere} }} }}"
         ))),
-        "s.txt:3:56: expected an invertible transformation, found one that flattens space (a scale of zero)"
+        "s.txt:3:56: expected an invertible transformation, found one that flattens space (its scales multiply to zero)"
     );
     assert_eq!(
         parse_error(&with_group(&format!(
             "Group {{ numObjects 1 MaterialIndex 0 Transform {{ UniformScale 0 {sphere} }} }}"
         ))),
-        "s.txt:3:63: expected an invertible transformation, found one that flattens space (a scale of zero)"
+        "s.txt:3:63: expected an invertible transformation, found one that flattens space (its scales multiply to zero)"
     );
     assert_eq!(
         parse_error(&with_group(&format!(
             "Group {{ numObjects 1 MaterialIndex 0 Transform {{ Matrix {{ 1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1 }} {sphere} }} }}"
         ))),
-        "s.txt:3:59: expected an invertible transformation, found one that flattens space (a scale of zero)"
+        "s.txt:3:59: expected an invertible transformation, found one that flattens space (its scales multiply to zero)"
     );
     // Each scale alone is not zero; multiplied (in double precision), they are: the error points
     // at the Transform whose matrix is singular.
@@ -1070,8 +1070,9 @@ fn zero_area_triangles_are_never_hit() {
         let text = format!(
             "{camera}\n{BLUE}\n{MATERIAL}\nGroup {{ numObjects 1 MaterialIndex 0 {triangle} }}\n"
         );
-        let (scene, stats) =
-            Scene::from_description(&parse_scene(Path::new("s.txt"), &text).unwrap()).unwrap();
+        let raycast::scene::Loaded { scene, stats } =
+            Scene::from_description_with_stats(&parse_scene(Path::new("s.txt"), &text).unwrap())
+                .unwrap();
         assert_eq!(stats.world.triangles, 0, "{triangle}");
         let rendered = render_scene(&scene, 1);
         assert_eq!(rendered.colour.unwrap().pixels, [[0, 0, 255]], "{triangle}");
@@ -1094,7 +1095,7 @@ fn zero_area_triangles_are_never_hit() {
         )
         .as_bytes(),
     );
-    let (scene, stats) = Scene::load(&scene).unwrap();
+    let raycast::scene::Loaded { scene, stats } = Scene::load_with_stats(&scene).unwrap();
     assert_eq!(stats.world.triangles, 1);
     assert_eq!(
         render_scene(&scene, 1).colour.unwrap().pixels,
@@ -1129,7 +1130,7 @@ fn mirroring_transforms_keep_front_faces_and_normals() {
              Group {{ numObjects 1 MaterialIndex 0 {group} }}\n"
         );
         let path = write(dir.path(), "s.txt", text.as_bytes());
-        Scene::load(&path).unwrap().0
+        Scene::load(&path).unwrap()
     };
     let plain = scene(shapes);
     let mirrored = scene(&format!("Transform {{ Scale -1 1 1 {shapes} }}"));
@@ -1169,7 +1170,7 @@ fn surfaces_too_small_for_f32_still_face_the_ray() {
         Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
         Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1e-7 } }";
     let description = raycast::parse::parse_scene(Path::new("tiny.txt"), text).unwrap();
-    let (scene, _) = raycast::Scene::from_description(&description).unwrap();
+    let scene = raycast::Scene::from_description(&description).unwrap();
     let settings = raycast::RenderSettings {
         width: 1,
         height: 1,
@@ -1332,8 +1333,8 @@ fn texture_mistakes() {
         texture_error(
             "Noise { Transform { UniformScale 0 } materialIndex 0 materialIndex 1 octaves 2 }"
         ),
-        "s.txt:2:106: expected an invertible transformation, found one that flattens space (a \
-         scale of zero)"
+        "s.txt:2:106: expected an invertible transformation, found one that flattens space (its \
+         scales multiply to zero)"
     );
     assert_eq!(
         texture_error(

@@ -1173,7 +1173,7 @@ fn build_scene(index: usize, case: &Case, folder: &Path) -> Scene {
     };
     let text = scene_text(&case.object, obj.to_str().unwrap());
     let description = parse_scene(Path::new("watertight.txt"), &text).unwrap();
-    Scene::from_description(&description).unwrap().0
+    Scene::from_description(&description).unwrap()
 }
 
 fn check_case(index: usize, case: &Case, folder: &Path, failures: &mut Vec<String>) -> Tally {

@@ -4,6 +4,7 @@
 
 pub mod diagnose;
 mod report;
+mod rule;
 mod run;
 mod suite;
 
@@ -12,8 +13,9 @@ use std::time::Duration;
 
 use rayon::prelude::*;
 
-pub use diagnose::{Comparison, Diagnosis};
+pub use diagnose::Diagnosis;
 pub use report::write_report;
+pub use rule::{Comparison, Rule, compare};
 pub use run::Ending;
 pub use suite::{Line, Suite};
 
@@ -28,10 +30,8 @@ pub struct CheckOptions {
     pub renderer: Vec<String>,
     /// Where to write `summary.json` and `index.html`, if anywhere.
     pub report: Option<PathBuf>,
-    /// A pixel differs when a channel is off by more than this many levels.
-    pub tolerance: u8,
-    /// An image passes when at most this fraction of its pixels differ.
-    pub max_bad: f64,
+    /// When an image passes.
+    pub rule: Rule,
     /// How many command lines run at once.
     pub jobs: usize,
     /// How long one command line may run.
@@ -45,8 +45,7 @@ impl CheckOptions {
             suite,
             renderer,
             report: None,
-            tolerance: 2,
-            max_bad: 0.001,
+            rule: Rule::COURSE,
             jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
             timeout: Duration::from_secs(60),
         }
@@ -94,6 +93,39 @@ pub struct Graded {
     pub actual: Option<Image>,
     /// The reference image, when there is one.
     pub reference: Option<Image>,
+}
+
+/// What the rule says of one picture against its reference.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Judgement {
+    /// Whether the picture passes.
+    pub pass: bool,
+    /// The share of pixels off by more than the tolerance; `None` when the sizes differ.
+    pub bad_fraction: Option<f64>,
+    /// The likely causes of a failure (empty for a pass).
+    pub diagnoses: Vec<Diagnosis>,
+}
+
+/// Compares `actual` with `reference` by `rule`, and diagnoses a failure: the one decision of
+/// pass or fail, for `check` and `diff` alike.
+pub fn judge(actual: &Image, reference: &Image, rule: Rule) -> Judgement {
+    let Some(comparison) = compare(actual, reference, rule.tolerance) else {
+        return Judgement {
+            pass: false,
+            bad_fraction: None,
+            diagnoses: vec![Diagnosis::SIZE],
+        };
+    };
+    let pass = rule.passes(&comparison);
+    Judgement {
+        pass,
+        bad_fraction: Some(comparison.bad_fraction),
+        diagnoses: if pass {
+            Vec::new()
+        } else {
+            diagnose::diagnose(actual, reference, rule)
+        },
+    }
 }
 
 /// The largest image file `check` reads: anything bigger is not a picture of the course.
@@ -209,8 +241,40 @@ fn grade(
         Ok(image) => image,
         Err(why) => return error(vec![], format!("No reference image: {why}."), None),
     };
+    if let Some(explanation) = failed_run(ending) {
+        return error(vec![Diagnosis::CRASH], explanation, Some(reference));
+    }
+    let actual = match read_image(path) {
+        Ok(image) => image,
+        Err(why) => {
+            return error(
+                vec![Diagnosis::MISSING_OUTPUT],
+                format!("{why}. {}", Diagnosis::MISSING_OUTPUT.explanation()),
+                Some(reference),
+            );
+        }
+    };
+    let judgement = judge(&actual, &reference, options.rule);
+    Graded {
+        name: name.to_string(),
+        command: line.command.clone(),
+        status: if judgement.pass {
+            Status::Pass
+        } else {
+            Status::Fail
+        },
+        bad_fraction: judgement.bad_fraction,
+        explanation: diagnose::explain(&judgement.diagnoses),
+        diagnoses: judgement.diagnoses,
+        actual: Some(actual),
+        reference: Some(reference),
+    }
+}
+
+/// What went wrong with a run that did not end well, for the student; `None` for a success.
+fn failed_run(ending: &Ending) -> Option<String> {
     match ending {
-        Ending::Success => {}
+        Ending::Success => None,
         Ending::Failed { status, stderr } => {
             let how = match status {
                 Some(code) => format!("exited with status {code}"),
@@ -222,70 +286,16 @@ fn grade(
             } else {
                 format!(" It said: {said}")
             };
-            return error(
-                vec![Diagnosis::Crash],
-                format!(
-                    "The renderer {how}.{said} {}",
-                    Diagnosis::Crash.explanation()
-                ),
-                Some(reference),
-            );
+            Some(format!(
+                "The renderer {how}.{said} {}",
+                Diagnosis::CRASH.explanation()
+            ))
         }
-        Ending::TimedOut(limit) => {
-            return error(
-                vec![Diagnosis::Crash],
-                format!(
-                    "The renderer did not finish within {} s and was stopped.",
-                    limit.as_secs_f64()
-                ),
-                Some(reference),
-            );
-        }
-        Ending::NotStarted(why) => {
-            return error(
-                vec![Diagnosis::Crash],
-                format!("The renderer could not be started: {why}."),
-                Some(reference),
-            );
-        }
-    }
-    let actual = match read_image(path) {
-        Ok(image) => image,
-        Err(why) => {
-            return error(
-                vec![Diagnosis::MissingOutput],
-                format!("{why}. {}", Diagnosis::MissingOutput.explanation()),
-                Some(reference),
-            );
-        }
-    };
-    let (status, bad_fraction, diagnoses) =
-        match diagnose::compare(&actual, &reference, options.tolerance) {
-            Some(c) => {
-                let pass = diagnose::passes(&c, options.max_bad);
-                let diagnoses = if pass {
-                    vec![]
-                } else {
-                    diagnose::diagnose(&actual, &reference, options.tolerance, options.max_bad)
-                };
-                (
-                    if pass { Status::Pass } else { Status::Fail },
-                    Some(c.bad_fraction),
-                    diagnoses,
-                )
-            }
-            None => (Status::Fail, None, vec![Diagnosis::Size]),
-        };
-    let explanation = diagnose::explain(&diagnoses);
-    Graded {
-        name: name.to_string(),
-        command: line.command.clone(),
-        status,
-        bad_fraction,
-        diagnoses,
-        explanation,
-        actual: Some(actual),
-        reference: Some(reference),
+        Ending::TimedOut(limit) => Some(format!(
+            "The renderer did not finish within {} s and was stopped.",
+            limit.as_secs_f64()
+        )),
+        Ending::NotStarted(why) => Some(format!("The renderer could not be started: {why}.")),
     }
 }
 

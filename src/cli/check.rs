@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use crate::check::{self, CheckOptions, Status};
+use crate::check::{self, CheckOptions, Rule, Status};
 use crate::image_io::{self, ImageFormat};
 
 /// The usage of the two subcommands.
@@ -55,9 +55,9 @@ fn number<T: std::str::FromStr>(text: &str, flag: &str, what: &str) -> Result<T,
 }
 
 /// The shared grading options: `--tolerance` and `--max-bad`.
-fn grading(flag: &str, text: &str, tolerance: &mut u8, max_bad: &mut f64) -> Result<(), String> {
+fn grading(flag: &str, text: &str, rule: &mut Rule) -> Result<(), String> {
     match flag {
-        "--tolerance" => *tolerance = number(text, flag, "a number of levels from 0 to 255")?,
+        "--tolerance" => rule.tolerance = number(text, flag, "a number of levels from 0 to 255")?,
         _ => {
             let f: f64 = number(text, flag, "a fraction from 0 to 1")?;
             if !(0.0..=1.0).contains(&f) {
@@ -65,81 +65,80 @@ fn grading(flag: &str, text: &str, tolerance: &mut u8, max_bad: &mut f64) -> Res
                     "--max-bad needs a fraction from 0 to 1, found '{text}'"
                 ));
             }
-            *max_bad = f;
+            rule.max_bad = f;
         }
     }
     Ok(())
 }
 
-/// `raycast check ...` (arguments after `check`).
-pub fn run_check(args: Vec<OsString>) -> ExitCode {
+/// Reads `check`'s command line; `None` for `-help`.
+fn parse_check_args(args: Vec<OsString>) -> Result<Option<CheckOptions>, String> {
     let mut args = args.into_iter();
     let mut suite = None;
     let mut options = CheckOptions::new(PathBuf::new(), Vec::new());
-    let parsed: Result<(), String> = (|| {
-        while let Some(arg) = args.next() {
-            let text = arg.to_string_lossy().into_owned();
-            match text.as_str() {
-                "--renderer" => {
-                    let command = value(&mut args, "--renderer", "the renderer's command")?;
-                    options.renderer = command.split_whitespace().map(String::from).collect();
-                }
-                "--report" => {
-                    options.report = Some(value(&mut args, "--report", "a folder")?.into())
-                }
-                "--tolerance" | "--max-bad" => {
-                    let v = value(&mut args, &text, "a number")?;
-                    grading(&text, &v, &mut options.tolerance, &mut options.max_bad)?;
-                }
-                "--jobs" => {
-                    let v = value(&mut args, "--jobs", "a number of jobs")?;
-                    options.jobs = number(&v, "--jobs", "a number of jobs from 1 to 1024")?;
-                    if !(1..=1024).contains(&options.jobs) {
-                        return Err(format!(
-                            "--jobs needs a number of jobs from 1 to 1024, found '{v}'"
-                        ));
-                    }
-                }
-                "--timeout" => {
-                    let v = value(&mut args, "--timeout", "a number of seconds")?;
-                    let s: f64 = number(&v, "--timeout", "a number of seconds above 0")?;
-                    if !(s > 0.0 && s <= 86_400.0) {
-                        return Err(format!(
-                            "--timeout needs a number of seconds above 0, found '{v}'"
-                        ));
-                    }
-                    options.timeout = Duration::from_secs_f64(s);
-                }
-                "-help" | "--help" | "-h" => return Err(String::new()),
-                _ if text.starts_with('-') => {
-                    return Err(format!("check: unknown option '{text}'"));
-                }
-                _ if suite.is_none() => suite = Some(PathBuf::from(&text)),
-                _ => {
+    while let Some(arg) = args.next() {
+        let text = arg.to_string_lossy().into_owned();
+        match text.as_str() {
+            "--renderer" => {
+                let command = value(&mut args, "--renderer", "the renderer's command")?;
+                options.renderer = command.split_whitespace().map(String::from).collect();
+            }
+            "--report" => options.report = Some(value(&mut args, "--report", "a folder")?.into()),
+            "--tolerance" | "--max-bad" => {
+                let v = value(&mut args, &text, "a number")?;
+                grading(&text, &v, &mut options.rule)?;
+            }
+            "--jobs" => {
+                let v = value(&mut args, "--jobs", "a number of jobs")?;
+                options.jobs = number(&v, "--jobs", "a number of jobs from 1 to 1024")?;
+                if !(1..=1024).contains(&options.jobs) {
                     return Err(format!(
-                        "check: unexpected argument '{text}' (one SUITE only)"
+                        "--jobs needs a number of jobs from 1 to 1024, found '{v}'"
                     ));
                 }
             }
+            "--timeout" => {
+                let v = value(&mut args, "--timeout", "a number of seconds")?;
+                let s: f64 = number(&v, "--timeout", "a number of seconds above 0")?;
+                if !(s > 0.0 && s <= 86_400.0) {
+                    return Err(format!(
+                        "--timeout needs a number of seconds above 0, found '{v}'"
+                    ));
+                }
+                options.timeout = Duration::from_secs_f64(s);
+            }
+            "-help" | "--help" | "-h" => return Ok(None),
+            _ if text.starts_with('-') => {
+                return Err(format!("check: unknown option '{text}'"));
+            }
+            _ if suite.is_none() => suite = Some(PathBuf::from(&text)),
+            _ => {
+                return Err(format!(
+                    "check: unexpected argument '{text}' (one SUITE only)"
+                ));
+            }
         }
-        Ok(())
-    })();
-    match parsed {
-        Err(message) if message.is_empty() => {
+    }
+    let Some(suite) = suite else {
+        return Err("check needs a SUITE folder (with COMMANDS.txt and scenes/)".into());
+    };
+    if options.renderer.is_empty() {
+        return Err("check needs --renderer CMD: which renderer should be graded?".into());
+    }
+    options.suite = suite;
+    Ok(Some(options))
+}
+
+/// `raycast check ...` (arguments after `check`).
+pub fn run_check(args: Vec<OsString>) -> ExitCode {
+    let options = match parse_check_args(args) {
+        Ok(Some(options)) => options,
+        Ok(None) => {
             say(std::io::stdout(), CHECK_USAGE);
             return ExitCode::SUCCESS;
         }
         Err(message) => return refuse(&message),
-        Ok(()) => {}
-    }
-    let Some(suite) = suite else {
-        return refuse("check needs a SUITE folder (with COMMANDS.txt and scenes/)");
     };
-    if options.renderer.is_empty() {
-        return refuse("check needs --renderer CMD: which renderer should be graded?");
-    }
-    options.suite = suite;
-
     let bar = progress_bar(&options);
     let advance = || {
         if let Some(bar) = &bar {
@@ -164,7 +163,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     let failed = graded.len() - passed;
     let _ = writeln!(out, "{passed} passed, {failed} failed");
     if let Some(dir) = &options.report {
-        if let Err(message) = check::write_report(dir, &graded, options.tolerance) {
+        if let Err(message) = check::write_report(dir, &graded, options.rule.tolerance) {
             say(
                 std::io::stderr(),
                 &format!("raycast: check: cannot write the report: {message}"),
@@ -200,7 +199,7 @@ pub fn run_diff(args: Vec<OsString>) -> ExitCode {
     let mut args = args.into_iter();
     let mut files = Vec::new();
     let mut out_file = None;
-    let (mut tolerance, mut max_bad) = (2u8, 0.001f64);
+    let mut rule = Rule::COURSE;
     let parsed: Result<(), String> = (|| {
         while let Some(arg) = args.next() {
             let text = arg.to_string_lossy().into_owned();
@@ -210,7 +209,7 @@ pub fn run_diff(args: Vec<OsString>) -> ExitCode {
                 }
                 "--tolerance" | "--max-bad" => {
                     let v = value(&mut args, &text, "a number")?;
-                    grading(&text, &v, &mut tolerance, &mut max_bad)?;
+                    grading(&text, &v, &mut rule)?;
                 }
                 _ if text.starts_with('-') && text.len() > 1 => {
                     return Err(format!("diff: unknown option '{text}'"));
@@ -234,8 +233,10 @@ pub fn run_diff(args: Vec<OsString>) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let tolerance = rule.tolerance;
+    let judgement = check::judge(&a, &r, rule);
     let mut out = std::io::stdout().lock();
-    let Some(comparison) = check::diagnose::compare(&a, &r, tolerance) else {
+    let Some(bad_fraction) = judgement.bad_fraction else {
         let _ = writeln!(
             out,
             "FAIL: sizes differ ({}x{} against {}x{}): size: {}",
@@ -243,7 +244,7 @@ pub fn run_diff(args: Vec<OsString>) -> ExitCode {
             a.height,
             r.width,
             r.height,
-            check::Diagnosis::Size.explanation()
+            check::Diagnosis::SIZE.explanation()
         );
         return ExitCode::from(1);
     };
@@ -258,21 +259,20 @@ pub fn run_diff(args: Vec<OsString>) -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    let percent = 100.0 * comparison.bad_fraction;
-    if check::diagnose::passes(&comparison, max_bad) {
+    let percent = 100.0 * bad_fraction;
+    if judgement.pass {
         let _ = writeln!(
             out,
             "pass: {percent:.3}% of pixels off by more than {tolerance} levels"
         );
         return ExitCode::SUCCESS;
     }
-    let diagnoses = check::diagnose::diagnose(&a, &r, tolerance, max_bad);
-    let codes: Vec<&str> = diagnoses.iter().map(|d| d.code()).collect();
+    let codes: Vec<&str> = judgement.diagnoses.iter().map(|d| d.code()).collect();
     let _ = writeln!(
         out,
         "FAIL: {percent:.3}% of pixels off by more than {tolerance} levels: {}: {}",
         codes.join(", "),
-        check::diagnose::explain(&diagnoses)
+        check::diagnose::explain(&judgement.diagnoses)
     );
     ExitCode::from(1)
 }

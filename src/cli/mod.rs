@@ -5,6 +5,7 @@
 mod check;
 mod completions;
 mod options;
+mod stats;
 
 use std::ffi::OsString;
 use std::io::{IsTerminal, Read, Write};
@@ -21,7 +22,8 @@ use crate::error::Error;
 use crate::image_io::{self, PendingOutputs};
 use crate::render::{RenderSettings, render};
 use crate::sample;
-use crate::scene::Scene;
+use crate::scene::{LoadStats, Loaded, Scene};
+use crate::shade::Image;
 use options::same_file;
 
 /// Runs the program on its arguments (without the program name); returns the exit status:
@@ -105,43 +107,24 @@ fn execute(options: &Options) -> Result<(), Error> {
 
 fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     let outputs = options.outputs();
-    let paths: Vec<&Path> = outputs.iter().map(|&(_, p)| p).collect();
-    let files: Vec<&Path> = paths.iter().copied().filter(|p| !is_stdio(p)).collect();
+    let files: Vec<&Path> = outputs
+        .iter()
+        .map(|&(_, p)| p)
+        .filter(|p| !is_stdio(p))
+        .collect();
     // Before any work: a folder that is missing or unwritable fails the run now.
     let pending = PendingOutputs::reserve(&files)?;
-
-    let (mut scene, mut load) = load_scene(&options.input)?;
+    let Loaded {
+        mut scene,
+        stats: mut load,
+    } = load_scene(&options.input)?;
     if let Some(pixel) = options.inspect {
-        let account = crate::inspect::inspect(
-            &scene,
-            options.trace,
-            (options.width, options.height),
-            pixel,
-        );
-        let text = if options.json {
-            serde_json::to_string_pretty(&account).unwrap_or_default()
-        } else {
-            crate::inspect::to_text(&account)
-        };
-        // Beside an image on standard output, the account goes to stderr.
-        if paths.iter().any(|p| is_stdio(p)) {
-            say(std::io::stderr(), text.trim_end());
-        } else {
-            say(std::io::stdout(), text.trim_end());
-        }
+        print_account(options, &scene, pixel);
     }
     if outputs.is_empty() {
         return Ok(());
     }
-    for &(flag, path) in &outputs {
-        if let Some(mesh) = load.mesh_files.iter().find(|m| same_file(path, m)) {
-            return Err(Error::Refused(format!(
-                "raycast: {flag} '{}' would overwrite the mesh file '{}' that the scene reads",
-                path.display(),
-                mesh.display()
-            )));
-        }
-    }
+    refuse_to_overwrite_meshes(&outputs, &load)?;
     if let Some([nx, ny, nz]) = options.grid {
         let start = Instant::now();
         scene
@@ -150,7 +133,84 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
             .map_err(|e| Error::Refused(format!("{}: {e}", options.input.display())))?;
         load.build += start.elapsed();
     }
+    let render_start = Instant::now();
+    let rendered = render_pictures(options, &scene);
+    let render_time = render_start.elapsed();
+    let write_start = Instant::now();
+    write_pictures(options, rendered.pictures, pending)?;
+    let times = stats::PhaseTimes {
+        load,
+        render: render_time,
+        write: write_start.elapsed(),
+        threads: rayon::current_num_threads(),
+    };
+    if options.stats {
+        // Beside an image on standard output, the course's block goes to stderr.
+        if options.writes_to_stdout() {
+            stats::print_course_statistics(
+                std::io::stderr(),
+                options,
+                &scene,
+                &rendered.rays,
+                render_time,
+            );
+        } else {
+            stats::print_course_statistics(
+                std::io::stdout(),
+                options,
+                &scene,
+                &rendered.rays,
+                render_time,
+            );
+        }
+        stats::print_phase_times(std::io::stderr(), &times, &rendered.rays);
+    }
+    Ok(())
+}
 
+/// `-inspect X Y`: the pixel's account, as text or JSON.
+fn print_account(options: &Options, scene: &Scene, pixel: (u32, u32)) {
+    let account =
+        crate::inspect::inspect(scene, options.trace, (options.width, options.height), pixel);
+    let text = if options.json {
+        serde_json::to_string_pretty(&account).unwrap_or_default()
+    } else {
+        crate::inspect::to_text(&account)
+    };
+    // Beside an image on standard output, the account goes to stderr.
+    if options.writes_to_stdout() {
+        say(std::io::stderr(), text.trim_end());
+    } else {
+        say(std::io::stdout(), text.trim_end());
+    }
+}
+
+/// An output that names a mesh the scene reads would destroy the user's data.
+fn refuse_to_overwrite_meshes(
+    outputs: &[(&'static str, &Path)],
+    load: &LoadStats,
+) -> Result<(), Error> {
+    for &(flag, path) in outputs {
+        if let Some(mesh) = load.mesh_files.iter().find(|m| same_file(path, m)) {
+            return Err(Error::Refused(format!(
+                "raycast: {flag} '{}' would overwrite the mesh file '{}' that the scene reads",
+                path.display(),
+                mesh.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The pictures the command line names, in the order of [`Options::outputs`], and the rays
+/// cast for them.
+struct Pictures {
+    pictures: Vec<Image>,
+    rays: crate::trace::RayCounts,
+}
+
+/// Renders what the options ask for, and makes the sampling's own pictures.
+fn render_pictures(options: &Options, scene: &Scene) -> Pictures {
     let settings = RenderSettings {
         width: options.width,
         height: options.height,
@@ -168,16 +228,11 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
         || options.normals.is_some()
         || options.depth.is_some()
         || options.render_samples.is_some();
-    let render_start = Instant::now();
     let mut rendered = if traced {
-        render(&scene, &settings)
+        render(scene, &settings)
     } else {
         crate::render::Rendered::default()
     };
-    let threads = rayon::current_num_threads();
-    let render_time = render_start.elapsed();
-
-    let write_start = Instant::now();
     let samples_picture = options.render_samples.as_ref().map(|&(_, zoom)| {
         let film = rendered.film.take().expect("kept for -render_samples");
         sample::render_samples_picture(&film, zoom)
@@ -188,16 +243,29 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     if options.output.is_none() {
         rendered.colour = None;
     }
-    let images = [
-        &rendered.colour,
-        &rendered.normals,
-        &rendered.depth,
-        &samples_picture,
-        &filter_picture,
+    let pictures = [
+        rendered.colour,
+        rendered.normals,
+        rendered.depth,
+        samples_picture,
+        filter_picture,
     ];
+    Pictures {
+        pictures: pictures.into_iter().flatten().collect(),
+        rays: rendered.rays,
+    }
+}
+
+/// Encodes each picture in its file's format and puts the files in place together; the one
+/// named `-` goes to standard output.
+fn write_pictures(
+    options: &Options,
+    pictures: Vec<Image>,
+    pending: PendingOutputs,
+) -> Result<(), Error> {
     let mut contents = Vec::new();
     let mut to_stdout = None;
-    for (image, path) in images.into_iter().flatten().zip(&paths) {
+    for (image, (_, path)) in pictures.iter().zip(options.outputs()) {
         let format = options
             .format_of(path)
             .expect("checked when parsing the command line");
@@ -219,142 +287,13 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
                 message: e.to_string(),
             })?;
     }
-    let write_time = write_start.elapsed();
-
-    if options.stats {
-        // Beside an image on standard output, the course's block goes to stderr.
-        if paths.iter().any(|p| is_stdio(p)) {
-            print_course_statistics(
-                std::io::stderr(),
-                options,
-                &scene,
-                &rendered.rays,
-                render_time,
-            );
-        } else {
-            print_course_statistics(
-                std::io::stdout(),
-                options,
-                &scene,
-                &rendered.rays,
-                render_time,
-            );
-        }
-        let w = load.world;
-        let rays = rendered.rays;
-        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
-        let mb = |bytes: usize| bytes as f64 / (1 << 20) as f64;
-        // Not eprintln!: a closed or full stderr must not turn into a panic (exit status 101).
-        let mut err = std::io::stderr().lock();
-        let _ = writeln!(err, "raycast: parse and load  {:9.2} ms", ms(load.parse));
-        let _ = writeln!(err, "raycast: build BVH       {:9.2} ms", ms(load.build));
-        let _ = writeln!(
-            err,
-            "raycast: render          {:9.2} ms  ({} rays on {threads} thread{}, {:.2} M rays/s)",
-            ms(render_time),
-            rays.primary + rays.secondary + rays.shadow,
-            if threads == 1 { "" } else { "s" },
-            (rays.primary + rays.secondary + rays.shadow) as f64 / render_time.as_secs_f64() / 1e6
-        );
-        let _ = writeln!(
-            err,
-            "raycast: rays: {} primary, {} reflected or refracted, {} shadow",
-            rays.primary, rays.secondary, rays.shadow
-        );
-        let _ = writeln!(err, "raycast: write images    {:9.2} ms", ms(write_time));
-        let _ = writeln!(
-            err,
-            "raycast: scene: {} triangles stored ({} placed) in {} mesh{}, {} instance{}, {} sphere{}, {} plane{}",
-            w.triangles,
-            w.triangles_placed,
-            w.meshes,
-            if w.meshes == 1 { "" } else { "es" },
-            w.instances,
-            if w.instances == 1 { "" } else { "s" },
-            w.spheres,
-            if w.spheres == 1 { "" } else { "s" },
-            w.planes,
-            if w.planes == 1 { "" } else { "s" },
-        );
-        let _ = writeln!(
-            err,
-            "raycast: memory: geometry {:.2} MiB, acceleration {:.2} MiB ({} BVH nodes)",
-            mb(w.geometry_bytes),
-            mb(w.acceleration_bytes),
-            w.nodes
-        );
-    }
     Ok(())
 }
 
-/// The course's `RayTracingStats::PrintStatistics`, line for line: the render's time in whole
-/// seconds (at least 1), the image, the scene's box and the grid, then the rays cast (camera,
-/// mirror and glass rays are the course's "non-shadow" rays), the primitives tested and the grid
-/// cells entered, and their rates.
-fn print_course_statistics(
-    to: impl Write,
-    options: &Options,
-    scene: &Scene,
-    rays: &crate::trace::RayCounts,
-    render_time: std::time::Duration,
-) {
-    let seconds = render_time.as_secs().max(1);
-    let non_shadow = rays.primary + rays.secondary;
-    let all = non_shadow + rays.shadow;
-    let pixels = u64::from(options.width) * u64::from(options.height);
-    // As the course's floats: no rays at all give nan.
-    let per = |count: u64, of: u64| count as f32 / of as f32;
-    let bounds = match scene.world.bounds() {
-        Some(b) => format!(
-            "{:.6} {:.6} {:.6}  -> {:.6} {:.6} {:.6}",
-            b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z
-        ),
-        None => "NULL".to_string(),
-    };
-    let cells = match options.grid {
-        Some([x, y, z]) => format!(
-            "{} ({x}x{y}x{z})",
-            u64::from(x) * u64::from(y) * u64::from(z)
-        ),
-        None => "NULL".to_string(),
-    };
-    let stars = "*".repeat(44);
-    let text = format!(
-        "{stars}
-RAY TRACING STATISTICS
-  total time                 {}:{:02}:{:02}
-  num pixels                 {pixels} ({}x{})
-  scene bounds               {bounds}
-  num grid cells             {cells}
-  num non-shadow rays        {non_shadow}
-  num shadow rays            {}
-  total intersections        {}
-  total cells traversed      {}
-  rays per second            {:.1}
-  rays per pixel             {:.1}
-  intersections per ray      {:.1}
-  cells traversed per ray    {:.1}
-{stars}",
-        seconds / 3600,
-        (seconds / 60) % 60,
-        seconds % 60,
-        options.width,
-        options.height,
-        rays.shadow,
-        rays.tallies.intersections,
-        rays.tallies.cells,
-        per(all, seconds),
-        per(all, pixels),
-        per(rays.tallies.intersections, all),
-        per(rays.tallies.cells, all),
-    );
-    say(to, &text);
-}
-
 /// Reads the scene from its file, or from standard input for `-`.
-fn load_scene(input: &Path) -> Result<(Scene, crate::scene::LoadStats), Error> {
+fn load_scene(input: &Path) -> Result<Loaded, Error> {
     if !is_stdio(input) {
-        return Scene::load(input);
+        return Scene::load_with_stats(input);
     }
     let start = Instant::now();
     let name = Path::new("<stdin>");
@@ -366,7 +305,8 @@ fn load_scene(input: &Path) -> Result<(Scene, crate::scene::LoadStats), Error> {
             source,
         })?;
     let description = crate::parse::parse_scene_bytes(name, &bytes)?;
-    let (scene, mut load) = Scene::from_description(&description)?;
-    load.parse += start.elapsed() - load.parse - load.build;
-    Ok((scene, load))
+    let mut loaded = Scene::from_description_with_stats(&description)?;
+    let stats = &mut loaded.stats;
+    stats.parse += start.elapsed() - stats.parse - stats.build;
+    Ok(loaded)
 }

@@ -8,6 +8,7 @@
 use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
 
+use crate::accel::grid::MAX_CELLS;
 use crate::image_io::{self, ImageFormat, MAX_PIXELS, MAX_SIDE};
 use crate::sample::{Filter, Sampler, Sampling};
 use crate::scene::SpecularFalloff;
@@ -52,8 +53,10 @@ impl Group {
     }
 }
 
-/// One option: its name (without the dash), what follows it, and one line of help.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// One option: its name (without the dash), what follows it, one line of help, and how its
+/// values are read. The parser, the help text, the completions and the did-you-mean of an
+/// unknown option all read [`OPTIONS`], so they cannot drift apart.
+#[derive(Clone, Copy)]
 pub struct OptionSpec {
     /// Without the dash.
     pub name: &'static str,
@@ -63,19 +66,35 @@ pub struct OptionSpec {
     pub group: Group,
     /// One line for `-help`.
     pub help: &'static str,
+    read: Read,
 }
+
+impl std::fmt::Debug for OptionSpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OptionSpec")
+            .field("name", &self.name)
+            .field("values", &self.values)
+            .field("group", &self.group)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Takes an option's values from the words after it into the command line being read.
+type Read = fn(&mut Draft, &mut Values) -> Result<(), String>;
 
 const fn spec(
     name: &'static str,
     values: &'static str,
     group: Group,
     help: &'static str,
+    read: Read,
 ) -> OptionSpec {
     OptionSpec {
         name,
         values,
         group,
         help,
+        read,
     }
 }
 
@@ -86,165 +105,206 @@ pub const OPTIONS: &[OptionSpec] = &[
         "FILE",
         Group::Casting,
         "the scene file (- reads it from standard input)",
+        read_input,
     ),
     spec(
         "size",
         "W H",
         Group::Casting,
         "the image's width and height in pixels",
+        read_size,
     ),
     spec(
         "output",
         "FILE",
         Group::Casting,
         "the picture (- writes it to standard output)",
+        read_output,
     ),
     spec(
         "normals",
         "FILE",
         Group::Casting,
         "the surface normals as colours (|x|, |y|, |z|)",
+        read_normals,
     ),
     spec(
         "depth",
         "TMIN TMAX FILE",
         Group::Casting,
         "distance as grey: TMIN and nearer white, TMAX and farther black",
+        read_depth,
     ),
     spec(
         "shade_back",
         "",
         Group::Casting,
         "shade back faces too (otherwise black); glass needs it",
+        read_shade_back,
     ),
     spec(
         "specular_fix",
         "",
         Group::Phong,
         "fade highlights by N.L (the handout's optional fix)",
+        read_specular_fix,
     ),
     spec(
         "gui",
         "",
         Group::Phong,
         "the course's OpenGL preview: accepted and ignored",
+        read_preview,
     ),
     spec(
         "tessellation",
         "THETA PHI",
         Group::Phong,
         "the preview's sphere steps: accepted and ignored",
+        read_tessellation,
     ),
     spec(
         "gouraud",
         "",
         Group::Phong,
         "the preview's smooth shading: accepted and ignored",
+        read_preview,
     ),
     spec(
         "shadows",
         "",
         Group::Tracing,
         "one shadow ray toward each light",
+        read_shadows,
     ),
     spec(
         "bounces",
         "N",
         Group::Tracing,
         "reflect and refract rays up to N times (default 0)",
+        read_bounces,
     ),
     spec(
         "weight",
         "W",
         Group::Tracing,
         "trace no mirror or glass ray of weight below W (default 0)",
+        read_weight,
     ),
     spec(
         "grid",
         "NX NY NZ",
         Group::Grid,
         "search the course's grid of cells instead of the BVH",
+        read_grid,
     ),
     spec(
         "visualize_grid",
         "",
         Group::Grid,
         "show the grid's occupied cells instead of the scene",
+        read_visualize_grid,
     ),
     spec(
         "stats",
         "",
         Group::Grid,
         "the course's statistics (stdout) and phase times (stderr)",
+        read_stats,
     ),
     spec(
         "random_samples",
         "N",
         Group::Sampling,
         "N samples a pixel, anywhere in it",
+        read_samples,
     ),
     spec(
         "uniform_samples",
         "N",
         Group::Sampling,
         "N samples a pixel on a square grid (N a square)",
+        read_samples,
     ),
     spec(
         "jittered_samples",
         "N",
         Group::Sampling,
         "N samples a pixel, one in each cell of a square grid",
+        read_samples,
     ),
     spec(
         "box_filter",
         "R",
         Group::Sampling,
         "weigh samples within R of a pixel's centre alike (default 0.5)",
+        read_filter,
     ),
     spec(
         "tent_filter",
         "R",
         Group::Sampling,
         "weigh samples by 1 - d/R",
+        read_filter,
     ),
     spec(
         "gaussian_filter",
         "SIGMA",
         Group::Sampling,
         "weigh samples by exp(-d^2/2 SIGMA^2), to 2 SIGMA",
+        read_filter,
     ),
     spec(
         "render_samples",
         "FILE ZOOM",
         Group::Sampling,
         "a picture of where the samples fall",
+        read_picture_of_sampling,
     ),
     spec(
         "render_filter",
         "FILE ZOOM",
         Group::Sampling,
         "a picture of the filter's weights",
+        read_picture_of_sampling,
     ),
     spec(
         "seed",
         "S",
         Group::Own,
         "seed of the random and jittered samples (default 6837)",
+        read_seed,
     ),
     spec(
         "format",
         "png|ppm|tga",
         Group::Own,
         "the format of images named - or without an extension",
+        read_format,
     ),
     spec(
         "threads",
         "N",
         Group::Own,
         "use N threads (default: one per core)",
+        read_threads,
     ),
-    spec("help", "", Group::Own, "print this text"),
-    spec("version", "", Group::Own, "print the version"),
+    spec(
+        "inspect",
+        "X Y",
+        Group::Own,
+        "account for one pixel: its rays, hits, lights and colour",
+        read_inspect,
+    ),
+    spec(
+        "json",
+        "",
+        Group::Own,
+        "with -inspect: the account as JSON",
+        read_json,
+    ),
+    spec("help", "", Group::Own, "print this text", read_help),
+    spec("version", "", Group::Own, "print the version", read_version),
 ];
 
 /// The help text, from [`OPTIONS`].
@@ -343,21 +403,78 @@ pub enum Command {
     Version,
 }
 
+/// A command line as far as it has been read.
+#[derive(Default)]
+struct Draft {
+    options: Options,
+    input: Option<PathBuf>,
+    size: Option<(u32, u32)>,
+    sampler: Option<Sampler>,
+    filter: Option<Filter>,
+    /// `-help` or `-version`: answered at once, whatever else the line says.
+    answer: Option<Command>,
+}
+
+/// The words after an option, handed out as its values.
+struct Values<'a> {
+    /// The option's name, without the dash.
+    name: &'static str,
+    words: &'a mut std::vec::IntoIter<OsString>,
+}
+
+impl Values<'_> {
+    /// The next word, as `what` the option needs.
+    fn next(&mut self, what: &str) -> Result<OsString, String> {
+        let name = self.name;
+        let word = self
+            .words
+            .next()
+            .ok_or_else(|| format!("-{name} needs {what}, found the end of the command line"))?;
+        // `-input -size 200 200`: the value was forgotten, and the next option taken for it.
+        if word.to_str().is_some_and(looks_like_option) {
+            return Err(format!(
+                "-{name} needs {what}, found the option '{}'",
+                word.to_string_lossy()
+            ));
+        }
+        Ok(word)
+    }
+
+    /// The next word as a whole number in `range`; `what` names it in the message.
+    fn whole<T>(&mut self, what: &str, range: std::ops::RangeInclusive<T>) -> Result<T, String>
+    where
+        T: std::str::FromStr + PartialOrd + std::fmt::Display,
+    {
+        let word = self.next(what)?;
+        match word.to_str().and_then(|s| s.parse::<T>().ok()) {
+            Some(n) if range.contains(&n) => Ok(n),
+            _ => Err(format!(
+                "-{} needs {what} (a whole number from {} to {}), found '{}'",
+                self.name,
+                range.start(),
+                range.end(),
+                word.to_string_lossy()
+            )),
+        }
+    }
+}
+
 /// Reads a command line (without the program's name); the error is the message for the user.
 pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
-    let mut options = Options::default();
-    let mut input = None;
-    let mut size = None;
-    let mut sampler = None;
-    let mut filter = None;
-    let mut seen: Vec<String> = Vec::new();
-    let mut args = args.into_iter();
-    while let Some(arg) = args.next() {
+    let mut draft = Draft::default();
+    let mut seen: Vec<&str> = Vec::new();
+    let mut words = args.into_iter();
+    while let Some(arg) = words.next() {
         let Some(text) = arg.to_str() else {
             return Err(format!("unknown option '{}'", arg.to_string_lossy()));
         };
         if let Some(complaint) = misspelt(text) {
             return Err(complaint);
+        }
+        if !text.starts_with('-') {
+            return Err(format!(
+                "unexpected argument '{text}' (options start with '-')"
+            ));
         }
         // `--input` is taken for `-input`, `-h` and `--help` for `-help`.
         let name = text.strip_prefix('-').unwrap_or(text);
@@ -367,245 +484,283 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
             "V" => "version",
             _ => name,
         };
-        if !text.starts_with('-') {
-            return Err(format!(
-                "unexpected argument '{text}' (options start with '-')"
-            ));
-        }
-        if seen.iter().any(|s| s == name) {
+        let Some(option) = OPTIONS.iter().find(|o| o.name == name) else {
+            return Err(unknown_option(text));
+        };
+        if seen.contains(&option.name) {
             return Err(format!("-{name} is given twice"));
         }
-        seen.push(name.to_string());
-        let mut value = |what: &str| -> Result<OsString, String> {
-            let arg = args.next().ok_or_else(|| {
-                format!("-{name} needs {what}, found the end of the command line")
-            })?;
-            // `-input -size 200 200`: the value was forgotten, and the next option taken for it.
-            if arg.to_str().is_some_and(looks_like_option) {
-                return Err(format!(
-                    "-{name} needs {what}, found the option '{}'",
-                    arg.to_string_lossy()
-                ));
-            }
-            Ok(arg)
+        seen.push(option.name);
+        let mut values = Values {
+            name: option.name,
+            words: &mut words,
         };
-        match name {
-            "help" => return Ok(Command::Help),
-            "version" => return Ok(Command::Version),
-            "input" => input = Some(PathBuf::from(value("a scene file")?)),
-            "size" => {
-                let what = "a width and a height in pixels";
-                let width = positive(&value(what)?, "-size", "a width in pixels")?;
-                let height = positive(&value(what)?, "-size", "a height in pixels")?;
-                size = Some((width, height));
-            }
-            "output" => options.output = Some(PathBuf::from(value("an image file")?)),
-            "normals" => options.normals = Some(PathBuf::from(value("an image file")?)),
-            "depth" => {
-                let what = "TMIN TMAX and an image file";
-                let near = finite(&value(what)?, "-depth", "TMIN, a number")?;
-                let far = finite(&value(what)?, "-depth", "TMAX, a number")?;
-                if near == far {
-                    return Err(format!(
-                        "-depth needs TMIN and TMAX to differ, found {near} twice"
-                    ));
-                }
-                options.depth = Some((near, far, PathBuf::from(value(what)?)));
-            }
-            "shade_back" => options.trace.shade_back = true,
-            "shadows" => options.trace.shadows = true,
-            "specular_fix" => options.trace.specular = SpecularFalloff::Fade,
-            "bounces" => {
-                let arg = value("a number of bounces")?;
-                match arg.to_str().and_then(|s| s.parse::<u32>().ok()) {
-                    Some(n) => options.trace.bounces = n,
-                    None => {
-                        return Err(format!(
-                            "-bounces needs a number of bounces (a whole number from 0 to {}), \
-                             found '{}'",
-                            u32::MAX,
-                            arg.to_string_lossy()
-                        ));
-                    }
-                }
-            }
-            "weight" => {
-                let weight = finite(&value("a weight")?, "-weight", "a weight, a number")?;
-                if weight < 0.0 {
-                    return Err(format!(
-                        "-weight needs a weight of 0 or more, found '{weight}'"
-                    ));
-                }
-                options.trace.cutoff_weight = weight;
-            }
-            "gui" | "gouraud" => options.preview = true,
-            "tessellation" => {
-                let what = "the preview's THETA and PHI steps";
-                positive(&value(what)?, "-tessellation", "THETA")?;
-                positive(&value(what)?, "-tessellation", "PHI")?;
-                options.preview = true;
-            }
-            "stats" => options.stats = true,
-            "random_samples" | "uniform_samples" | "jittered_samples" => {
-                let arg = value("a number of samples")?;
-                let n = match arg.to_str().and_then(|s| s.parse::<u32>().ok()) {
-                    Some(n) if (1..=MAX_SAMPLES).contains(&n) => n,
-                    _ => {
-                        return Err(format!(
-                            "-{name} needs a number of samples (a whole number from 1 to \
-                             {MAX_SAMPLES}), found '{}'",
-                            arg.to_string_lossy()
-                        ));
-                    }
-                };
-                if name != "random_samples" && n.isqrt() * n.isqrt() != n {
-                    let below = n.isqrt() * n.isqrt();
-                    let above = (n.isqrt() + 1) * (n.isqrt() + 1);
-                    return Err(format!(
-                        "-{name} needs a square number of samples (they lie on a square grid), \
-                         found {n}: try {below} or {above}"
-                    ));
-                }
-                if sampler.is_some() {
-                    return Err("give only one of -random_samples, -uniform_samples and \
-                                -jittered_samples"
-                        .into());
-                }
-                sampler = Some(match name {
-                    "random_samples" => Sampler::Random(n),
-                    "uniform_samples" => Sampler::Uniform(n),
-                    _ => Sampler::Jittered(n),
-                });
-            }
-            "box_filter" | "tent_filter" | "gaussian_filter" => {
-                let what = if name == "gaussian_filter" {
-                    "SIGMA"
-                } else {
-                    "a radius"
-                };
-                let size = finite(
-                    &value(what)?,
-                    &format!("-{name}"),
-                    &format!("{what}, a number of pixels"),
-                )?;
-                let reach = if name == "gaussian_filter" {
-                    2.0 * size
-                } else {
-                    size
-                };
-                if size <= 0.0 || reach > MAX_FILTER_REACH {
-                    return Err(format!(
-                        "-{name} needs {what} above 0 and at most {} pixels, found {size}",
-                        if name == "gaussian_filter" {
-                            MAX_FILTER_REACH / 2.0
-                        } else {
-                            MAX_FILTER_REACH
-                        }
-                    ));
-                }
-                if filter.is_some() {
-                    return Err(
-                        "give only one of -box_filter, -tent_filter and -gaussian_filter".into(),
-                    );
-                }
-                filter = Some(match name {
-                    "box_filter" => Filter::Box(size),
-                    "tent_filter" => Filter::Tent(size),
-                    _ => Filter::Gaussian(size),
-                });
-            }
-            "grid" => {
-                let what = "NX NY NZ, the numbers of cells";
-                let mut cells = [0; 3];
-                for (axis, n) in ["NX", "NY", "NZ"].iter().zip(&mut cells) {
-                    *n = positive(&value(what)?, "-grid", axis)?;
-                }
-                let count = cells.iter().map(|&n| u64::from(n)).product::<u64>();
-                if count > crate::accel::grid::MAX_CELLS {
-                    return Err(format!(
-                        "-grid {} {} {} is {count} cells, more than the {} that raycast keeps \
-                         in memory",
-                        cells[0],
-                        cells[1],
-                        cells[2],
-                        crate::accel::grid::MAX_CELLS
-                    ));
-                }
-                options.grid = Some(cells);
-            }
-            "visualize_grid" => options.trace.visualize_grid = true,
-            "seed" => {
-                let arg = value("a seed")?;
-                match arg.to_str().and_then(|s| s.parse::<u64>().ok()) {
-                    Some(seed) => options.sampling.seed = seed,
-                    None => {
-                        return Err(format!(
-                            "-seed needs a whole number from 0 to {}, found '{}'",
-                            u64::MAX,
-                            arg.to_string_lossy()
-                        ));
-                    }
-                }
-            }
-            "render_samples" | "render_filter" => {
-                let what = "an image file and a zoom";
-                let file = PathBuf::from(value(what)?);
-                let zoom = positive(&value(what)?, &format!("-{name}"), "a zoom")?;
-                if name == "render_samples" {
-                    options.render_samples = Some((file, zoom));
-                } else {
-                    options.render_filter = Some((file, zoom));
-                }
-            }
-            "threads" => {
-                let arg = value("a number of threads")?;
-                match arg.to_str().and_then(|s| s.parse::<usize>().ok()) {
-                    Some(n) if (1..=MAX_THREADS).contains(&n) => options.threads = Some(n),
-                    _ => {
-                        return Err(format!(
-                            "-threads needs a number of threads (a whole number from 1 to \
-                             {MAX_THREADS}), found '{}'",
-                            arg.to_string_lossy()
-                        ));
-                    }
-                }
-            }
-            "inspect" => {
-                let what = "a pixel's X and Y";
-                let whole = |arg: OsString, axis: &str| -> Result<u32, String> {
-                    arg.to_str()
-                        .and_then(|s| s.parse::<u32>().ok())
-                        .ok_or_else(|| {
-                            format!(
-                                "-inspect needs {axis} (a whole number from 0), found '{}'",
-                                arg.to_string_lossy()
-                            )
-                        })
-                };
-                let x = whole(value(what)?, "X")?;
-                let y = whole(value(what)?, "Y")?;
-                options.inspect = Some((x, y));
-            }
-            "json" => options.json = true,
-            "format" => {
-                let arg = value("an image format (png, ppm or tga)")?;
-                options.format = Some(match arg.to_str() {
-                    Some("png") => ImageFormat::Png,
-                    Some("ppm") => ImageFormat::Ppm,
-                    Some("tga") => ImageFormat::Tga,
-                    _ => {
-                        return Err(format!(
-                            "-format needs png, ppm or tga, found '{}'",
-                            arg.to_string_lossy()
-                        ));
-                    }
-                });
-            }
-            _ => return Err(unknown_option(text)),
+        (option.read)(&mut draft, &mut values)?;
+        if let Some(answer) = draft.answer {
+            return Ok(answer);
         }
     }
-    options.input = input.ok_or("-input is missing: which scene should be rendered?")?;
-    let (width, height) = size.ok_or("-size is missing: how many pixels wide and high?")?;
+    finish(draft).map(|options| Command::Render(Box::new(options)))
+}
+
+fn read_help(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.answer = Some(Command::Help);
+    Ok(())
+}
+
+fn read_version(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.answer = Some(Command::Version);
+    Ok(())
+}
+
+fn read_input(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    draft.input = Some(PathBuf::from(values.next("a scene file")?));
+    Ok(())
+}
+
+fn read_size(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let what = "a width and a height in pixels";
+    let width = positive(&values.next(what)?, "-size", "a width in pixels")?;
+    let height = positive(&values.next(what)?, "-size", "a height in pixels")?;
+    draft.size = Some((width, height));
+    Ok(())
+}
+
+fn read_output(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    draft.options.output = Some(PathBuf::from(values.next("an image file")?));
+    Ok(())
+}
+
+fn read_normals(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    draft.options.normals = Some(PathBuf::from(values.next("an image file")?));
+    Ok(())
+}
+
+fn read_depth(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let what = "TMIN TMAX and an image file";
+    let near = finite(&values.next(what)?, "-depth", "TMIN, a number")?;
+    let far = finite(&values.next(what)?, "-depth", "TMAX, a number")?;
+    if near == far {
+        return Err(format!(
+            "-depth needs TMIN and TMAX to differ, found {near} twice"
+        ));
+    }
+    draft.options.depth = Some((near, far, PathBuf::from(values.next(what)?)));
+    Ok(())
+}
+
+fn read_shade_back(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.trace.shade_back = true;
+    Ok(())
+}
+
+fn read_shadows(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.trace.shadows = true;
+    Ok(())
+}
+
+fn read_specular_fix(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.trace.specular = SpecularFalloff::Fade;
+    Ok(())
+}
+
+fn read_bounces(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    draft.options.trace.bounces = values.whole("a number of bounces", 0..=u32::MAX)?;
+    Ok(())
+}
+
+fn read_weight(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let weight = finite(&values.next("a weight")?, "-weight", "a weight, a number")?;
+    if weight < 0.0 {
+        return Err(format!(
+            "-weight needs a weight of 0 or more, found '{weight}'"
+        ));
+    }
+    draft.options.trace.cutoff_weight = weight;
+    Ok(())
+}
+
+fn read_preview(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.preview = true;
+    Ok(())
+}
+
+fn read_tessellation(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let what = "the preview's THETA and PHI steps";
+    positive(&values.next(what)?, "-tessellation", "THETA")?;
+    positive(&values.next(what)?, "-tessellation", "PHI")?;
+    draft.options.preview = true;
+    Ok(())
+}
+
+fn read_stats(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.stats = true;
+    Ok(())
+}
+
+/// `-random_samples`, `-uniform_samples` and `-jittered_samples`.
+fn read_samples(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let name = values.name;
+    let n = values.whole("a number of samples", 1..=MAX_SAMPLES)?;
+    if name != "random_samples" && n.isqrt() * n.isqrt() != n {
+        let below = n.isqrt() * n.isqrt();
+        let above = (n.isqrt() + 1) * (n.isqrt() + 1);
+        return Err(format!(
+            "-{name} needs a square number of samples (they lie on a square grid), found {n}: \
+             try {below} or {above}"
+        ));
+    }
+    if draft.sampler.is_some() {
+        return Err(
+            "give only one of -random_samples, -uniform_samples and -jittered_samples".into(),
+        );
+    }
+    draft.sampler = Some(match name {
+        "random_samples" => Sampler::Random(n),
+        "uniform_samples" => Sampler::Uniform(n),
+        _ => Sampler::Jittered(n),
+    });
+    Ok(())
+}
+
+/// `-box_filter`, `-tent_filter` and `-gaussian_filter`.
+fn read_filter(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let name = values.name;
+    let gaussian = name == "gaussian_filter";
+    let what = if gaussian { "SIGMA" } else { "a radius" };
+    let size = finite(
+        &values.next(what)?,
+        &format!("-{name}"),
+        &format!("{what}, a number of pixels"),
+    )?;
+    // A Gaussian is cut off at 2 sigma.
+    let largest = if gaussian {
+        MAX_FILTER_REACH / 2.0
+    } else {
+        MAX_FILTER_REACH
+    };
+    if size <= 0.0 || size > largest {
+        return Err(format!(
+            "-{name} needs {what} above 0 and at most {largest} pixels, found {size}"
+        ));
+    }
+    if draft.filter.is_some() {
+        return Err("give only one of -box_filter, -tent_filter and -gaussian_filter".into());
+    }
+    draft.filter = Some(match name {
+        "box_filter" => Filter::Box(size),
+        "tent_filter" => Filter::Tent(size),
+        _ => Filter::Gaussian(size),
+    });
+    Ok(())
+}
+
+fn read_grid(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let what = "NX NY NZ, the numbers of cells";
+    let mut cells = [0; 3];
+    for (axis, n) in ["NX", "NY", "NZ"].iter().zip(&mut cells) {
+        *n = positive(&values.next(what)?, "-grid", axis)?;
+    }
+    let count = cells.iter().map(|&n| u64::from(n)).product::<u64>();
+    if count > MAX_CELLS {
+        return Err(format!(
+            "-grid {} {} {} is {count} cells, more than the {MAX_CELLS} that raycast keeps in \
+             memory",
+            cells[0], cells[1], cells[2],
+        ));
+    }
+    draft.options.grid = Some(cells);
+    Ok(())
+}
+
+fn read_visualize_grid(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.trace.visualize_grid = true;
+    Ok(())
+}
+
+fn read_seed(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let word = values.next("a seed")?;
+    draft.options.sampling.seed = word
+        .to_str()
+        .and_then(|s| s.parse::<u64>().ok())
+        .ok_or_else(|| {
+            format!(
+                "-seed needs a whole number from 0 to {}, found '{}'",
+                u64::MAX,
+                word.to_string_lossy()
+            )
+        })?;
+    Ok(())
+}
+
+/// `-render_samples` and `-render_filter`.
+fn read_picture_of_sampling(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let name = values.name;
+    let what = "an image file and a zoom";
+    let file = PathBuf::from(values.next(what)?);
+    let zoom = positive(&values.next(what)?, &format!("-{name}"), "a zoom")?;
+    if name == "render_samples" {
+        draft.options.render_samples = Some((file, zoom));
+    } else {
+        draft.options.render_filter = Some((file, zoom));
+    }
+    Ok(())
+}
+
+fn read_threads(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    draft.options.threads = Some(values.whole("a number of threads", 1..=MAX_THREADS)?);
+    Ok(())
+}
+
+fn read_inspect(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let what = "a pixel's X and Y";
+    let mut whole = |axis: &str| -> Result<u32, String> {
+        let word = values.next(what)?;
+        word.to_str()
+            .and_then(|s| s.parse::<u32>().ok())
+            .ok_or_else(|| {
+                format!(
+                    "-inspect needs {axis} (a whole number from 0), found '{}'",
+                    word.to_string_lossy()
+                )
+            })
+    };
+    let x = whole("X")?;
+    let y = whole("Y")?;
+    draft.options.inspect = Some((x, y));
+    Ok(())
+}
+
+fn read_json(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.json = true;
+    Ok(())
+}
+
+fn read_format(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let word = values.next("an image format (png, ppm or tga)")?;
+    draft.options.format = Some(match word.to_str() {
+        Some("png") => ImageFormat::Png,
+        Some("ppm") => ImageFormat::Ppm,
+        Some("tga") => ImageFormat::Tga,
+        _ => {
+            return Err(format!(
+                "-format needs png, ppm or tga, found '{}'",
+                word.to_string_lossy()
+            ));
+        }
+    });
+    Ok(())
+}
+
+/// The rules that join options, checked once the whole line is read.
+fn finish(draft: Draft) -> Result<Options, String> {
+    let mut options = draft.options;
+    options.input = draft
+        .input
+        .ok_or("-input is missing: which scene should be rendered?")?;
+    let (width, height) = draft
+        .size
+        .ok_or("-size is missing: how many pixels wide and high?")?;
     if width > MAX_SIDE || height > MAX_SIDE || width as u64 * height as u64 > MAX_PIXELS {
         return Err(format!(
             "-size {width} {height} is too large: each side may be at most {MAX_SIDE} pixels, \
@@ -632,14 +787,22 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
     options.trace.tally = options.stats;
     // Samples without a filter: each pixel its own samples. A filter without samples: the
     // pixels' centres, filtered.
-    options.sampling.sampler = sampler.unwrap_or(Sampler::Uniform(1));
-    options.sampling.filter = filter.unwrap_or(Filter::Box(0.5));
-    let kept = u64::from(width) * u64::from(height) * u64::from(options.sampling.sampler.samples());
+    options.sampling.sampler = draft.sampler.unwrap_or(Sampler::Uniform(1));
+    options.sampling.filter = draft.filter.unwrap_or(Filter::Box(0.5));
+    check_film(&options)?;
+    check_outputs(&options)?;
+    Ok(options)
+}
+
+/// The samples a film keeps, and the pictures of the sampling, within memory's bounds.
+fn check_film(options: &Options) -> Result<(), String> {
+    let (width, height) = (options.width, options.height);
+    let samples = options.sampling.sampler.samples();
+    let kept = u64::from(width) * u64::from(height) * u64::from(samples);
     if kept > MAX_FILM_SAMPLES && !options.sampling.is_plain() {
         return Err(format!(
-            "{width}x{height} pixels of {} samples is too many samples to keep ({kept}); at \
-             most {MAX_FILM_SAMPLES} (width x height x samples a pixel)",
-            options.sampling.sampler.samples()
+            "{width}x{height} pixels of {samples} samples is too many samples to keep ({kept}); \
+             at most {MAX_FILM_SAMPLES} (width x height x samples a pixel)"
         ));
     }
     for (flag, picture) in [
@@ -659,6 +822,12 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
             ));
         }
     }
+    Ok(())
+}
+
+/// The images asked for: at least one, each a file of a known type (or standard output, once),
+/// none the scene and no two the same.
+fn check_outputs(options: &Options) -> Result<(), String> {
     let outputs = options.outputs();
     // The course's preview-only lines (`-gui` and no image): the scene is still read and
     // checked, and raycast says it has no preview.
@@ -714,13 +883,18 @@ pub fn parse_args(args: Vec<OsString>) -> Result<Command, String> {
             ));
         }
     }
-    Ok(Command::Render(Box::new(options)))
+    Ok(())
 }
 
 impl Options {
     /// An image's format: its extension's, or `-format`'s for a name without one (and `-`).
     pub fn format_of(&self, path: &Path) -> Option<ImageFormat> {
         ImageFormat::from_path(path).or(self.format)
+    }
+
+    /// Whether an image goes to standard output (`-`), so that text must go to stderr.
+    pub fn writes_to_stdout(&self) -> bool {
+        self.outputs().iter().any(|&(_, path)| is_stdio(path))
     }
 
     /// The images asked for, each with the option that named it.

@@ -11,7 +11,7 @@ use super::description::{
     SceneDescription, Shape, TextureSpec,
 };
 use super::lexer::{Lexer, Token, describe, invalid_utf8_span};
-use super::validate;
+use super::validate::{self, Placing};
 use crate::error::Span;
 use crate::error::{Diagnostic, Error};
 
@@ -169,29 +169,26 @@ impl<'a> Parser<'a> {
         self.keyword("up")?;
         let up_span = self.peek_span();
         let up = self.vec3()?;
-        if !direction.cross(up).normalize_or_zero().is_normalized() {
+        if !validate::up_is_across(direction, up) {
             return Err(Diagnostic::expected(
                 self.path,
                 up_span,
-                "an up vector that is not parallel to the direction",
+                validate::UP,
                 &show_vector(up),
             ));
         }
         let projection = if keyword.text == "OrthographicCamera" {
             self.keyword("size")?;
             let (size, token) = self.number_token()?;
-            if size as f32 <= 0.0 {
-                return Err(self.not_positive(token, "a positive size", size));
+            if !validate::is_positive(size as f32) {
+                return Err(self.not_positive(token, validate::POSITIVE_SIZE, size));
             }
             Projection::Orthographic { size: size as f32 }
         } else {
             self.keyword("angle")?;
             let (angle, token) = self.number_token()?;
-            // Also below 180 once in f32 radians: an angle that rounds up to π would turn the
-            // screen's tangent negative and the picture upside down.
-            let in_range = angle as f32 > 0.0 && (angle.to_radians() as f32) < std::f32::consts::PI;
-            if !in_range {
-                return Err(self.unexpected(token, "an angle between 0 and 180 degrees"));
+            if !validate::is_field_of_view(angle as f32) {
+                return Err(self.unexpected(token, validate::ANGLE));
             }
             Projection::Perspective {
                 angle: angle as f32,
@@ -263,18 +260,14 @@ impl<'a> Parser<'a> {
             "attenuation" => {
                 for term in &mut attenuation {
                     let (value, token) = self.number_token()?;
-                    if value < 0.0 {
-                        return Err(self.unexpected(token, "an attenuation term of 0 or more"));
+                    if !validate::is_not_negative(value as f32) {
+                        return Err(self.unexpected(token, validate::ATTENUATION_TERM));
                     }
                     *term = value as f32;
                 }
-                if attenuation == [0.0; 3] {
-                    return Err(Diagnostic::expected(
-                        self.path,
-                        token.span,
-                        "attenuation with at least one term above 0 (1 0 0: no fall-off)",
-                        "'0 0 0', which would make the light infinitely bright",
-                    ));
+                if !validate::attenuation_falls(attenuation) {
+                    let (expected, found) = validate::ATTENUATION;
+                    return Err(Diagnostic::expected(self.path, token.span, expected, found));
                 }
                 self.keyword("}")?;
             }
@@ -335,14 +328,9 @@ impl<'a> Parser<'a> {
             if end.text != "}" {
                 return Err(self.unexpected(end, TEXTURE_OP));
             }
-            if largest_entry(&matrix) > MAX_MAGNITUDE {
-                return Err(Diagnostic::expected(
-                    self.path,
-                    token.span,
-                    "a texture transformation whose matrix has entries between -1e9 and 1e9",
-                    &format!("an entry of {}", show_number(largest_entry(&matrix))),
-                ));
-            }
+            validate::transformation(&matrix, Placing::Texture).map_err(|(expected, found)| {
+                Diagnostic::expected(self.path, token.span, &expected, &found)
+            })?;
             to_texture = matrix;
             token = self.next("materialIndex")?;
             if token.text != "materialIndex" {
@@ -405,7 +393,7 @@ impl<'a> Parser<'a> {
 
     fn octaves(&mut self) -> Result<u32> {
         self.keyword("octaves")?;
-        let expected = format!("a number of octaves from 0 to {MAX_OCTAVES}");
+        let expected = validate::octaves_expected();
         let token = self.next(&expected)?;
         match token.text.parse::<u32>() {
             Ok(n) if n <= MAX_OCTAVES => Ok(n),
@@ -428,19 +416,15 @@ impl<'a> Parser<'a> {
                 "transparentColor" => material.transparent = self.vec3()?,
                 "exponent" => {
                     let (value, token) = self.number_token()?;
-                    if value < 0.0 {
-                        return Err(self.unexpected(token, "a specular exponent of 0 or more"));
+                    if !validate::is_not_negative(value as f32) {
+                        return Err(self.unexpected(token, validate::EXPONENT));
                     }
                     material.exponent = value as f32;
                 }
                 "indexOfRefraction" => {
                     let (value, token) = self.number_token()?;
-                    if value as f32 <= 0.0 {
-                        return Err(self.not_positive(
-                            token,
-                            "an index of refraction above 0",
-                            value,
-                        ));
+                    if !validate::is_positive(value as f32) {
+                        return Err(self.not_positive(token, validate::POSITIVE_INDEX, value));
                     }
                     material.index_of_refraction = value as f32;
                 }
@@ -473,35 +457,11 @@ impl<'a> Parser<'a> {
                             Some(parent) => out.transforms[parent as usize] * local,
                             None => local,
                         };
-                        let inverse = world.inverse();
-                        if !inverse.is_finite() || world.determinant() == 0.0 {
-                            return Err(Diagnostic::expected(
-                                self.path,
-                                token.span,
-                                "an invertible transformation",
-                                "one that flattens space (its scales multiply to zero)",
-                            ));
-                        }
-                        // Bounding both keeps a ray carried into the object's space finite: its
-                        // origin and direction go through the inverse, its normal through the
-                        // inverse's transpose, and a direction shrunk too far would square to 0.
-                        for (matrix, which, why) in [
-                            (world, "matrix", ""),
-                            (inverse, "inverse", " (it shrinks space too much)"),
-                        ] {
-                            let largest = largest_entry(&matrix);
-                            if largest > MAX_MAGNITUDE {
-                                return Err(Diagnostic::expected(
-                                    self.path,
-                                    token.span,
-                                    &format!(
-                                        "a transformation whose {which}, with the Transforms \
-                                         around it, has entries between -1e9 and 1e9"
-                                    ),
-                                    &format!("an entry of {}{why}", show_number(largest)),
-                                ));
-                            }
-                        }
+                        validate::transformation(&world, Placing::Object).map_err(
+                            |(expected, found)| {
+                                Diagnostic::expected(self.path, token.span, &expected, &found)
+                            },
+                        )?;
                         open.push(Open::Transform { parent: transform });
                         transform = Some(out.transforms.len() as u32);
                         out.transforms.push(world);
@@ -629,14 +589,12 @@ impl<'a> Parser<'a> {
                         }
                     }
                     self.keyword("}")?;
-                    // A last row other than 0 0 0 1 is a projective map, which the course's code
-                    // would drop without a word (it keeps only the upper three rows).
                     if rows[12..] != [0.0, 0.0, 0.0, 1.0] {
                         let written: Vec<&str> = last_row.iter().map(|t| t.text).collect();
                         return Err(Diagnostic::expected(
                             self.path,
                             last_row[0].span,
-                            "a last row of '0 0 0 1' (raycast does only affine transformations)",
+                            validate::AFFINE,
                             &describe(&written.join(" ")),
                         ));
                     }
@@ -663,8 +621,8 @@ impl<'a> Parser<'a> {
                 let center = self.vec3()?;
                 self.keyword("radius")?;
                 let (radius, token) = self.number_token()?;
-                if radius as f32 <= 0.0 {
-                    return Err(self.not_positive(token, "a positive radius", radius));
+                if !validate::is_positive(radius as f32) {
+                    return Err(self.not_positive(token, validate::POSITIVE_RADIUS, radius));
                 }
                 Shape::Sphere {
                     center,
@@ -677,15 +635,15 @@ impl<'a> Parser<'a> {
                 let normal = self.vec3()?;
                 self.keyword("offset")?;
                 let (offset, _) = self.number()?;
-                let length = normal.length();
-                if !(length > 0.0 && length.is_finite()) {
+                if !validate::has_direction(normal) {
                     return Err(Diagnostic::expected(
                         self.path,
                         span,
-                        "a plane normal of non-zero length",
+                        validate::PLANE_NORMAL,
                         &show_vector(normal),
                     ));
                 }
+                let length = normal.length();
                 // Dividing both sides of P·n = d by |n| keeps the plane where the file put it.
                 Shape::Plane {
                     normal: normal / length,
@@ -791,16 +749,15 @@ impl<'a> Parser<'a> {
     fn direction(&mut self) -> Result<Vec3> {
         let span = self.peek_span();
         let v = self.vec3()?;
-        let unit = v.normalize_or_zero();
-        if unit == Vec3::ZERO {
+        if !validate::has_direction(v) {
             return Err(Diagnostic::expected(
                 self.path,
                 span,
-                "a direction of non-zero length",
+                validate::DIRECTION,
                 &show_vector(v),
             ));
         }
-        Ok(unit)
+        Ok(v.normalize())
     }
 
     /// `name <count>`: how many items of a list follow.
@@ -837,12 +794,8 @@ impl<'a> Parser<'a> {
     }
 
     fn singular(&self, span: Span) -> Diagnostic {
-        Diagnostic::expected(
-            self.path,
-            span,
-            "an invertible transformation",
-            "one that flattens space (a scale of zero)",
-        )
+        let (expected, found) = validate::singular();
+        Diagnostic::expected(self.path, span, &expected, &found)
     }
 }
 
@@ -850,10 +803,6 @@ impl<'a> Parser<'a> {
 fn more(missing: u32, item: &str, count_name: &str, count: u32) -> String {
     let plural = if missing == 1 { "" } else { "s" };
     format!("{missing} more {item}{plural} ({count_name} is {count})")
-}
-
-fn largest_entry(m: &DMat4) -> f64 {
-    m.to_cols_array().iter().fold(0.0, |a, &x| a.max(x.abs()))
 }
 
 /// A computed value beyond [`MAX_MAGNITUDE`] for a message, to six digits (`1e10`, not

@@ -11,7 +11,9 @@ use super::description::{
     TextureSpec,
 };
 use crate::error::{Diagnostic, Span};
-use crate::parse::{MAX_MAGNITUDE, MAX_OCTAVES, MAX_TEXTURE_DEPTH, NUMBER_IN_RANGE, show_vector};
+use crate::parse::{
+    MAX_MAGNITUDE, MAX_OCTAVES, MAX_TEXTURE_DEPTH, NUMBER_IN_RANGE, show_number, show_vector,
+};
 
 /// Checks `description`; the first rule broken is the error. Camera, lights and materials have
 /// no place in the description, so their errors name the item instead of a line.
@@ -48,7 +50,7 @@ pub fn validate(description: &SceneDescription) -> Result<(), Diagnostic> {
         depths.push(depth);
     }
     for (i, matrix) in description.transforms.iter().enumerate() {
-        transform(matrix).map_err(|(expected, found)| {
+        transformation(matrix, Placing::Object).map_err(|(expected, found)| {
             error(nowhere, &format!("{expected} for transform {i}"), found)
         })?;
     }
@@ -93,6 +95,59 @@ pub fn validate(description: &SceneDescription) -> Result<(), Diagnostic> {
 /// What a rule wanted and what it found instead.
 pub(crate) type Broken = (String, String);
 
+// The rules of single values, each once, with the words its message says: the parser checks
+// them as it reads (pointing at the word, and showing it as written), `validate` on descriptions
+// made in code.
+
+/// A size, radius or index of refraction.
+pub(crate) fn is_positive(x: f32) -> bool {
+    x > 0.0 && f64::from(x) <= MAX_MAGNITUDE
+}
+pub(crate) const POSITIVE_SIZE: &str = "a positive size";
+pub(crate) const POSITIVE_RADIUS: &str = "a positive radius";
+pub(crate) const POSITIVE_INDEX: &str = "an index of refraction above 0";
+
+/// A specular exponent or an attenuation term.
+pub(crate) fn is_not_negative(x: f32) -> bool {
+    x >= 0.0 && f64::from(x) <= MAX_MAGNITUDE
+}
+pub(crate) const EXPONENT: &str = "a specular exponent of 0 or more";
+pub(crate) const ATTENUATION_TERM: &str = "an attenuation term of 0 or more";
+
+/// A point light whose attenuation terms are all zero would be infinitely bright.
+pub(crate) fn attenuation_falls(terms: [f32; 3]) -> bool {
+    terms != [0.0; 3]
+}
+pub(crate) const ATTENUATION: (&str, &str) = (
+    "attenuation with at least one term above 0 (1 0 0: no fall-off)",
+    "'0 0 0', which would make the light infinitely bright",
+);
+
+/// A direction, a plane's normal: a vector that has one (so it can be normalised).
+pub(crate) fn has_direction(v: Vec3) -> bool {
+    v.normalize_or_zero() != Vec3::ZERO
+}
+pub(crate) const DIRECTION: &str = "a direction of non-zero length";
+pub(crate) const PLANE_NORMAL: &str = "a plane normal of non-zero length";
+
+/// The camera's up vector must pick a way up across the view.
+pub(crate) fn up_is_across(direction: Vec3, up: Vec3) -> bool {
+    direction.cross(up).normalize_or_zero().is_normalized()
+}
+pub(crate) const UP: &str = "an up vector that is not parallel to the direction";
+
+/// Also below 180 once in f32 radians: an angle that rounds up to π would turn the screen's
+/// tangent negative and the picture upside down.
+pub(crate) fn is_field_of_view(angle: f32) -> bool {
+    angle > 0.0 && (f64::from(angle).to_radians() as f32) < std::f32::consts::PI
+}
+pub(crate) const ANGLE: &str = "an angle between 0 and 180 degrees";
+
+/// What a texture's `octaves` must be.
+pub(crate) fn octaves_expected() -> String {
+    format!("a number of octaves from 0 to {MAX_OCTAVES}")
+}
+
 fn in_range(v: Vec3) -> bool {
     v.is_finite() && f64::from(v.abs().max_element()) <= MAX_MAGNITUDE
 }
@@ -111,8 +166,8 @@ fn vector_in_range(v: Vec3) -> Result<(), Broken> {
 
 fn direction(v: Vec3) -> Result<(), Broken> {
     vector_in_range(v)?;
-    if v.normalize_or_zero() == Vec3::ZERO {
-        return Err(("a direction of non-zero length".into(), show_vector(v)));
+    if !has_direction(v) {
+        return Err((DIRECTION.into(), show_vector(v)));
     }
     Ok(())
 }
@@ -121,25 +176,15 @@ fn camera(camera: &CameraSpec) -> Result<(), Broken> {
     vector_in_range(camera.center)?;
     direction(camera.direction)?;
     vector_in_range(camera.up)?;
-    if !camera
-        .direction
-        .cross(camera.up)
-        .normalize_or_zero()
-        .is_normalized()
-    {
-        return Err((
-            "an up vector that is not parallel to the direction".into(),
-            show_vector(camera.up),
-        ));
+    if !up_is_across(camera.direction, camera.up) {
+        return Err((UP.into(), show_vector(camera.up)));
     }
     match camera.projection {
-        Projection::Orthographic { size } if !(size > 0.0 && size.is_finite()) => {
-            Err(("a positive size".into(), number(size)))
+        Projection::Orthographic { size } if !is_positive(size) => {
+            Err((POSITIVE_SIZE.into(), number(size)))
         }
-        Projection::Perspective { angle }
-            if !(angle > 0.0 && (f64::from(angle).to_radians() as f32) < std::f32::consts::PI) =>
-        {
-            Err(("an angle between 0 and 180 degrees".into(), number(angle)))
+        Projection::Perspective { angle } if !is_field_of_view(angle) => {
+            Err((ANGLE.into(), number(angle)))
         }
         _ => Ok(()),
     }
@@ -158,15 +203,11 @@ fn light(light: &LightSpec) -> Result<(), Broken> {
         } => {
             vector_in_range(position)?;
             vector_in_range(color)?;
-            let terms = Vec3::from(attenuation);
-            if !in_range(terms) || terms.min_element() < 0.0 {
-                return Err(("attenuation terms of 0 or more".into(), show_vector(terms)));
+            if let Some(&term) = attenuation.iter().find(|&&t| !is_not_negative(t)) {
+                return Err((ATTENUATION_TERM.into(), number(term)));
             }
-            if terms == Vec3::ZERO {
-                return Err((
-                    "attenuation with at least one term above 0 (1 0 0: no fall-off)".into(),
-                    "'0 0 0', which would make the light infinitely bright".into(),
-                ));
+            if !attenuation_falls(attenuation) {
+                return Err((ATTENUATION.0.into(), ATTENUATION.1.into()));
             }
             Ok(())
         }
@@ -188,14 +229,11 @@ fn material(material: &MaterialSpec, own: usize, depths: &[u32]) -> Result<u32, 
             for colour in [diffuse, specular, reflective, transparent] {
                 vector_in_range(colour)?;
             }
-            if !(exponent >= 0.0 && f64::from(exponent) <= MAX_MAGNITUDE) {
-                return Err(("a specular exponent of 0 or more".into(), number(exponent)));
+            if !is_not_negative(exponent) {
+                return Err((EXPONENT.into(), number(exponent)));
             }
-            if !(index_of_refraction > 0.0 && f64::from(index_of_refraction) <= MAX_MAGNITUDE) {
-                return Err((
-                    "an index of refraction above 0".into(),
-                    number(index_of_refraction),
-                ));
+            if !is_positive(index_of_refraction) {
+                return Err((POSITIVE_INDEX.into(), number(index_of_refraction)));
             }
             Ok(0)
         }
@@ -220,10 +258,7 @@ fn material(material: &MaterialSpec, own: usize, depths: &[u32]) -> Result<u32, 
                 } => (octaves, [frequency, amplitude]),
             };
             if octaves > MAX_OCTAVES {
-                return Err((
-                    format!("a number of octaves from 0 to {MAX_OCTAVES}"),
-                    format!("'{octaves}'"),
-                ));
+                return Err((octaves_expected(), format!("'{octaves}'")));
             }
             if let Some(&x) = numbers
                 .iter()
@@ -231,61 +266,104 @@ fn material(material: &MaterialSpec, own: usize, depths: &[u32]) -> Result<u32, 
             {
                 return Err((NUMBER_IN_RANGE.into(), format!("'{x}'")));
             }
-            transform(&texture.to_texture)?;
+            transformation(&texture.to_texture, Placing::Texture)?;
             texture_depth(texture, depths)
         }
     }
 }
 
-fn transform(matrix: &DMat4) -> Result<(), Broken> {
-    let largest = matrix
-        .to_cols_array()
-        .iter()
-        .fold(0.0f64, |a, &x| a.max(x.abs()));
-    if !matrix.is_finite() || largest > MAX_MAGNITUDE {
+/// What a transformation places, which decides the rules it keeps and how messages name it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Placing {
+    /// An object, by its Transform and the Transforms around it (object to world).
+    Object,
+    /// A texture's pattern (world to texture space).
+    Texture,
+}
+
+/// What a last row other than `0 0 0 1` is refused as: a projective map, which the course's code
+/// would drop without a word (it keeps only the upper three rows).
+pub(crate) const AFFINE: &str =
+    "a last row of '0 0 0 1' (raycast does only affine transformations)";
+
+/// A transformation that maps space onto a plane, a line or a point, whether one scale is zero
+/// or several multiply to zero in double precision.
+pub(crate) fn singular() -> Broken {
+    (
+        "an invertible transformation".into(),
+        "one that flattens space (its scales multiply to zero)".into(),
+    )
+}
+
+/// The rules a transformation keeps: entries within [`MAX_MAGNITUDE`], affine, invertible, and,
+/// for an object, an inverse within [`MAX_MAGNITUDE`] too, which keeps a ray carried into the
+/// object's space finite (its origin and direction go through the inverse, its normal through
+/// the inverse's transpose, and a direction shrunk too far would square to 0).
+pub(crate) fn transformation(matrix: &DMat4, placing: Placing) -> Result<(), Broken> {
+    let whose = |which: &str| match placing {
+        Placing::Object => format!(
+            "a transformation whose {which}, with the Transforms around it, has entries between \
+             -1e9 and 1e9"
+        ),
+        Placing::Texture => {
+            format!("a texture transformation whose {which} has entries between -1e9 and 1e9")
+        }
+    };
+    if !matrix.is_finite() {
+        return Err((whose("matrix"), "an entry that is not a number".into()));
+    }
+    let largest = largest_entry(matrix);
+    if largest > MAX_MAGNITUDE {
         return Err((
-            "a transformation whose matrix has entries between -1e9 and 1e9".into(),
-            if matrix.is_finite() {
-                format!("an entry of {largest:e}")
-            } else {
-                "an entry that is not a number".to_string()
-            },
+            whose("matrix"),
+            format!("an entry of {}", show_number(largest)),
         ));
     }
     if matrix.row(3) != glam::DVec4::W {
         return Err((
-            "a last row of '0 0 0 1' (raycast does only affine transformations)".into(),
+            AFFINE.into(),
             format!(
                 "'{}'",
                 matrix.row(3).to_array().map(|x| x.to_string()).join(" ")
             ),
         ));
     }
-    if matrix.determinant() == 0.0 {
-        return Err((
-            "an invertible transformation".into(),
-            "one that flattens space (a scale of zero)".into(),
-        ));
+    let inverse = matrix.inverse();
+    if matrix.determinant() == 0.0 || !inverse.is_finite() {
+        return Err(singular());
+    }
+    if placing == Placing::Object {
+        let largest = largest_entry(&inverse);
+        if largest > MAX_MAGNITUDE {
+            return Err((
+                whose("inverse"),
+                format!(
+                    "an entry of {} (it shrinks space too much)",
+                    show_number(largest)
+                ),
+            ));
+        }
     }
     Ok(())
+}
+
+fn largest_entry(m: &DMat4) -> f64 {
+    m.to_cols_array().iter().fold(0.0, |a, &x| a.max(x.abs()))
 }
 
 fn shape(shape: &Shape) -> Result<(), Broken> {
     match shape {
         Shape::Sphere { center, radius } => {
             vector_in_range(*center)?;
-            if !(*radius > 0.0 && f64::from(*radius) <= MAX_MAGNITUDE) {
-                return Err(("a positive radius".into(), number(*radius)));
+            if !is_positive(*radius) {
+                return Err((POSITIVE_RADIUS.into(), number(*radius)));
             }
             Ok(())
         }
         Shape::Plane { normal, offset } => {
             vector_in_range(*normal)?;
-            if normal.normalize_or_zero() == Vec3::ZERO {
-                return Err((
-                    "a plane normal of non-zero length".into(),
-                    show_vector(*normal),
-                ));
+            if !has_direction(*normal) {
+                return Err((PLANE_NORMAL.into(), show_vector(*normal)));
             }
             // How far the plane lies is checked where it is placed in the world (the parser
             // divides the offset by the normal's length, which may carry it past 1e9).

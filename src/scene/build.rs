@@ -8,7 +8,7 @@ use std::time::Instant;
 use glam::{DMat4, DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::{Light, LoadStats, Material, Materials, Scene};
+use super::{Light, LoadStats, Loaded, Material, Materials, Scene};
 use crate::accel::{Item, TriangleMesh, World};
 use crate::camera::Camera;
 use crate::error::{Diagnostic, Error};
@@ -18,7 +18,7 @@ use crate::parse::obj::parse_obj;
 use crate::parse::{MAX_MAGNITUDE, show_number};
 
 /// [`Scene::load`]: reads the scene file, then builds it; the parse time includes the reading.
-pub fn load(path: &Path) -> Result<(Scene, LoadStats), Error> {
+pub fn load(path: &Path) -> Result<Loaded, Error> {
     let start = Instant::now();
     let description = crate::parse::read_scene(path)?;
     build(&description, start)
@@ -26,7 +26,7 @@ pub fn load(path: &Path) -> Result<(Scene, LoadStats), Error> {
 
 /// [`Scene::from_description`]; `start` is when reading began, so that the parse time in the
 /// stats counts the scene file as well as the meshes.
-pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, LoadStats), Error> {
+pub fn build(description: &SceneDescription, start: Instant) -> Result<Loaded, Error> {
     let transforms: Vec<Transform> = description
         .transforms
         .iter()
@@ -179,7 +179,7 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<(Scene, L
         world: scene.world.stats(),
         mesh_files,
     };
-    Ok((scene, stats))
+    Ok(Loaded { scene, stats })
 }
 
 /// Refuses a shape that reaches beyond [`MAX_MAGNITUDE`] on some axis once placed (`points`

@@ -5,9 +5,8 @@ use std::path::PathBuf;
 
 use glam::{DMat4, Vec3};
 
-use super::{LoadStats, Scene};
-use crate::error::Error;
-use crate::error::Span;
+use super::{Loaded, Scene};
+use crate::error::{Diagnostic, Error, Span};
 use crate::parse::description::{
     CameraSpec, LightSpec, MaterialSpec, PhongSpec, PlacedObject, Projection, SceneDescription,
     Shape,
@@ -47,6 +46,32 @@ pub const BUILT_IN_CODE: &str = "<scene built in code>";
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneBuilder {
     description: SceneDescription,
+    /// The names given to materials, with their indices.
+    names: Vec<(String, u32)>,
+    /// The first object that named a material not yet added: reported by `build`.
+    unknown_name: Option<(usize, String)>,
+}
+
+/// Which material an object has: its index, or the name it was added under with
+/// [`SceneBuilder::named_material`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MaterialRef<'a> {
+    /// Materials are numbered from 0 in the order added, named or not.
+    Index(u32),
+    /// A name given to a material added earlier.
+    Name(&'a str),
+}
+
+impl From<u32> for MaterialRef<'_> {
+    fn from(index: u32) -> Self {
+        MaterialRef::Index(index)
+    }
+}
+
+impl<'a> From<&'a str> for MaterialRef<'a> {
+    fn from(name: &'a str) -> Self {
+        MaterialRef::Name(name)
+    }
 }
 
 impl SceneBuilder {
@@ -64,6 +89,8 @@ impl SceneBuilder {
                 transforms: Vec::new(),
                 objects: Vec::new(),
             },
+            names: Vec::new(),
+            unknown_name: None,
         }
     }
 
@@ -91,20 +118,47 @@ impl SceneBuilder {
         self
     }
 
-    /// Adds a shape in world space, with the material of index `material`.
-    pub fn object(self, shape: Shape, material: u32) -> Self {
+    /// Adds a material that objects can name; it also takes the next index. A name given
+    /// twice names the later material.
+    pub fn named_material(mut self, name: &str, material: MaterialSpec) -> Self {
+        let index = self.description.materials.len() as u32;
+        self.names.push((name.to_string(), index));
+        self.material(material)
+    }
+
+    /// Adds a shape in world space, with a material given by index or by name.
+    pub fn object<'a>(self, shape: Shape, material: impl Into<MaterialRef<'a>>) -> Self {
+        let material = material.into();
         self.push(shape, material, None)
     }
 
     /// Adds a shape placed by `object_to_world` (a scene file's Transform: maps the shape's
     /// points into the world).
-    pub fn placed(mut self, shape: Shape, material: u32, object_to_world: DMat4) -> Self {
+    pub fn placed<'a>(
+        mut self,
+        shape: Shape,
+        material: impl Into<MaterialRef<'a>>,
+        object_to_world: DMat4,
+    ) -> Self {
         self.description.transforms.push(object_to_world);
         let index = self.description.transforms.len() as u32 - 1;
-        self.push(shape, material, Some(index))
+        self.push(shape, material.into(), Some(index))
     }
 
-    fn push(mut self, shape: Shape, material: u32, transform: Option<u32>) -> Self {
+    fn push(mut self, shape: Shape, material: MaterialRef, transform: Option<u32>) -> Self {
+        let material = match material {
+            MaterialRef::Index(index) => index,
+            MaterialRef::Name(name) => {
+                match self.names.iter().rev().find(|(known, _)| known == name) {
+                    Some(&(_, index)) => index,
+                    None => {
+                        let object = self.description.objects.len();
+                        self.unknown_name.get_or_insert((object, name.to_string()));
+                        u32::MAX
+                    }
+                }
+            }
+        };
         self.description.objects.push(PlacedObject {
             shape,
             material,
@@ -127,12 +181,26 @@ impl SceneBuilder {
     /// Checks the description and builds the render-ready scene. Mesh files are looked for in
     /// the working directory.
     pub fn build(self) -> Result<Scene, Error> {
-        self.build_with_stats().map(|(scene, _)| scene)
+        self.build_with_stats().map(|loaded| loaded.scene)
     }
 
     /// [`SceneBuilder::build`], with the time it took and what it made.
-    pub fn build_with_stats(self) -> Result<(Scene, LoadStats), Error> {
-        Scene::from_description(&self.description())
+    pub fn build_with_stats(self) -> Result<Loaded, Error> {
+        if let Some((object, name)) = &self.unknown_name {
+            let known: Vec<String> = self.names.iter().map(|(n, _)| format!("'{n}'")).collect();
+            let expected = if known.is_empty() {
+                "a material added by name before it (none has a name)".to_string()
+            } else {
+                format!("one of the material names {}", known.join(", "))
+            };
+            return Err(Diagnostic::new(
+                &self.description.path,
+                Span::default(),
+                format!("object {object}: expected {expected}, found '{name}'"),
+            )
+            .into());
+        }
+        Scene::from_description_with_stats(&self.description())
     }
 }
 

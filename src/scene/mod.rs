@@ -11,7 +11,7 @@ use std::time::Duration;
 
 use glam::Vec3A;
 
-pub use builder::{BUILT_IN_CODE, SceneBuilder};
+pub use builder::{BUILT_IN_CODE, MaterialRef, SceneBuilder};
 pub use light::{Illumination, Light};
 pub use material::{Material, Materials, Phong, SpecularFalloff, Surface, Texture};
 
@@ -52,15 +52,34 @@ pub struct LoadStats {
     pub mesh_files: Vec<std::path::PathBuf>,
 }
 
+/// A scene loaded, with how long loading took and what it made (for `-stats`).
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    /// The scene, ready to render.
+    pub scene: Scene,
+    /// Times and sizes of the loading.
+    pub stats: LoadStats,
+}
+
 impl Scene {
     /// Reads a scene file and the meshes it names, and builds the acceleration structures.
-    pub fn load(path: &Path) -> Result<(Scene, LoadStats), Error> {
+    pub fn load(path: &Path) -> Result<Scene, Error> {
+        Ok(Scene::load_with_stats(path)?.scene)
+    }
+
+    /// [`Scene::load`], with the times and sizes of the loading.
+    pub fn load_with_stats(path: &Path) -> Result<Loaded, Error> {
         build::load(path)
     }
 
     /// Builds a scene from a description; relative mesh paths are looked for beside
     /// `description.path` first, then in the working directory.
-    pub fn from_description(description: &SceneDescription) -> Result<(Scene, LoadStats), Error> {
+    pub fn from_description(description: &SceneDescription) -> Result<Scene, Error> {
+        Ok(Scene::from_description_with_stats(description)?.scene)
+    }
+
+    /// [`Scene::from_description`], with the times and sizes of the building.
+    pub fn from_description_with_stats(description: &SceneDescription) -> Result<Loaded, Error> {
         validate::validate(description)?;
         build::build(description, std::time::Instant::now())
     }
