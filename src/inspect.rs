@@ -10,7 +10,7 @@ use serde_json::{Value, json};
 use crate::accel::{Hit, Item};
 use crate::camera::pixel_to_screen;
 use crate::geometry::{Ray, intersect_plane, intersect_sphere, intersect_triangle};
-use crate::scene::{Light, Scene};
+use crate::scene::{Light, Scene, Surface};
 use crate::shade::to_rgb;
 use crate::trace::{
     SECONDARY_T_MIN, Scratch, TraceSettings, Tracer, crossing_ratio, reflect, refract,
@@ -36,7 +36,14 @@ pub fn inspect(scene: &Scene, trace: TraceSettings, size: (u32, u32), pixel: (u3
         "image": [width, height],
         "camera_ray": ray_json(&ray),
         "crossings": crossings(scene, &ray, t_min),
-        "tree": node(scene, &trace, "camera", &ray, t_min, trace.bounces, 1.0, Vec3A::ONE),
+        "tree": node(scene, &trace, Branch {
+            kind: "camera",
+            ray,
+            t_min,
+            bounces_left: trace.bounces,
+            weight: 1.0,
+            throughput: Vec3A::ONE,
+        }),
         "colour": vec3(colour),
         "bytes": to_rgb(colour),
     })
@@ -100,44 +107,51 @@ fn crossings(scene: &Scene, ray: &Ray, t_min: f32) -> Value {
     )
 }
 
-/// One ray of the tree, what it hit, what each light gave there, and the rays it spawned.
-#[allow(clippy::too_many_arguments)]
-fn node(
-    scene: &Scene,
-    trace: &TraceSettings,
-    kind: &str,
-    ray: &Ray,
+/// One ray of the tree before it is followed: what kind it is, where it goes, and what it
+/// carries.
+#[derive(Debug, Clone, Copy)]
+struct Branch<'a> {
+    kind: &'a str,
+    ray: Ray,
     t_min: f32,
     bounces_left: u32,
     weight: f32,
     throughput: Vec3A,
-) -> Value {
+}
+
+/// Where a ray of the tree hit, as shading sees it: the material there, and the normal turned
+/// toward the ray.
+struct HitSite<'a> {
+    surface: Surface<'a>,
+    point: Vec3A,
+    normal: Vec3A,
+    /// The ray hit the surface's back.
+    inside: bool,
+}
+
+/// One ray of the tree, what it hit, what each light gave there, and the rays it spawned.
+fn node(scene: &Scene, trace: &TraceSettings, branch: Branch) -> Value {
+    let Branch { ray, weight, .. } = branch;
     let mut out = json!({
-        "kind": kind,
-        "ray": ray_json(ray),
+        "kind": branch.kind,
+        "ray": ray_json(&ray),
         "weight": weight,
-        "throughput": vec3(throughput),
+        "throughput": vec3(branch.throughput),
     });
-    let Some(hit) = scene.world.intersect(ray, t_min) else {
+    let Some(hit) = scene.world.intersect(&ray, branch.t_min) else {
         out["hit"] = Value::Null;
         out["colour"] = vec3(scene.background);
         out["note"] = json!("no hit: the background colour");
         return out;
     };
-    let Hit {
-        t,
-        normal: world_normal,
-        material,
-    } = hit;
-    let direction = ray.direction;
-    let inside = direction.dot(world_normal) > 0.0;
-    let point = ray.at(t);
+    let inside = ray.direction.dot(hit.normal) > 0.0;
+    let point = ray.at(hit.t);
     out["hit"] = json!({
-        "t": t,
+        "t": hit.t,
         "point": vec3(point),
-        "material": material,
-        "object_normal": vec3(object_normal(scene, ray, &hit)),
-        "world_normal": vec3(world_normal),
+        "material": hit.material,
+        "object_normal": vec3(object_normal(scene, &ray, &hit)),
+        "world_normal": vec3(hit.normal),
         "back_face": inside,
     });
     if inside && !trace.shade_back {
@@ -145,11 +159,44 @@ fn node(
         out["note"] = json!("a back face without -shade_back: black, and no further rays");
         return out;
     }
-    let normal = if inside { -world_normal } else { world_normal };
-    let surface = scene.materials.at(material, point);
-    let diffuse_colour = surface.diffuse();
-    let ambient = scene.ambient * diffuse_colour;
-    let mut local = ambient;
+    let at = HitSite {
+        surface: scene.materials.at(hit.material, point),
+        point,
+        normal: if inside { -hit.normal } else { hit.normal },
+        inside,
+    };
+    let ambient = scene.ambient * at.surface.diffuse();
+    let (local, lights) = light_terms(scene, trace, &ray, &at, ambient);
+    out["ambient"] = vec3(ambient);
+    out["lights"] = Value::Array(lights);
+    out["local"] = vec3(local);
+    let (children, colour) = if branch.bounces_left > 0 {
+        children(scene, trace, &branch, &at, local)
+    } else {
+        (Vec::new(), local)
+    };
+    out["children"] = Value::Array(children);
+    out["colour"] = vec3(colour);
+    out
+}
+
+/// Each light's terms at `point`, with its shadow ray's verdict; and the colour shaded there:
+/// `ambient` plus each light's light, added in the tracer's order (so the sums round alike).
+fn light_terms(
+    scene: &Scene,
+    trace: &TraceSettings,
+    ray: &Ray,
+    at: &HitSite,
+    ambient: Vec3A,
+) -> (Vec3A, Vec<Value>) {
+    let HitSite {
+        surface,
+        point,
+        normal,
+        ..
+    } = at;
+    let (point, normal) = (*point, *normal);
+    let mut lit = ambient;
     let mut lights = Vec::new();
     for (i, light) in scene.lights.iter().enumerate() {
         let kind = match light {
@@ -162,13 +209,13 @@ fn node(
         };
         let shaded = surface.shade(
             normal,
-            direction,
+            ray.direction,
             light.to_light,
-            light.color,
+            light.colour,
             trace.specular,
         );
         let n_dot_l = normal.dot(light.to_light);
-        let diffuse = diffuse_colour * n_dot_l.max(0.0) * light.color;
+        let diffuse = surface.diffuse() * n_dot_l.max(0.0) * light.colour;
         let shadow = if !trace.shadows {
             "not asked for (no -shadows)"
         } else if shaded == Vec3A::ZERO {
@@ -184,75 +231,85 @@ fn node(
                 "clear"
             }
         };
-        let counts = shadow != "blocked";
-        if counts {
-            local += shaded;
+        if shadow != "blocked" {
+            lit += shaded;
         }
         lights.push(json!({
             "light": i,
             "kind": kind,
             "to_light": vec3(light.to_light),
             "distance": if light.distance.is_finite() { json!(light.distance) } else { json!("infinite") },
-            "colour_arriving": vec3(light.color),
+            "colour_arriving": vec3(light.colour),
             "n_dot_l": n_dot_l,
             "shadow_ray": shadow,
             "diffuse": vec3(diffuse),
             "specular": vec3(shaded - diffuse),
         }));
     }
-    out["ambient"] = vec3(ambient);
-    out["lights"] = Value::Array(lights);
-    out["local"] = vec3(local);
+    (lit, lights)
+}
+
+/// The mirror and glass rays a hit spawns, each followed; and the hit's colour: `local` plus
+/// what they bring back, weighted by the surface's reflective and transparent colours, added in
+/// the tracer's order.
+fn children(
+    scene: &Scene,
+    trace: &TraceSettings,
+    parent: &Branch,
+    at: &HitSite,
+    local: Vec3A,
+) -> (Vec<Value>, Vec3A) {
+    let HitSite {
+        surface,
+        point,
+        normal,
+        inside,
+    } = at;
+    let (point, normal, inside) = (*point, *normal, *inside);
+    let unit = parent.ray.direction.normalize();
     let mut children = Vec::new();
     let mut total = local;
-    if bounces_left > 0 {
-        let unit = direction.normalize();
-        let mut spawn = |kind: &str, colour: Vec3A, new_direction: Option<Vec3A>| {
-            let (child_weight, child_throughput) = spawned(weight, throughput, colour);
-            let Some(new_direction) = new_direction else {
-                children.push(json!({ "kind": kind, "note": "total internal reflection: none" }));
-                return;
-            };
-            if !worth_tracing(trace, child_weight, child_throughput) {
-                children.push(json!({
-                    "kind": kind, "weight": child_weight, "note": "below the -weight cut-off: not traced"
-                }));
-                return;
-            }
-            let child = node(
-                scene,
-                trace,
-                kind,
-                &Ray::new(point, new_direction),
-                SECONDARY_T_MIN,
-                bounces_left - 1,
-                child_weight,
-                child_throughput,
-            );
-            let seen: Vec<f32> =
-                serde_json::from_value(child["colour"].clone()).unwrap_or_default();
-            if seen.len() == 3 {
-                total += colour * Vec3A::new(seen[0], seen[1], seen[2]);
-            }
-            children.push(child);
+    let mut spawn = |kind: &str, colour: Vec3A, new_direction: Option<Vec3A>| {
+        let (weight, throughput) = spawned(parent.weight, parent.throughput, colour);
+        let Some(new_direction) = new_direction else {
+            children.push(json!({ "kind": kind, "note": "total internal reflection: none" }));
+            return;
         };
-        let reflective = surface.reflective();
-        if reflective != Vec3A::ZERO {
-            spawn("reflected", reflective, Some(reflect(unit, normal)));
+        if !worth_tracing(trace, weight, throughput) {
+            children.push(json!({
+                "kind": kind, "weight": weight, "note": "below the -weight cut-off: not traced"
+            }));
+            return;
         }
-        let transparent = surface.transparent();
-        if transparent != Vec3A::ZERO {
-            let index = surface.index_of_refraction();
-            spawn(
-                "refracted",
-                transparent,
-                refract(unit, normal, crossing_ratio(index, inside)),
-            );
+        let branch = Branch {
+            kind,
+            ray: Ray::new(point, new_direction),
+            t_min: SECONDARY_T_MIN,
+            bounces_left: parent.bounces_left - 1,
+            weight,
+            throughput,
+        };
+        let child = node(scene, trace, branch);
+        let seen: Vec<f32> = serde_json::from_value(child["colour"].clone()).unwrap_or_default();
+        if seen.len() == 3 {
+            total += colour * Vec3A::new(seen[0], seen[1], seen[2]);
         }
+        children.push(child);
+    };
+    let reflective = surface.reflective();
+    if reflective != Vec3A::ZERO {
+        spawn("reflected", reflective, Some(reflect(unit, normal)));
     }
-    out["children"] = Value::Array(children);
-    out["colour"] = vec3(total);
-    out
+    let transparent = surface.transparent();
+    if transparent != Vec3A::ZERO {
+        let index = surface.index_of_refraction();
+        spawn(
+            "refracted",
+            transparent,
+            refract(unit, normal, crossing_ratio(index, inside)),
+        );
+    }
+    (children, total)
 }
 
 /// The hit's normal in its object's own space, before its Transform.
@@ -282,23 +339,25 @@ fn object_normal(scene: &Scene, ray: &Ray, hit: &Hit) -> Vec3A {
     hit.normal
 }
 
+/// A JSON vector as `(x, y, z)` to four places; anything else as JSON.
+fn show(value: &Value) -> String {
+    match value.as_array() {
+        Some(a) => format!(
+            "({})",
+            a.iter()
+                .map(|x| x
+                    .as_f64()
+                    .map_or_else(|| x.to_string(), |f| format!("{f:.4}")))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        None => value.to_string(),
+    }
+}
+
 /// The inspection as text, for the terminal.
 pub fn to_text(inspection: &Value) -> String {
     let mut text = String::new();
-    let v = |value: &Value| -> String {
-        match value.as_array() {
-            Some(a) => format!(
-                "({})",
-                a.iter()
-                    .map(|x| x
-                        .as_f64()
-                        .map_or_else(|| x.to_string(), |f| format!("{f:.4}")))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            None => value.to_string(),
-        }
-    };
     text.push_str(&format!(
         "pixel ({}, {}) of {}x{} (x from the left, y from the bottom)\n",
         inspection["pixel"][0],
@@ -308,8 +367,8 @@ pub fn to_text(inspection: &Value) -> String {
     ));
     text.push_str(&format!(
         "camera ray: from {} along {}\n",
-        v(&inspection["camera_ray"]["origin"]),
-        v(&inspection["camera_ray"]["direction"])
+        show(&inspection["camera_ray"]["origin"]),
+        show(&inspection["camera_ray"]["direction"])
     ));
     text.push_str("surfaces along the ray, nearest first:\n");
     let crossings = inspection["crossings"]
@@ -326,68 +385,70 @@ pub fn to_text(inspection: &Value) -> String {
             c["surface"].as_str().unwrap_or("")
         ));
     }
-    fn tree(node: &Value, depth: usize, text: &mut String, v: &dyn Fn(&Value) -> String) {
-        let pad = "  ".repeat(depth);
-        text.push_str(&format!(
-            "{pad}{} ray, weight {}, throughput {}\n",
-            node["kind"].as_str().unwrap_or("?"),
-            node["weight"],
-            v(&node["throughput"])
-        ));
-        if let Some(note) = node["note"].as_str() {
-            text.push_str(&format!("{pad}  {note}\n"));
-        }
-        if node["hit"].is_object() {
-            let hit = &node["hit"];
-            text.push_str(&format!(
-                "{pad}  hit at t = {} point {} material {}{}\n",
-                hit["t"],
-                v(&hit["point"]),
-                hit["material"],
-                if hit["back_face"] == true {
-                    " (back face)"
-                } else {
-                    ""
-                }
-            ));
-            text.push_str(&format!(
-                "{pad}  normal: {} in the object's space, {} in the world\n",
-                v(&hit["object_normal"]),
-                v(&hit["world_normal"])
-            ));
-        }
-        if !node["ambient"].is_null() {
-            text.push_str(&format!("{pad}  ambient {}\n", v(&node["ambient"])));
-        }
-        for light in node["lights"].as_array().into_iter().flatten() {
-            if let Some(note) = light["note"].as_str() {
-                text.push_str(&format!("{pad}  light {}: {note}\n", light["light"]));
-                continue;
-            }
-            text.push_str(&format!(
-                "{pad}  light {} ({}): toward it {}, N.L {}, shadow ray {}, diffuse {}, specular {}\n",
-                light["light"],
-                light["kind"].as_str().unwrap_or(""),
-                v(&light["to_light"]),
-                light["n_dot_l"],
-                light["shadow_ray"].as_str().unwrap_or(""),
-                v(&light["diffuse"]),
-                v(&light["specular"])
-            ));
-        }
-        if !node["local"].is_null() {
-            text.push_str(&format!("{pad}  shaded here {}\n", v(&node["local"])));
-        }
-        for child in node["children"].as_array().into_iter().flatten() {
-            tree(child, depth + 1, text, v);
-        }
-        text.push_str(&format!("{pad}  = {}\n", v(&node["colour"])));
-    }
-    tree(&inspection["tree"], 0, &mut text, &v);
+    tree_text(&inspection["tree"], 0, &mut text);
     text.push_str(&format!(
         "colour {} unclamped, {} as bytes\n",
-        v(&inspection["colour"]),
+        show(&inspection["colour"]),
         inspection["bytes"]
     ));
     text
+}
+
+/// One ray of the tree and, indented below it, the rays it spawned.
+fn tree_text(node: &Value, depth: usize, text: &mut String) {
+    let pad = "  ".repeat(depth);
+    text.push_str(&format!(
+        "{pad}{} ray, weight {}, throughput {}\n",
+        node["kind"].as_str().unwrap_or("?"),
+        node["weight"],
+        show(&node["throughput"])
+    ));
+    if let Some(note) = node["note"].as_str() {
+        text.push_str(&format!("{pad}  {note}\n"));
+    }
+    if node["hit"].is_object() {
+        let hit = &node["hit"];
+        text.push_str(&format!(
+            "{pad}  hit at t = {} point {} material {}{}\n",
+            hit["t"],
+            show(&hit["point"]),
+            hit["material"],
+            if hit["back_face"] == true {
+                " (back face)"
+            } else {
+                ""
+            }
+        ));
+        text.push_str(&format!(
+            "{pad}  normal: {} in the object's space, {} in the world\n",
+            show(&hit["object_normal"]),
+            show(&hit["world_normal"])
+        ));
+    }
+    if !node["ambient"].is_null() {
+        text.push_str(&format!("{pad}  ambient {}\n", show(&node["ambient"])));
+    }
+    for light in node["lights"].as_array().into_iter().flatten() {
+        if let Some(note) = light["note"].as_str() {
+            text.push_str(&format!("{pad}  light {}: {note}\n", light["light"]));
+            continue;
+        }
+        text.push_str(&format!(
+            "{pad}  light {} ({}): toward it {}, N.L {}, shadow ray {}, diffuse {}, specular {}\n",
+            light["light"],
+            light["kind"].as_str().unwrap_or(""),
+            show(&light["to_light"]),
+            light["n_dot_l"],
+            light["shadow_ray"].as_str().unwrap_or(""),
+            show(&light["diffuse"]),
+            show(&light["specular"])
+        ));
+    }
+    if !node["local"].is_null() {
+        text.push_str(&format!("{pad}  shaded here {}\n", show(&node["local"])));
+    }
+    for child in node["children"].as_array().into_iter().flatten() {
+        tree_text(child, depth + 1, text);
+    }
+    text.push_str(&format!("{pad}  = {}\n", show(&node["colour"])));
 }

@@ -148,7 +148,7 @@ impl<'a> Tracer<'a> {
         (self.seen(ray, hit.as_ref(), colour, scratch), hit)
     }
 
-    /// [`Tracer::camera_ray`] for up to [`PACKET`] rays (a block of pixels), which search
+    /// [`Tracer::camera_ray`] for up to [`PACKET`] rays (a packet: a square of pixels), which search
     /// the scene together: `each(i, seen, hit)` gets ray i's results, the same as it alone
     /// would get.
     pub fn camera_rays(
@@ -240,7 +240,7 @@ impl<'a> Tracer<'a> {
         let mut seen = scene.ambient * colour;
         for light in &scene.lights {
             if let Some(light) = light.illuminate(point) {
-                seen += colour * normal.dot(light.to_light).max(0.0) * light.color;
+                seen += colour * normal.dot(light.to_light).max(0.0) * light.colour;
             }
         }
         let hit = Hit {
@@ -300,7 +300,7 @@ impl<'a> Tracer<'a> {
                 normal,
                 direction,
                 light.to_light,
-                light.color,
+                light.colour,
                 self.settings.specular,
             );
             if self.settings.shadows {

@@ -405,16 +405,16 @@ fn point_lights_with_and_without_attenuation() {
         [
             LightSpec::Point {
                 position: Vec3::new(1.0, 2.0, 3.0),
-                color: Vec3::splat(0.5),
+                colour: Vec3::splat(0.5),
                 attenuation: [1.0, 0.0, 0.0],
             },
             LightSpec::Directional {
                 direction: Vec3::new(0.0, -1.0, 0.0),
-                color: Vec3::ONE,
+                colour: Vec3::ONE,
             },
             LightSpec::Point {
                 position: Vec3::ZERO,
-                color: Vec3::new(1.0, 0.0, 0.0),
+                colour: Vec3::new(1.0, 0.0, 0.0),
                 attenuation: [0.0, 0.5, 0.25],
             },
         ]

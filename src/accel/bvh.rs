@@ -246,6 +246,10 @@ impl Bvh {
     /// Closest-hit traversal. `hit(i, t_max)` tests leaf entry `i` (a primitive in build order,
     /// or whatever the builder of the tree made the leaves point at, such as a block of triangles)
     /// and returns its t if it is nearer than `t_max`. Returns the final t_max.
+    ///
+    /// One function, long: the traversal stack, the eight-wide box test and the nearest-first
+    /// ordering share registers in the per-ray hot loop; helpers that are not inlined cost it
+    /// measurably (benches/trace.rs), and those that are read no better.
     #[inline(always)]
     pub fn traverse<K: Wide>(
         &self,
@@ -781,6 +785,10 @@ fn build_sequential(
 /// The best binned-SAH split of `items`, partitioned in place: the size of the left part and
 /// the extents of both parts; or `None` when keeping a leaf is cheaper (or no split separates
 /// anything).
+///
+/// One function, long: binning, the sweep over the bins and the partition share the bins and
+/// bounds, and this is the build's inner loop (every node of every mesh), measured in
+/// performance.md; split, each part would hand its arrays to the next.
 fn sah_split(
     items: &mut [(Aabb, u32)],
     bounds: Aabb,

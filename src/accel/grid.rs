@@ -99,6 +99,9 @@ pub struct Cell<'a> {
 
 impl Grid {
     /// Cuts `bounds` into `cells` and lists each primitive in every cell it reaches.
+    ///
+    /// One function: the two passes (count, then fill the CSR lists) must visit the cells in
+    /// the same order, which is easiest to see side by side.
     pub fn build(
         bounds: Aabb,
         cells: UVec3,
@@ -213,6 +216,10 @@ impl Grid {
 
     /// Walks the cells `ray` crosses with t in [t_min, t_max], nearest first (3D-DDA), until
     /// `visit` breaks or the ray leaves the grid.
+    ///
+    /// One function, long: the 3D-DDA's setup and its stepping loop share a dozen per-axis
+    /// values, and the course's cell-by-cell order (and `-stats`' count of cells) depends on
+    /// them staying exactly as the handout's algorithm states them, in one place.
     #[inline]
     pub fn walk<'a>(
         &'a self,

@@ -472,8 +472,8 @@ mod tests {
         let (mesh, _) = TriangleMesh::new(bumpy_sphere(24));
         let mut hits = 0;
         for (k, centre) in rays().iter().enumerate().take(400) {
-            // An 8×8 tile of rays around each test ray, from one point or along one direction,
-            // some so wide that their directions' signs differ (and the tile is searched in
+            // An 8×8 packet of rays around each test ray, from one point or along one direction,
+            // some so wide that their directions' signs differ (and the packet is searched in
             // parts).
             let spread = [0.0, 1e-3, 3e-2, 0.4][k % 4];
             let across = centre.direction.any_orthonormal_vector();

@@ -194,34 +194,49 @@ fn progress_bar(options: &CheckOptions) -> Option<indicatif::ProgressBar> {
     Some(bar)
 }
 
+/// `diff`'s command line: the two images, `--out`, and the rule.
+struct DiffArgs {
+    files: Vec<PathBuf>,
+    out_file: Option<PathBuf>,
+    rule: Rule,
+}
+
+fn parse_diff_args(args: Vec<OsString>) -> Result<DiffArgs, String> {
+    let mut args = args.into_iter();
+    let mut parsed = DiffArgs {
+        files: Vec::new(),
+        out_file: None,
+        rule: Rule::COURSE,
+    };
+    while let Some(arg) = args.next() {
+        let text = arg.to_string_lossy().into_owned();
+        match text.as_str() {
+            "--out" => {
+                parsed.out_file = Some(PathBuf::from(value(&mut args, "--out", "an image file")?))
+            }
+            "--tolerance" | "--max-bad" => {
+                let v = value(&mut args, &text, "a number")?;
+                grading(&text, &v, &mut parsed.rule)?;
+            }
+            _ if text.starts_with('-') && text.len() > 1 => {
+                return Err(format!("diff: unknown option '{text}'"));
+            }
+            _ => parsed.files.push(PathBuf::from(text)),
+        }
+    }
+    Ok(parsed)
+}
+
 /// `raycast diff A B ...` (arguments after `diff`).
 pub fn run_diff(args: Vec<OsString>) -> ExitCode {
-    let mut args = args.into_iter();
-    let mut files = Vec::new();
-    let mut out_file = None;
-    let mut rule = Rule::COURSE;
-    let parsed: Result<(), String> = (|| {
-        while let Some(arg) = args.next() {
-            let text = arg.to_string_lossy().into_owned();
-            match text.as_str() {
-                "--out" => {
-                    out_file = Some(PathBuf::from(value(&mut args, "--out", "an image file")?))
-                }
-                "--tolerance" | "--max-bad" => {
-                    let v = value(&mut args, &text, "a number")?;
-                    grading(&text, &v, &mut rule)?;
-                }
-                _ if text.starts_with('-') && text.len() > 1 => {
-                    return Err(format!("diff: unknown option '{text}'"));
-                }
-                _ => files.push(PathBuf::from(text)),
-            }
-        }
-        Ok(())
-    })();
-    if let Err(message) = parsed {
-        return refuse(&message);
-    }
+    let DiffArgs {
+        files,
+        out_file,
+        rule,
+    } = match parse_diff_args(args) {
+        Ok(parsed) => parsed,
+        Err(message) => return refuse(&message),
+    };
     let [actual, reference] = files.as_slice() else {
         return refuse("diff needs two images: yours, then the reference");
     };

@@ -69,14 +69,14 @@ pub enum LightSpec {
         /// The direction the light travels, normalised.
         direction: Vec3,
         /// The light's colour, not clamped: a component above 1 is a brighter light.
-        color: Vec3,
+        colour: Vec3,
     },
     /// Light from a point, dimmed with distance d by 1 / (constant + linear·d + quadratic·d²).
     Point {
         /// Where the light is, in world space.
         position: Vec3,
         /// The colour at the light itself, before attenuation; not clamped.
-        color: Vec3,
+        colour: Vec3,
         /// The constant, linear and quadratic terms; none negative, not all zero.
         attenuation: [f32; 3],
     },

@@ -233,9 +233,9 @@ impl<'a> Parser<'a> {
                     self.keyword("direction")?;
                     let direction = self.direction()?;
                     self.keyword("color")?;
-                    let color = self.vec3()?;
+                    let colour = self.vec3()?;
                     self.keyword("}")?;
-                    LightSpec::Directional { direction, color }
+                    LightSpec::Directional { direction, colour }
                 }
                 "PointLight" => self.point_light()?,
                 _ => return Err(self.unexpected(token, LIGHT)),
@@ -246,13 +246,13 @@ impl<'a> Parser<'a> {
         Ok(lights)
     }
 
-    /// `PointLight { position x y z color r g b [attenuation c l q] }`, in that order.
+    /// `PointLight { position x y z colour r g b [attenuation c l q] }`, in that order.
     fn point_light(&mut self) -> Result<LightSpec> {
         self.keyword("{")?;
         self.keyword("position")?;
         let position = self.vec3()?;
         self.keyword("color")?;
-        let color = self.vec3()?;
+        let colour = self.vec3()?;
         let mut attenuation = [1.0, 0.0, 0.0];
         let token = self.next("attenuation or '}'")?;
         match token.text {
@@ -275,7 +275,7 @@ impl<'a> Parser<'a> {
         }
         Ok(LightSpec::Point {
             position,
-            color,
+            colour,
             attenuation,
         })
     }
@@ -451,21 +451,7 @@ impl<'a> Parser<'a> {
                         });
                     }
                     "Transform" => {
-                        self.keyword("{")?;
-                        let (local, object) = self.transform_ops(OBJECT)?;
-                        let world = match transform {
-                            Some(parent) => out.transforms[parent as usize] * local,
-                            None => local,
-                        };
-                        validate::transformation(&world, Placing::Object).map_err(
-                            |(expected, found)| {
-                                Diagnostic::expected(self.path, token.span, &expected, &found)
-                            },
-                        )?;
-                        open.push(Open::Transform { parent: transform });
-                        transform = Some(out.transforms.len() as u32);
-                        out.transforms.push(world);
-                        next = Some(object);
+                        next = Some(self.open_transform(token, &mut open, &mut transform, out)?);
                         continue;
                     }
                     "Sphere" | "Plane" | "Triangle" | "TriangleMesh" => {
@@ -485,45 +471,80 @@ impl<'a> Parser<'a> {
                     _ => return Err(self.unexpected(token, OBJECT)),
                 }
             }
-            // The last object is complete: close what is finished and find the next object.
-            loop {
-                match open.last_mut() {
-                    None => return Ok(()),
-                    Some(Open::Transform { parent }) => {
-                        transform = *parent;
-                        open.pop();
-                        self.keyword("}")?;
+            match self.next_object(&mut open, &mut transform, out)? {
+                Some(token) => next = Some(token),
+                None => return Ok(()),
+            }
+        }
+    }
+
+    /// A Transform's operations, multiplied with the Transforms around it into a new entry of
+    /// the scene's transforms, which the objects inside refer to; returns the object's keyword.
+    fn open_transform(
+        &mut self,
+        keyword: Token,
+        open: &mut Vec<Open>,
+        transform: &mut Option<u32>,
+        out: &mut Objects,
+    ) -> Result<Token<'a>> {
+        self.keyword("{")?;
+        let (local, object) = self.transform_ops(OBJECT)?;
+        let world = match *transform {
+            Some(parent) => out.transforms[parent as usize] * local,
+            None => local,
+        };
+        validate::transformation(&world, Placing::Object).map_err(|(expected, found)| {
+            Diagnostic::expected(self.path, keyword.span, &expected, &found)
+        })?;
+        open.push(Open::Transform { parent: *transform });
+        *transform = Some(out.transforms.len() as u32);
+        out.transforms.push(world);
+        Ok(object)
+    }
+
+    /// The last object is complete: closes what is finished and reads up to the next object's
+    /// keyword (taking the MaterialIndex lines on the way); `None` once the root Group closes.
+    fn next_object(
+        &mut self,
+        open: &mut Vec<Open>,
+        transform: &mut Option<u32>,
+        out: &mut Objects,
+    ) -> Result<Option<Token<'a>>> {
+        loop {
+            match open.last_mut() {
+                None => return Ok(None),
+                Some(Open::Transform { parent }) => {
+                    *transform = *parent;
+                    open.pop();
+                    self.keyword("}")?;
+                }
+                Some(Open::Group {
+                    remaining: 0,
+                    total,
+                }) => {
+                    let expected = format!("'}}' (the Group's numObjects is {total})");
+                    let token = self.next(&expected)?;
+                    if token.text != "}" {
+                        return Err(self.unexpected(token, &expected));
                     }
-                    Some(Open::Group {
-                        remaining: 0,
-                        total,
-                    }) => {
-                        let expected = format!("'}}' (the Group's numObjects is {total})");
-                        let token = self.next(&expected)?;
-                        if token.text != "}" {
-                            return Err(self.unexpected(token, &expected));
+                    open.pop();
+                }
+                Some(Open::Group { remaining, total }) => {
+                    let token = loop {
+                        let token = self.next(OBJECT)?;
+                        if token.text != "MaterialIndex" {
+                            break token;
                         }
-                        open.pop();
+                        let (index, span) = self.whole_number("MaterialIndex")?;
+                        out.current_material = Some(index);
+                        out.material_indices.push((index, span));
+                    };
+                    if token.text == "}" {
+                        let expected = more(*remaining, "object", "the Group's numObjects", *total);
+                        return Err(self.unexpected(token, &expected));
                     }
-                    Some(Open::Group { remaining, total }) => {
-                        let token = loop {
-                            let token = self.next(OBJECT)?;
-                            if token.text != "MaterialIndex" {
-                                break token;
-                            }
-                            let (index, span) = self.whole_number("MaterialIndex")?;
-                            out.current_material = Some(index);
-                            out.material_indices.push((index, span));
-                        };
-                        if token.text == "}" {
-                            let expected =
-                                more(*remaining, "object", "the Group's numObjects", *total);
-                            return Err(self.unexpected(token, &expected));
-                        }
-                        *remaining -= 1;
-                        next = Some(token);
-                        break;
-                    }
+                    *remaining -= 1;
+                    return Ok(Some(token));
                 }
             }
         }

@@ -192,17 +192,17 @@ fn camera(camera: &CameraSpec) -> Result<(), Broken> {
 
 fn light(light: &LightSpec) -> Result<(), Broken> {
     match *light {
-        LightSpec::Directional { direction, color } => {
+        LightSpec::Directional { direction, colour } => {
             self::direction(direction)?;
-            vector_in_range(color)
+            vector_in_range(colour)
         }
         LightSpec::Point {
             position,
-            color,
+            colour,
             attenuation,
         } => {
             vector_in_range(position)?;
-            vector_in_range(color)?;
+            vector_in_range(colour)?;
             if let Some(&term) = attenuation.iter().find(|&&t| !is_not_negative(t)) {
                 return Err((ATTENUATION_TERM.into(), number(term)));
             }

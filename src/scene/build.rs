@@ -33,116 +33,21 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<Loaded, E
         .map(|&m| Transform::new(m))
         .collect();
     let mut meshes = MeshLoader::new(&description.path);
-    let mut loose_triangles = Vec::new();
-    let mut loose_materials = Vec::new();
-    let mut planes = Vec::new();
-    let mut items = Vec::new();
-    let mut bounds = Vec::new();
+    let mut placed = Placed::default();
     for object in &description.objects {
         let placement = object
             .transform
             .map(|i| (&transforms[i as usize], description.transforms[i as usize]));
-        let transform = object.transform.unwrap_or(Item::WORLD_SPACE);
+        let at = Placing {
+            description,
+            object,
+            placement,
+        };
         match &object.shape {
-            Shape::Sphere { center, radius } => {
-                let sphere = Sphere {
-                    center: (*center).into(),
-                    radius: *radius,
-                };
-                let (centre, reach) = match placement {
-                    None => (center.as_dvec3(), DVec3::splat(*radius as f64)),
-                    Some((_, matrix)) => ellipsoid_extent(&sphere, &matrix),
-                };
-                within_bounds(
-                    description,
-                    object,
-                    "sphere",
-                    &[centre - reach, centre + reach],
-                )?;
-                bounds.push(match placement {
-                    None => sphere.bounds(),
-                    Some((_, matrix)) => ellipsoid_bounds(&sphere, &matrix),
-                });
-                items.push(Item::Sphere {
-                    sphere,
-                    material: object.material,
-                    transform,
-                });
-            }
-            Shape::Plane { normal, offset } => {
-                let plane = Plane {
-                    normal: (*normal).into(),
-                    offset: *offset,
-                };
-                let (plane, world_offset) = match placement {
-                    None => (plane, plane.offset as f64),
-                    Some((t, matrix)) => {
-                        // Carry one point of the plane and its normal into the world.
-                        let point =
-                            matrix.transform_point3(plane.normal.as_dvec3() * plane.offset as f64);
-                        let normal = t.normal_to_world(plane.normal);
-                        let offset = normal.as_dvec3().dot(point);
-                        let plane = Plane {
-                            normal,
-                            offset: offset as f32,
-                        };
-                        (plane, offset)
-                    }
-                };
-                // The parser divides the offset by the normal's length, so a short normal can
-                // move a plane of modest offset far out even without a Transform.
-                if world_offset.is_nan() || world_offset.abs() > MAX_MAGNITUDE {
-                    return Err(Diagnostic::expected(
-                        &description.path,
-                        object.span,
-                        "a plane at most 1e9 from the origin once placed in the world",
-                        &format!("one {} from it", show_number(world_offset.abs())),
-                    )
-                    .into());
-                }
-                planes.push((plane, object.material));
-            }
-            Shape::Triangle { vertices } => {
-                let world = match placement {
-                    None => *vertices,
-                    Some((_, matrix)) => {
-                        let exact = vertices.map(|v| matrix.transform_point3(v.as_dvec3()));
-                        within_bounds(description, object, "triangle", &exact)?;
-                        let mut v = exact.map(|v| v.as_vec3());
-                        // A mirroring transform turns the winding around; swap to keep the
-                        // front side the one the inverse transpose of the normal points to.
-                        if matrix.determinant() < 0.0 {
-                            v.swap(1, 2);
-                        }
-                        v
-                    }
-                };
-                if has_area(&world) {
-                    loose_triangles.push(world);
-                    loose_materials.push(object.material);
-                }
-            }
-            Shape::Mesh { file } => {
-                let mesh = meshes.load(file, object.span)?;
-                let local = meshes.bounds(mesh);
-                // A mesh without a face to hit has no box either; the trees have no use for it.
-                if local.is_empty() {
-                    continue;
-                }
-                bounds.push(match placement {
-                    None => local,
-                    Some((_, matrix)) => {
-                        let corners = box_corners(&local, &matrix);
-                        within_bounds(description, object, "mesh", &corners)?;
-                        outward_box(&corners)
-                    }
-                });
-                items.push(Item::Mesh {
-                    mesh,
-                    material: object.material,
-                    transform,
-                });
-            }
+            Shape::Sphere { center, radius } => placed.sphere(&at, *center, *radius)?,
+            Shape::Plane { normal, offset } => placed.plane(&at, *normal, *offset)?,
+            Shape::Triangle { vertices } => placed.triangle(&at, vertices)?,
+            Shape::Mesh { file } => placed.mesh(&at, &mut meshes, file)?,
         }
     }
     let parse = start.elapsed();
@@ -151,6 +56,13 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<Loaded, E
     let mut mesh_files: Vec<PathBuf> = meshes.by_path.keys().cloned().collect();
     mesh_files.sort();
     let mut meshes = meshes.build();
+    let Placed {
+        loose_triangles,
+        mut loose_materials,
+        planes,
+        mut items,
+        mut bounds,
+    } = placed;
     if !loose_triangles.is_empty() {
         let (mesh, order) = TriangleMesh::new(loose_triangles);
         loose_materials = order.iter().map(|&i| loose_materials[i as usize]).collect();
@@ -180,6 +92,140 @@ pub fn build(description: &SceneDescription, start: Instant) -> Result<Loaded, E
         mesh_files,
     };
     Ok(Loaded { scene, stats })
+}
+
+/// One object of the description on its way into the world, with its Transform (the inverted
+/// form and the matrix) if it has one.
+struct Placing<'a> {
+    description: &'a SceneDescription,
+    object: &'a PlacedObject,
+    placement: Option<(&'a Transform, DMat4)>,
+}
+
+impl Placing<'_> {
+    /// The object's transform as an instance refers to it.
+    fn transform(&self) -> u32 {
+        self.object.transform.unwrap_or(Item::WORLD_SPACE)
+    }
+}
+
+/// What the objects become: instances with their boxes for the top-level tree, planes beside
+/// it, and loose triangles (in world space) gathered into one mesh.
+#[derive(Default)]
+struct Placed {
+    loose_triangles: Vec<[Vec3; 3]>,
+    loose_materials: Vec<u32>,
+    planes: Vec<(Plane, u32)>,
+    items: Vec<Item>,
+    bounds: Vec<Aabb>,
+}
+
+impl Placed {
+    fn sphere(&mut self, at: &Placing, center: Vec3, radius: f32) -> Result<(), Error> {
+        let sphere = Sphere {
+            center: center.into(),
+            radius,
+        };
+        let (centre, reach) = match at.placement {
+            None => (center.as_dvec3(), DVec3::splat(radius as f64)),
+            Some((_, matrix)) => ellipsoid_extent(&sphere, &matrix),
+        };
+        within_bounds(
+            at.description,
+            at.object,
+            "sphere",
+            &[centre - reach, centre + reach],
+        )?;
+        self.bounds.push(match at.placement {
+            None => sphere.bounds(),
+            Some((_, matrix)) => ellipsoid_bounds(&sphere, &matrix),
+        });
+        self.items.push(Item::Sphere {
+            sphere,
+            material: at.object.material,
+            transform: at.transform(),
+        });
+        Ok(())
+    }
+
+    fn plane(&mut self, at: &Placing, normal: Vec3, offset: f32) -> Result<(), Error> {
+        let plane = Plane {
+            normal: normal.into(),
+            offset,
+        };
+        let (plane, world_offset) = match at.placement {
+            None => (plane, plane.offset as f64),
+            Some((t, matrix)) => {
+                // Carry one point of the plane and its normal into the world.
+                let point = matrix.transform_point3(plane.normal.as_dvec3() * plane.offset as f64);
+                let normal = t.normal_to_world(plane.normal);
+                let offset = normal.as_dvec3().dot(point);
+                let plane = Plane {
+                    normal,
+                    offset: offset as f32,
+                };
+                (plane, offset)
+            }
+        };
+        // The parser divides the offset by the normal's length, so a short normal can move a
+        // plane of modest offset far out even without a Transform.
+        if world_offset.is_nan() || world_offset.abs() > MAX_MAGNITUDE {
+            return Err(Diagnostic::expected(
+                &at.description.path,
+                at.object.span,
+                "a plane at most 1e9 from the origin once placed in the world",
+                &format!("one {} from it", show_number(world_offset.abs())),
+            )
+            .into());
+        }
+        self.planes.push((plane, at.object.material));
+        Ok(())
+    }
+
+    fn triangle(&mut self, at: &Placing, vertices: &[Vec3; 3]) -> Result<(), Error> {
+        let world = match at.placement {
+            None => *vertices,
+            Some((_, matrix)) => {
+                let exact = vertices.map(|v| matrix.transform_point3(v.as_dvec3()));
+                within_bounds(at.description, at.object, "triangle", &exact)?;
+                let mut v = exact.map(|v| v.as_vec3());
+                // A mirroring transform turns the winding around; swap to keep the front side
+                // the one the inverse transpose of the normal points to.
+                if matrix.determinant() < 0.0 {
+                    v.swap(1, 2);
+                }
+                v
+            }
+        };
+        if has_area(&world) {
+            self.loose_triangles.push(world);
+            self.loose_materials.push(at.object.material);
+        }
+        Ok(())
+    }
+
+    fn mesh(&mut self, at: &Placing, meshes: &mut MeshLoader, file: &str) -> Result<(), Error> {
+        let mesh = meshes.load(file, at.object.span)?;
+        let local = meshes.bounds(mesh);
+        // A mesh without a face to hit has no box either; the trees have no use for it.
+        if local.is_empty() {
+            return Ok(());
+        }
+        self.bounds.push(match at.placement {
+            None => local,
+            Some((_, matrix)) => {
+                let corners = box_corners(&local, &matrix);
+                within_bounds(at.description, at.object, "mesh", &corners)?;
+                outward_box(&corners)
+            }
+        });
+        self.items.push(Item::Mesh {
+            mesh,
+            material: at.object.material,
+            transform: at.transform(),
+        });
+        Ok(())
+    }
 }
 
 /// Refuses a shape that reaches beyond [`MAX_MAGNITUDE`] on some axis once placed (`points`

@@ -95,14 +95,14 @@ impl SceneBuilder {
     }
 
     /// The colour of rays that hit nothing.
-    pub fn background(mut self, color: Vec3) -> Self {
-        self.description.background = color;
+    pub fn background(mut self, colour: Vec3) -> Self {
+        self.description.background = colour;
         self
     }
 
     /// The ambient light (with no lights at all it becomes white, as in the course).
-    pub fn ambient_light(mut self, color: Vec3) -> Self {
-        self.description.ambient = color;
+    pub fn ambient_light(mut self, colour: Vec3) -> Self {
+        self.description.ambient = colour;
         self
     }
 
@@ -228,28 +228,28 @@ impl CameraSpec {
 
 impl LightSpec {
     /// Light travelling along `direction` everywhere.
-    pub fn directional(direction: Vec3, color: Vec3) -> LightSpec {
+    pub fn directional(direction: Vec3, colour: Vec3) -> LightSpec {
         LightSpec::Directional {
             direction: direction.normalize_or_zero(),
-            color,
+            colour,
         }
     }
 
     /// Light from `position`, not fading with distance (attenuation 1 0 0).
-    pub fn point(position: Vec3, color: Vec3) -> LightSpec {
+    pub fn point(position: Vec3, colour: Vec3) -> LightSpec {
         LightSpec::Point {
             position,
-            color,
+            colour,
             attenuation: [1.0, 0.0, 0.0],
         }
     }
 }
 
 impl PhongSpec {
-    /// A plain diffuse material of `color`, the rest the course's defaults.
-    pub fn diffuse(color: Vec3) -> PhongSpec {
+    /// A plain diffuse material of `colour`, the rest the course's defaults.
+    pub fn diffuse(colour: Vec3) -> PhongSpec {
         PhongSpec {
-            diffuse: color,
+            diffuse: colour,
             ..PhongSpec::default()
         }
     }

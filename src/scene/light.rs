@@ -13,14 +13,14 @@ pub enum Light {
         /// Unit vector toward the light: the opposite of the way its light travels.
         to_light: Vec3A,
         /// The colour that arrives everywhere, not clamped.
-        color: Vec3A,
+        colour: Vec3A,
     },
     /// Light from a point, dimmed with distance d by 1 / (c + l·d + q·d²).
     Point {
         /// Where the light is, in world space.
         position: Vec3A,
         /// The colour at the light itself, before attenuation; not clamped.
-        color: Vec3A,
+        colour: Vec3A,
         /// The constant, linear and quadratic terms c, l and q.
         attenuation: [f32; 3],
     },
@@ -32,7 +32,7 @@ pub struct Illumination {
     /// Unit vector from the point toward the light.
     pub to_light: Vec3A,
     /// The light's colour as it arrives, attenuation applied.
-    pub color: Vec3A,
+    pub colour: Vec3A,
     /// How far the light is, in world units: infinite for a directional light.
     pub distance: f32,
 }
@@ -42,17 +42,17 @@ impl Light {
     /// point toward the light.
     pub fn new(spec: &LightSpec) -> Light {
         match *spec {
-            LightSpec::Directional { direction, color } => Light::Directional {
+            LightSpec::Directional { direction, colour } => Light::Directional {
                 to_light: -Vec3A::from(direction).normalize(),
-                color: color.into(),
+                colour: colour.into(),
             },
             LightSpec::Point {
                 position,
-                color,
+                colour,
                 attenuation,
             } => Light::Point {
                 position: position.into(),
-                color: color.into(),
+                colour: colour.into(),
                 attenuation,
             },
         }
@@ -63,14 +63,14 @@ impl Light {
     #[inline]
     pub fn illuminate(&self, point: Vec3A) -> Option<Illumination> {
         match *self {
-            Light::Directional { to_light, color } => Some(Illumination {
+            Light::Directional { to_light, colour } => Some(Illumination {
                 to_light,
-                color,
+                colour,
                 distance: f32::INFINITY,
             }),
             Light::Point {
                 position,
-                color,
+                colour,
                 attenuation: [c, l, q],
             } => {
                 let offset = position - point;
@@ -83,7 +83,7 @@ impl Light {
                 let attenuation = 1.0 / (c + l * distance + q * distance * distance);
                 Some(Illumination {
                     to_light: offset / distance,
-                    color: color * attenuation,
+                    colour: colour * attenuation,
                     distance,
                 })
             }
@@ -98,7 +98,7 @@ mod tests {
     fn point_light(attenuation: [f32; 3]) -> Light {
         Light::Point {
             position: Vec3A::new(0.0, 4.0, 0.0),
-            color: Vec3A::new(0.8, 0.4, 1.0),
+            colour: Vec3A::new(0.8, 0.4, 1.0),
             attenuation,
         }
     }
@@ -107,12 +107,12 @@ mod tests {
     fn directional_light_is_the_same_everywhere() {
         let light = Light::new(&LightSpec::Directional {
             direction: glam::Vec3::new(0.0, -2.0, 0.0),
-            color: glam::Vec3::new(0.5, 0.5, 0.5),
+            colour: glam::Vec3::new(0.5, 0.5, 0.5),
         });
         for point in [Vec3A::ZERO, Vec3A::new(1e6, -3.0, 7.0)] {
             let i = light.illuminate(point).unwrap();
             assert_eq!(i.to_light, Vec3A::Y);
-            assert_eq!(i.color, Vec3A::splat(0.5));
+            assert_eq!(i.colour, Vec3A::splat(0.5));
             assert_eq!(i.distance, f32::INFINITY);
         }
     }
@@ -124,13 +124,16 @@ mod tests {
         let constant = at([1.0, 0.0, 0.0]);
         assert_eq!(constant.to_light, Vec3A::Y);
         assert_eq!(constant.distance, 4.0);
-        assert_eq!(constant.color, Vec3A::new(0.8, 0.4, 1.0));
+        assert_eq!(constant.colour, Vec3A::new(0.8, 0.4, 1.0));
         // 1 / (0.2·4) = 1.25
-        assert_eq!(at([0.0, 0.2, 0.0]).color, Vec3A::new(0.8, 0.4, 1.0) * 1.25);
+        assert_eq!(at([0.0, 0.2, 0.0]).colour, Vec3A::new(0.8, 0.4, 1.0) * 1.25);
         // 1 / (0.05·16) = 1.25
-        assert_eq!(at([0.0, 0.0, 0.05]).color, Vec3A::new(0.8, 0.4, 1.0) * 1.25);
+        assert_eq!(
+            at([0.0, 0.0, 0.05]).colour,
+            Vec3A::new(0.8, 0.4, 1.0) * 1.25
+        );
         // 1 / (1 + 0.5·4 + 0.25·16) = 1/7
-        let mixed = at([1.0, 0.5, 0.25]).color;
+        let mixed = at([1.0, 0.5, 0.25]).colour;
         assert!(
             (mixed - Vec3A::new(0.8, 0.4, 1.0) / 7.0)
                 .abs()
