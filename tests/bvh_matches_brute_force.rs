@@ -300,6 +300,38 @@ proptest! {
     }
 
     #[test]
+    fn bvh_any_hit_equals_brute_force(
+        root in prop::collection::vec((0u32..3, node()), 1..8),
+        rays in prop::collection::vec(ray(), 64),
+        with_plane in any::<bool>(),
+    ) {
+        let (text, scene) = generated_scene(&root, with_plane)?;
+        for (_, origin, direction) in rays {
+            let ray = Ray::new(Vec3A::from(origin), Vec3A::from(direction).normalize());
+            let nearest = scene.world.intersect_brute_force(&ray, 0.0).map(|hit| hit.t);
+            // Ranges that end just before, at and just after the nearest hit (where an any-hit
+            // search that stops at the first box it enters, or a limit off by one ulp, differs),
+            // ranges that start at it, and the usual ones.
+            let mut ranges = vec![(0.0, 0.5), (0.0, 3.0), (0.0, f32::INFINITY), (1e-4, f32::MAX)];
+            if let Some(t) = nearest {
+                let below = f32::from_bits(t.to_bits().saturating_sub(1));
+                let above = f32::from_bits(t.to_bits() + 1);
+                ranges.extend([(0.0, below), (0.0, t), (0.0, above), (t, f32::INFINITY), (above, 10.0 * t + 1.0)]);
+            }
+            for (t_min, t_max) in ranges {
+                let fast = scene.world.occluded(&ray, t_min, t_max);
+                let slow = scene.world.occluded_brute_force(&ray, t_min, t_max);
+                prop_assert_eq!(
+                    fast, slow,
+                    "shadow ray {:?} over [{}, {}] in scene\n{}", ray, t_min, t_max, text
+                );
+            }
+            // Over the whole ray, something is hit exactly when there is a nearest hit.
+            prop_assert_eq!(scene.world.occluded(&ray, 0.0, f32::INFINITY), nearest.is_some());
+        }
+    }
+
+    #[test]
     fn a_packet_finds_what_each_of_its_rays_finds_alone(
         root in prop::collection::vec((0u32..3, node()), 1..8),
         packets in prop::collection::vec(packet(), 8),
@@ -325,7 +357,7 @@ proptest! {
     }
 }
 
-/// Every scene of the course, seen through its own camera at 64×64: each 8×8 tile's rays
+/// Every scene of the course, seen through its own camera at 64×64: each 8×8 packet of rays
 /// searched as a packet find what each finds alone (the pictures' pixels, before shading).
 #[test]
 fn every_course_scene_finds_the_same_hits_by_packet() {
