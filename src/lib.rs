@@ -57,6 +57,7 @@ pub mod scene;
 pub mod shade;
 pub mod simd;
 pub mod trace;
+pub mod variant;
 
 pub use error::{Diagnostic, Error, Span};
 /// The vector and matrix types the API uses, from `glam`.

@@ -12,13 +12,20 @@ use glam::Vec3A;
 use rayon::prelude::*;
 
 use crate::accel::{Hit, PACKET};
-use crate::camera::{film_to_screen, pixel_to_screen};
+use crate::camera::CameraSeam;
 use crate::geometry::Ray;
-use crate::sample::{Film, FilmSample, Sampling};
+use crate::sample::{Film, FilmSample, SampleSeam, Sampling};
 use crate::scene::Scene;
 use crate::shade;
-use crate::shade::Image;
-use crate::trace::{RayCounts, Scratch, TraceSettings, Tracer};
+use crate::shade::{Image, PictureSeam};
+use crate::trace::{RayCounts, Scratch, TraceSeam, TraceSettings, Tracer};
+pub use crate::variant::Exact;
+
+/// A way of rendering: the course's ([`Exact`]), or one of check's faults, which renders as a
+/// student's tracer would. It answers at every seam of the pipeline ([`crate::variant`]).
+pub trait Variant: CameraSeam + TraceSeam + PictureSeam + SampleSeam {}
+
+impl<V: CameraSeam + TraceSeam + PictureSeam + SampleSeam> Variant for V {}
 
 const TILE: u32 = 16;
 /// Camera rays are searched in packets of this many rows and columns (see [`PACKET`]).
@@ -85,15 +92,20 @@ pub struct Rendered {
 
 /// Renders on the current rayon pool (wrap in `ThreadPool::install` to choose the threads).
 pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
+    render_with(scene, settings, Exact)
+}
+
+/// [`render`], as `variant` renders.
+pub fn render_with<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V) -> Rendered {
     if settings.sampling.is_plain() && !settings.keep_film {
-        render_centres(scene, settings)
+        render_centres(scene, settings, variant)
     } else {
-        render_film(scene, settings)
+        render_film(scene, settings, variant)
     }
 }
 
 /// One ray through each pixel's centre, straight to bytes: assignments 1 to 6.
-fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
+fn render_centres<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V) -> Rendered {
     let (width, height) = (settings.width, settings.height);
     let pixels = width as usize * height as usize;
     // Only the pictures asked for, each written in place by the bands: no per-pixel record to
@@ -121,16 +133,17 @@ fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
             depth,
         })
         .collect();
-    let background = shade::to_rgb(scene.background);
+    let background = variant.to_rgb(scene.background);
     let progress = Progress::new(settings.progress, band_count);
-    let tracer = Tracer::new(scene, settings.trace);
+    let tracer = Tracer::with_variant(scene, settings.trace, variant);
     let traced = bands
         .into_par_iter()
         .enumerate()
         .map(|(band, mut out)| {
             let top = band as u32 * band_rows;
             let rows = band_rows.min(height - top);
-            let counts = render_band(&tracer, settings, background, top..top + rows, &mut out);
+            let rows = top..top + rows;
+            let counts = render_band(&tracer, variant, settings, background, rows, &mut out);
             progress.advance();
             counts
         })
@@ -155,8 +168,9 @@ fn render_centres(scene: &Scene, settings: &RenderSettings) -> Rendered {
 
 /// The pixels of rows `rows` (a band, whose first row is the band's first pixel), tile by
 /// tile, each tile's camera rays cast in packets of PACKET_SIDE × PACKET_SIDE.
-fn render_band(
-    tracer: &Tracer,
+fn render_band<V: Variant>(
+    tracer: &Tracer<V>,
+    variant: V,
     settings: &RenderSettings,
     background: [u8; 3],
     rows: std::ops::Range<u32>,
@@ -176,13 +190,16 @@ fn render_band(
                 for row in packet_top..(packet_top + PACKET_SIDE).min(rows.end) {
                     for column in packet_left..(packet_left + PACKET_SIDE).min(tile_right) {
                         // Rows are stored top first; the camera counts them from the bottom.
-                        let (u, v) = pixel_to_screen(column, height - 1 - row, width, height);
-                        rays.push(camera.ray(u, v));
+                        let (u, v) =
+                            variant.pixel_to_screen(column, height - 1 - row, width, height);
+                        rays.push(variant.ray(camera, u, v));
                         indices.push(((row - rows.start) * width + column) as usize);
                     }
                 }
                 tracer.camera_rays(&rays, settings.colour, &mut scratch, |i, seen, hit| {
-                    out.set(indices[i], settings, background, &rays[i], seen, hit);
+                    out.set(
+                        variant, indices[i], settings, background, &rays[i], seen, hit,
+                    );
                 });
             }
         }
@@ -213,8 +230,10 @@ impl Band<'_> {
     /// Pixel `index` of the band, from what its camera ray saw and hit. Where nothing is hit,
     /// the normal and depth pictures stay black.
     #[inline]
-    fn set(
+    #[allow(clippy::too_many_arguments)] // One pixel's inputs, called in the hot loop.
+    fn set<V: Variant>(
         &mut self,
+        variant: V,
         index: usize,
         settings: &RenderSettings,
         background: [u8; 3],
@@ -226,23 +245,28 @@ impl Band<'_> {
             if let Some(colour) = &mut self.colour {
                 colour[index] = background;
             }
+            if let Some(miss) = variant.picture_miss(background) {
+                for picture in [&mut self.normals, &mut self.depth].into_iter().flatten() {
+                    picture[index] = miss;
+                }
+            }
             return;
         };
         if let Some(colour) = &mut self.colour {
-            colour[index] = shade::to_rgb(seen);
+            colour[index] = variant.to_rgb(seen);
         }
         if let Some(normals) = &mut self.normals {
-            normals[index] = shade::to_rgb(shade::normal_colour(&hit));
+            normals[index] = variant.to_rgb(variant.normal_colour(&hit));
         }
         if let (Some(depth), Some((near, far))) = (&mut self.depth, settings.depth) {
             let distance = hit.t * ray.direction.length();
-            depth[index] = [shade::to_byte(shade::depth_grey(distance, near, far)); 3];
+            depth[index] = [shade::to_byte(variant.depth_grey(distance, near, far)); 3];
         }
     }
 }
 
 /// Every sample of every pixel kept on a film, then filtered into pixels: assignment 7.
-fn render_film(scene: &Scene, settings: &RenderSettings) -> Rendered {
+fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V) -> Rendered {
     let (width, height) = (settings.width, settings.height);
     let Sampling {
         sampler,
@@ -257,7 +281,7 @@ fn render_film(scene: &Scene, settings: &RenderSettings) -> Rendered {
         samples: n as u32,
         entries: vec![FilmSample::default(); row_len * height as usize],
     };
-    let tracer = Tracer::new(scene, settings.trace);
+    let tracer = Tracer::with_variant(scene, settings.trace, variant);
     let progress = Progress::new(settings.progress, height as usize);
     let rays = film
         .entries
@@ -268,22 +292,22 @@ fn render_film(scene: &Scene, settings: &RenderSettings) -> Rendered {
             let mut positions = vec![glam::Vec2::ZERO; n];
             for (i, pixel) in row.chunks_mut(n).enumerate() {
                 let index = j as u64 * u64::from(width) + i as u64;
-                sampler.positions(seed, index, &mut positions);
+                variant.positions(sampler, seed, index, &mut positions);
                 for (sample, &position) in pixel.iter_mut().zip(&positions) {
-                    let (u, v) =
-                        film_to_screen(i as f32 + position.x, j as f32 + position.y, width, height);
-                    let ray = scene.camera.ray(u, v);
+                    let (x, y) = (i as f32 + position.x, j as f32 + position.y);
+                    let (u, v) = variant.film_to_screen(x, y, width, height);
+                    let ray = variant.ray(&scene.camera, u, v);
                     let (colour, hit) = tracer.camera_ray(&ray, settings.colour, &mut scratch);
                     *sample = FilmSample {
                         position,
                         colour,
                         normal: match (&hit, settings.normals) {
-                            (Some(hit), true) => shade::normal_colour(hit),
+                            (Some(hit), true) => variant.normal_colour(hit),
                             _ => Vec3A::ZERO,
                         },
                         depth: match (&hit, settings.depth) {
                             (Some(hit), Some((near, far))) => {
-                                shade::depth_grey(hit.t * ray.direction.length(), near, far)
+                                variant.depth_grey(hit.t * ray.direction.length(), near, far)
                             }
                             _ => 0.0,
                         },
@@ -296,7 +320,7 @@ fn render_film(scene: &Scene, settings: &RenderSettings) -> Rendered {
         .reduce(RayCounts::default, |a, b| a + b);
     progress.finish();
     let picture = |wanted: bool, value: fn(&FilmSample) -> Vec3A| {
-        wanted.then(|| film.picture(filter, value, shade::to_rgb))
+        wanted.then(|| film.picture(filter, value, |colour| variant.to_rgb(colour)))
     };
     Rendered {
         colour: picture(settings.colour, |s| s.colour),

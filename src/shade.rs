@@ -17,6 +17,36 @@ pub struct Image {
     pub pixels: Vec<[u8; 3]>,
 }
 
+/// How hits and colours become pixels: the seam where a render may make its pictures as a
+/// student's tracer would (check's fault library). The defaults are the course's.
+pub trait PictureSeam: Copy + Send + Sync {
+    /// A colour as bytes.
+    #[inline(always)]
+    fn to_rgb(&self, colour: Vec3A) -> [u8; 3] {
+        to_rgb(colour)
+    }
+
+    /// The normals picture's colour of a hit.
+    #[inline(always)]
+    fn normal_colour(&self, hit: &Hit) -> Vec3A {
+        normal_colour(hit)
+    }
+
+    /// The depth picture's grey (before [`to_byte`]) at distance `t`.
+    #[inline(always)]
+    fn depth_grey(&self, t: f32, t_near: f32, t_far: f32) -> f32 {
+        depth_grey(t, t_near, t_far)
+    }
+
+    /// The normals and depth pictures' pixel where nothing is hit, if not the course's black.
+    #[inline(always)]
+    fn picture_miss(&self, _background: [u8; 3]) -> Option<[u8; 3]> {
+        None
+    }
+}
+
+impl PictureSeam for crate::variant::Exact {}
+
 /// |n|: the normal's components as a colour.
 #[inline]
 pub fn normal_colour(hit: &Hit) -> Vec3A {

@@ -12,8 +12,66 @@ use glam::Vec3A;
 use std::ops::ControlFlow;
 
 use crate::accel::{Hit, PACKET, Tallies};
+use crate::camera::Camera;
 use crate::geometry::Ray;
 use crate::scene::{Scene, SpecularFalloff};
+use crate::variant::Exact;
+
+/// How rays are traced and shaded: the seam where a render may trace as a student's tracer
+/// would (check's fault library; see [`crate::variant`]). The defaults are the course's.
+pub trait TraceSeam: Copy + Send + Sync {
+    /// The least t a camera ray's hit may have.
+    #[inline(always)]
+    fn camera_t_min(&self, camera: &Camera) -> f32 {
+        camera.t_min()
+    }
+
+    /// The hit as the tracer takes it from the search (its t, normal and material), or none.
+    #[inline(always)]
+    fn found(&self, _scene: &Scene, _ray: &Ray, hit: Option<Hit>) -> Option<Hit> {
+        hit
+    }
+
+    /// Whether back faces are shaded (seen from their other side) rather than black.
+    #[inline(always)]
+    fn shades_back_faces(&self, shade_back: bool) -> bool {
+        shade_back
+    }
+
+    /// The ambient term of a hit: the scene's ambient light times the diffuse colour, with
+    /// `lights` lights in the scene.
+    #[inline(always)]
+    fn ambient(&self, term: Vec3A, _lights: usize) -> Vec3A {
+        term
+    }
+
+    /// One light's term (diffuse plus specular) at a hit whose normal, turned toward the ray,
+    /// is `normal`, the light lying along `to_light`.
+    #[inline(always)]
+    fn light(&self, term: Vec3A, _normal: Vec3A, _to_light: Vec3A) -> Vec3A {
+        term
+    }
+
+    /// The t range in which a hit blocks a shadow ray toward a light `distance` away.
+    #[inline(always)]
+    fn shadow_range(&self, distance: f32) -> (f32, f32) {
+        shadow_range(distance)
+    }
+
+    /// Mirror and glass rays ignore hits nearer than this.
+    #[inline(always)]
+    fn secondary_t_min(&self) -> f32 {
+        SECONDARY_T_MIN
+    }
+
+    /// How many times a camera ray may be reflected or refracted, given `-bounces`.
+    #[inline(always)]
+    fn bounces(&self, bounces: u32) -> u32 {
+        bounces
+    }
+}
+
+impl TraceSeam for Exact {}
 
 /// Mirror and glass rays ignore hits nearer than this, in world units, so that they do not
 /// find the surface they start from.
@@ -105,17 +163,30 @@ struct Branch {
     throughput: Vec3A,
 }
 
-/// Traces rays through one scene with one set of switches.
+/// Traces rays through one scene with one set of switches, as the course does (or, for
+/// `check`, as variant `V` does).
 #[derive(Debug, Clone, Copy)]
-pub struct Tracer<'a> {
+pub struct Tracer<'a, V = Exact> {
     scene: &'a Scene,
     settings: TraceSettings,
+    variant: V,
 }
 
 impl<'a> Tracer<'a> {
     /// Traces through `scene` under `settings`; cheap to make, as it only borrows the scene.
     pub fn new(scene: &'a Scene, settings: TraceSettings) -> Self {
-        Tracer { scene, settings }
+        Tracer::with_variant(scene, settings, Exact)
+    }
+}
+
+impl<'a, V: TraceSeam> Tracer<'a, V> {
+    /// [`Tracer::new`], tracing as `variant` does.
+    pub fn with_variant(scene: &'a Scene, settings: TraceSettings, variant: V) -> Self {
+        Tracer {
+            scene,
+            settings,
+            variant,
+        }
     }
 
     /// The scene it traces through (the pixel loop takes the camera from it).
@@ -140,7 +211,7 @@ impl<'a> Tracer<'a> {
         scratch: &mut Scratch,
     ) -> (Vec3A, Option<Hit>) {
         scratch.counts.primary += 1;
-        let t_min = self.scene.camera.t_min();
+        let t_min = self.variant.camera_t_min(&self.scene.camera);
         if self.settings.visualize_grid {
             return self.grid_cell(ray, t_min, scratch);
         }
@@ -166,7 +237,7 @@ impl<'a> Tracer<'a> {
             return;
         }
         scratch.counts.primary += rays.len() as u64;
-        let t_min = self.scene.camera.t_min();
+        let t_min = self.variant.camera_t_min(&self.scene.camera);
         let world = &self.scene.world;
         let mut hits = [None; PACKET];
         let hits = &mut hits[..rays.len()];
@@ -175,8 +246,9 @@ impl<'a> Tracer<'a> {
         } else {
             world.intersect_packet_with(rays, t_min, hits, &mut ());
         }
-        for (i, (ray, hit)) in rays.iter().zip(hits.iter()).enumerate() {
-            each(i, self.seen(ray, hit.as_ref(), colour, scratch), *hit);
+        for (i, (ray, &hit)) in rays.iter().zip(hits.iter()).enumerate() {
+            let hit = self.variant.found(self.scene, ray, hit);
+            each(i, self.seen(ray, hit.as_ref(), colour, scratch), hit);
         }
     }
 
@@ -196,11 +268,12 @@ impl<'a> Tracer<'a> {
     #[inline(always)]
     fn intersect(&self, ray: &Ray, t_min: f32, scratch: &mut Scratch) -> Option<Hit> {
         let world = &self.scene.world;
-        if self.settings.tally {
+        let hit = if self.settings.tally {
             world.intersect_with(ray, t_min, &mut scratch.counts.tallies)
         } else {
             world.intersect(ray, t_min)
-        }
+        };
+        self.variant.found(self.scene, ray, hit)
     }
 
     #[inline(always)]
@@ -255,7 +328,7 @@ impl<'a> Tracer<'a> {
     /// caller, which also wants the hit for the normal and depth pictures). Unclamped.
     pub fn colour(&self, ray: &Ray, hit: Option<&Hit>, scratch: &mut Scratch) -> Vec3A {
         let from_camera = Branch {
-            bounces_left: self.settings.bounces,
+            bounces_left: self.variant.bounces(self.settings.bounces),
             weight: 1.0,
             throughput: Vec3A::ONE,
         };
@@ -268,7 +341,7 @@ impl<'a> Tracer<'a> {
                 break;
             }
             scratch.counts.secondary += 1;
-            let hit = self.intersect(&next.ray, SECONDARY_T_MIN, scratch);
+            let hit = self.intersect(&next.ray, self.variant.secondary_t_min(), scratch);
             colour +=
                 next.branch.throughput * self.visit(&next.ray, next.branch, hit.as_ref(), scratch);
         }
@@ -285,13 +358,15 @@ impl<'a> Tracer<'a> {
         };
         let direction = ray.direction;
         let inside = direction.dot(hit.normal) > 0.0;
-        if inside && !self.settings.shade_back {
+        if inside && !self.variant.shades_back_faces(self.settings.shade_back) {
             return Vec3A::ZERO;
         }
         let normal = if inside { -hit.normal } else { hit.normal };
         let point = ray.at(hit.t);
         let surface = scene.materials.at(hit.material, point);
-        let mut colour = scene.ambient * surface.diffuse();
+        let mut colour = self
+            .variant
+            .ambient(scene.ambient * surface.diffuse(), scene.lights.len());
         for light in &scene.lights {
             let Some(light) = light.illuminate(point) else {
                 continue;
@@ -303,6 +378,7 @@ impl<'a> Tracer<'a> {
                 light.colour,
                 self.settings.specular,
             );
+            let shaded = self.variant.light(shaded, normal, light.to_light);
             if self.settings.shadows {
                 // A light that adds nothing here needs no shadow ray.
                 if shaded == Vec3A::ZERO {
@@ -310,7 +386,7 @@ impl<'a> Tracer<'a> {
                 }
                 scratch.counts.shadow += 1;
                 let shadow = Ray::new(point, light.to_light);
-                let (near, far) = shadow_range(light.distance);
+                let (near, far) = self.variant.shadow_range(light.distance);
                 if self.occluded(&shadow, near, far, scratch) {
                     continue;
                 }

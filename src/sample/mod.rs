@@ -23,6 +23,19 @@ pub struct Sampling {
     pub seed: u64,
 }
 
+/// Where a pixel's samples fall: the seam where a render may place them as a student's tracer
+/// would (check's fault library). The default is the sampler's own positions.
+pub trait SampleSeam: Copy + Send + Sync {
+    /// The positions of pixel `pixel`'s samples (in [0, 1)² from its lower-left corner) into
+    /// `out`.
+    #[inline(always)]
+    fn positions(&self, sampler: Sampler, seed: u64, pixel: u64, out: &mut [glam::Vec2]) {
+        sampler.positions(seed, pixel, out);
+    }
+}
+
+impl SampleSeam for crate::variant::Exact {}
+
 /// The seed used when none is given.
 pub const DEFAULT_SEED: u64 = 6837;
 
