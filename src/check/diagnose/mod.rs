@@ -11,7 +11,7 @@
 //!
 //! A cause is one file: its [`Diagnosis`] (code, report rank, explanation), its test on the
 //! pictures, and the unit tests that plant it. Adding one is that file and one line in
-//! [`WHOLE_PICTURE`], [`LOCAL`] or [`OUTLINE`].
+//! `WHOLE_PICTURE`, `LOCAL` or `OUTLINE`.
 
 mod background;
 mod cracks;
