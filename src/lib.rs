@@ -50,6 +50,7 @@ mod error;
 pub mod geometry;
 pub mod image_io;
 pub mod inspect;
+pub mod job;
 pub mod parse;
 pub mod render;
 pub mod sample;

@@ -13,7 +13,7 @@ const LAYERS: &[&[&str]] = &[
     &["scene"],
     &["shade", "trace", "sample"],
     &["render", "inspect", "image_io"],
-    &["check", "preview"],
+    &["job", "check", "preview"],
     &["cli"],
 ];
 

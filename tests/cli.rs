@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use raycast::cli::usage;
+use raycast::job::usage;
 
 const SCENE: &str = "\
 OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }
@@ -342,8 +342,8 @@ fn threads_must_be_from_1_to_1024() {
     }
     // The bound itself is accepted (checked without starting the 1024 threads).
     let args = "-input scene.txt -size 8 8 -output a.tga -threads 1024";
-    match raycast::cli::parse_args(args.split(' ').map(Into::into).collect()) {
-        Ok(raycast::cli::Command::Render(options)) => assert_eq!(options.threads, Some(1024)),
+    match raycast::job::parse_args(args.split(' ').map(Into::into).collect()) {
+        Ok(raycast::job::Command::Render(options)) => assert_eq!(options.threads, Some(1024)),
         other => panic!("{other:?}"),
     }
     assert_eq!(
@@ -789,8 +789,8 @@ fn bounces_and_weight_values() {
     }
     let args = "-input scene.txt -size 8 8 -output a.tga -bounces 4294967295 -weight 0.01 \
                 -shadows -specular_fix -shade_back";
-    match raycast::cli::parse_args(args.split_whitespace().map(Into::into).collect()) {
-        Ok(raycast::cli::Command::Render(options)) => {
+    match raycast::job::parse_args(args.split_whitespace().map(Into::into).collect()) {
+        Ok(raycast::job::Command::Render(options)) => {
             let trace = options.trace;
             assert_eq!(trace.bounces, u32::MAX);
             assert_eq!(trace.cutoff_weight, 0.01);
@@ -802,8 +802,8 @@ fn bounces_and_weight_values() {
     }
     // The defaults: camera rays only, no cut-off, no shadows, the course's highlights.
     let args = "-input scene.txt -size 8 8 -output a.tga";
-    match raycast::cli::parse_args(args.split_whitespace().map(Into::into).collect()) {
-        Ok(raycast::cli::Command::Render(options)) => {
+    match raycast::job::parse_args(args.split_whitespace().map(Into::into).collect()) {
+        Ok(raycast::job::Command::Render(options)) => {
             assert_eq!(options.trace, raycast::trace::TraceSettings::default());
             assert_eq!(options.trace.bounces, 0);
             assert_eq!(options.trace.cutoff_weight, 0.0);
@@ -1085,7 +1085,7 @@ fn an_option_without_its_value_says_so_and_not_what_followed() {
     );
     // Negative numbers and a lone '-' are values, not options.
     let args = "-input scene.txt -size 8 8 -depth -3 5 d.tga";
-    assert!(raycast::cli::parse_args(args.split(' ').map(Into::into).collect()).is_ok());
+    assert!(raycast::job::parse_args(args.split(' ').map(Into::into).collect()).is_ok());
 }
 
 #[test]
@@ -1113,7 +1113,7 @@ fn a_misspelt_option_gets_the_nearest_real_one() {
 
 #[test]
 fn every_option_in_the_table_is_taken_and_in_the_help() {
-    use raycast::cli::{Command, OPTIONS, parse_args, usage};
+    use raycast::job::{Command, OPTIONS, parse_args, usage};
     let help = usage();
     for option in OPTIONS {
         assert!(
@@ -1290,7 +1290,7 @@ fn shell_completions() {
     let output = raycast(dir.path(), &["completions", "bash"]);
     assert_eq!(output.status.code(), Some(0));
     let script = stdout(&output);
-    for option in raycast::cli::OPTIONS {
+    for option in raycast::job::OPTIONS {
         assert!(script.contains(&format!("-{}", option.name)));
     }
     // bash itself checks the script's syntax.

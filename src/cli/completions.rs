@@ -1,7 +1,7 @@
 //! `raycast completions bash|zsh|fish`: shell completion scripts made from the option table, so
 //! that they offer exactly the options the parser takes.
 
-use super::options::OPTIONS;
+use crate::job::OPTIONS;
 
 /// The completion script for `shell`, or `None` for a shell raycast does not know.
 pub fn script(shell: &str) -> Option<String> {

@@ -4,27 +4,21 @@
 
 mod check;
 mod completions;
-mod options;
 mod stats;
 
 use std::ffi::OsString;
-use std::io::{IsTerminal, Read, Write};
+use std::io::{Read, Write};
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
 
-pub use options::{
-    Command, Group, MAX_FILM_SAMPLES, MAX_FILTER_REACH, MAX_SAMPLES, MAX_THREADS, OPTIONS,
-    OptionSpec, Options, is_stdio, parse_args, usage,
-};
+use crate::job::{Command, Options, parse_args, usage};
 
 use crate::error::Error;
 use crate::image_io::{self, PendingOutputs};
-use crate::render::{RenderSettings, render};
-use crate::sample;
+use crate::job::{is_stdio, render_pictures, same_file};
 use crate::scene::{LoadStats, Loaded, Scene};
 use crate::shade::Image;
-use options::same_file;
 
 /// Runs the program on its arguments (without the program name); returns the exit status:
 /// 0 done, 1 the scene or a file is at fault, 2 the command line is.
@@ -134,7 +128,7 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
         load.build += start.elapsed();
     }
     let render_start = Instant::now();
-    let rendered = render_pictures(options, &scene);
+    let rendered = render_pictures(options, &scene, crate::render::Exact);
     let render_time = render_start.elapsed();
     let write_start = Instant::now();
     write_pictures(options, rendered.pictures, pending)?;
@@ -200,60 +194,6 @@ fn refuse_to_overwrite_meshes(
         }
     }
     Ok(())
-}
-
-/// The pictures the command line names, in the order of [`Options::outputs`], and the rays
-/// cast for them.
-struct Pictures {
-    pictures: Vec<Image>,
-    rays: crate::trace::RayCounts,
-}
-
-/// Renders what the options ask for, and makes the sampling's own pictures.
-fn render_pictures(options: &Options, scene: &Scene) -> Pictures {
-    let settings = RenderSettings {
-        width: options.width,
-        height: options.height,
-        // The samples picture shows the samples' colours.
-        colour: options.output.is_some() || options.render_samples.is_some(),
-        normals: options.normals.is_some(),
-        depth: options.depth.as_ref().map(|&(near, far, _)| (near, far)),
-        trace: options.trace,
-        sampling: options.sampling,
-        keep_film: options.render_samples.is_some(),
-        progress: std::io::stderr().is_terminal(),
-    };
-    // Only the filter picture asked for: nothing to trace.
-    let traced = options.output.is_some()
-        || options.normals.is_some()
-        || options.depth.is_some()
-        || options.render_samples.is_some();
-    let mut rendered = if traced {
-        render(scene, &settings)
-    } else {
-        crate::render::Rendered::default()
-    };
-    let samples_picture = options.render_samples.as_ref().map(|&(_, zoom)| {
-        let film = rendered.film.take().expect("kept for -render_samples");
-        sample::render_samples_picture(&film, zoom)
-    });
-    let filter_picture = options.render_filter.as_ref().map(|&(_, zoom)| {
-        sample::render_filter_picture(options.width, options.height, options.sampling.filter, zoom)
-    });
-    if options.output.is_none() {
-        rendered.colour = None;
-    }
-    let pictures = [
-        rendered.colour,
-        rendered.normals,
-        rendered.depth,
-        samples_picture,
-        filter_picture,
-    ];
-    Pictures {
-        pictures: pictures.into_iter().flatten().collect(),
-        rays: rendered.rays,
-    }
 }
 
 /// Encodes each picture in its file's format and puts the files in place together; the one

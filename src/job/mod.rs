@@ -1,0 +1,76 @@
+//! A command line of the course, understood as a render job: the table of options and its
+//! parser (`options.rs`), and the rendering of the pictures a line names. The program (`cli`)
+//! runs one job; the grader (`check`) runs the suite's lines through it too, as the course's
+//! renderer and as a student's buggy one (a [`Variant`]).
+
+mod options;
+
+pub(crate) use options::same_file;
+pub use options::{
+    Command, Group, MAX_FILM_SAMPLES, MAX_FILTER_REACH, MAX_SAMPLES, MAX_THREADS, OPTIONS,
+    OptionSpec, Options, is_stdio, parse_args, usage,
+};
+
+use std::io::IsTerminal;
+
+use crate::render::{RenderSettings, Variant, render_with};
+use crate::sample;
+use crate::scene::Scene;
+use crate::shade::Image;
+
+/// The pictures the command line names, in the order of [`Options::outputs`], and the rays
+/// cast for them.
+pub struct Pictures {
+    /// One picture for each of [`Options::outputs`], in that order.
+    pub pictures: Vec<Image>,
+    /// The rays cast for them.
+    pub rays: crate::trace::RayCounts,
+}
+
+/// Renders what the options ask for as `variant` renders, and makes the sampling's own
+/// pictures.
+pub fn render_pictures<V: Variant>(options: &Options, scene: &Scene, variant: V) -> Pictures {
+    let settings = RenderSettings {
+        width: options.width,
+        height: options.height,
+        // The samples picture shows the samples' colours.
+        colour: options.output.is_some() || options.render_samples.is_some(),
+        normals: options.normals.is_some(),
+        depth: options.depth.as_ref().map(|&(near, far, _)| (near, far)),
+        trace: options.trace,
+        sampling: options.sampling,
+        keep_film: options.render_samples.is_some(),
+        progress: std::io::stderr().is_terminal(),
+    };
+    // Only the filter picture asked for: nothing to trace.
+    let traced = options.output.is_some()
+        || options.normals.is_some()
+        || options.depth.is_some()
+        || options.render_samples.is_some();
+    let mut rendered = if traced {
+        render_with(scene, &settings, variant)
+    } else {
+        crate::render::Rendered::default()
+    };
+    let samples_picture = options.render_samples.as_ref().map(|&(_, zoom)| {
+        let film = rendered.film.take().expect("kept for -render_samples");
+        sample::render_samples_picture(&film, zoom)
+    });
+    let filter_picture = options.render_filter.as_ref().map(|&(_, zoom)| {
+        sample::render_filter_picture(options.width, options.height, options.sampling.filter, zoom)
+    });
+    if options.output.is_none() {
+        rendered.colour = None;
+    }
+    let pictures = [
+        rendered.colour,
+        rendered.normals,
+        rendered.depth,
+        samples_picture,
+        filter_picture,
+    ];
+    Pictures {
+        pictures: pictures.into_iter().flatten().collect(),
+        rays: rendered.rays,
+    }
+}
