@@ -32,14 +32,42 @@ impl Camera {
             horizontal,
             up,
             projection: spec.projection,
-            screen: match spec.projection {
-                // Degrees to radians in f64, as the course's scenes were always converted.
-                Projection::Perspective { angle } => {
-                    2.0 * (0.5 * f64::from(angle).to_radians() as f32).tan()
-                }
-                Projection::Orthographic { .. } => 0.0,
-            },
+            screen: screen_width(spec.projection),
         }
+    }
+
+    /// A camera of a frame given whole, unit or not and perpendicular or not: how a student's
+    /// code may have made it (check's faults build cameras this way).
+    pub fn from_frame(
+        center: Vec3A,
+        direction: Vec3A,
+        horizontal: Vec3A,
+        up: Vec3A,
+        projection: Projection,
+    ) -> Camera {
+        Camera {
+            center,
+            direction,
+            horizontal,
+            up,
+            projection,
+            screen: screen_width(projection),
+        }
+    }
+
+    /// The unit frame: direction, horizontal (screen x) and up (screen y).
+    pub fn frame(&self) -> (Vec3A, Vec3A, Vec3A) {
+        (self.direction, self.horizontal, self.up)
+    }
+
+    /// Where the rays start: the orthographic camera's centre, the perspective camera's eye.
+    pub fn center(&self) -> Vec3A {
+        self.center
+    }
+
+    /// Orthographic or perspective, with the size or angle of the view.
+    pub fn projection(&self) -> Projection {
+        self.projection
     }
 
     /// The ray through (u, v) of the camera's square view, both in [0, 1], v upward. Its
@@ -100,6 +128,17 @@ pub trait CameraSeam: Copy + Send + Sync {
 }
 
 impl CameraSeam for crate::variant::Exact {}
+
+/// The perspective camera's screen width at distance 1, 2·tan(angle/2); 0 for orthographic.
+fn screen_width(projection: Projection) -> f32 {
+    match projection {
+        // Degrees to radians in f64, as the course's scenes were always converted.
+        Projection::Perspective { angle } => {
+            2.0 * (0.5 * f64::from(angle).to_radians() as f32).tan()
+        }
+        Projection::Orthographic { .. } => 0.0,
+    }
+}
 
 /// The point of the camera's square view that pixel (i, j) samples: its centre, with i from the
 /// left and j from the bottom. The square spans the image's longer side; the shorter is cropped.

@@ -32,10 +32,14 @@ pub trait TraceSeam: Copy + Send + Sync {
         hit
     }
 
-    /// Whether back faces are shaded (seen from their other side) rather than black.
+    /// What a back face shows: black, or shaded as seen from its other side (`-shade_back`).
     #[inline(always)]
-    fn shades_back_faces(&self, shade_back: bool) -> bool {
-        shade_back
+    fn back_face(&self, shade_back: bool) -> BackFace {
+        if shade_back {
+            BackFace::Shaded
+        } else {
+            BackFace::Black
+        }
     }
 
     /// The ambient term of a hit: the scene's ambient light times the diffuse colour, with
@@ -46,10 +50,11 @@ pub trait TraceSeam: Copy + Send + Sync {
     }
 
     /// One light's term (diffuse plus specular) at a hit whose normal, turned toward the ray,
-    /// is `normal`, the light lying along `to_light`.
+    /// is `normal`, the light lying along `to_light`; `shade(n)` is the course's term for a
+    /// normal `n`.
     #[inline(always)]
-    fn light(&self, term: Vec3A, _normal: Vec3A, _to_light: Vec3A) -> Vec3A {
-        term
+    fn light(&self, shade: impl Fn(Vec3A) -> Vec3A, normal: Vec3A, _to_light: Vec3A) -> Vec3A {
+        shade(normal)
     }
 
     /// The t range in which a hit blocks a shadow ray toward a light `distance` away.
@@ -72,6 +77,17 @@ pub trait TraceSeam: Copy + Send + Sync {
 }
 
 impl TraceSeam for Exact {}
+
+/// What a ray that meets a surface from behind shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BackFace {
+    /// Black, and no further rays (the course without `-shade_back`).
+    Black,
+    /// Shaded as seen from the other side, the normal turned toward the ray.
+    Shaded,
+    /// The ambient term alone.
+    Ambient,
+}
 
 /// Mirror and glass rays ignore hits nearer than this, in world units, so that they do not
 /// find the surface they start from.
@@ -358,11 +374,20 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         };
         let direction = ray.direction;
         let inside = direction.dot(hit.normal) > 0.0;
-        if inside && !self.variant.shades_back_faces(self.settings.shade_back) {
-            return Vec3A::ZERO;
+        let point = ray.at(hit.t);
+        if inside {
+            match self.variant.back_face(self.settings.shade_back) {
+                BackFace::Shaded => {}
+                BackFace::Black => return Vec3A::ZERO,
+                BackFace::Ambient => {
+                    let diffuse = scene.materials.at(hit.material, point).diffuse();
+                    return self
+                        .variant
+                        .ambient(scene.ambient * diffuse, scene.lights.len());
+                }
+            }
         }
         let normal = if inside { -hit.normal } else { hit.normal };
-        let point = ray.at(hit.t);
         let surface = scene.materials.at(hit.material, point);
         let mut colour = self
             .variant
@@ -371,14 +396,19 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             let Some(light) = light.illuminate(point) else {
                 continue;
             };
-            let shaded = surface.shade(
+            let shaded = self.variant.light(
+                |normal| {
+                    surface.shade(
+                        normal,
+                        direction,
+                        light.to_light,
+                        light.colour,
+                        self.settings.specular,
+                    )
+                },
                 normal,
-                direction,
                 light.to_light,
-                light.colour,
-                self.settings.specular,
             );
-            let shaded = self.variant.light(shaded, normal, light.to_light);
             if self.settings.shadows {
                 // A light that adds nothing here needs no shadow ray.
                 if shaded == Vec3A::ZERO {

@@ -216,9 +216,9 @@ fn planted_faults_get_their_diagnosis() {
     };
     assert!(planted(reference.clone()).starts_with("pass"));
     let flipped = image::imageops::flip_vertical(&reference);
-    assert_eq!(codes(&planted(flipped)), ["flipped_vertical"]);
+    assert_eq!(codes(&planted(flipped)), ["flip_vertical"]);
     let mirrored = image::imageops::flip_horizontal(&reference);
-    assert_eq!(codes(&planted(mirrored)), ["flipped_horizontal"]);
+    assert_eq!(codes(&planted(mirrored)), ["flip_horizontal"]);
     let mut swapped = reference.clone();
     for p in swapped.pixels_mut() {
         p.0.swap(0, 2);
@@ -284,7 +284,8 @@ fn the_report_holds_what_it_says_and_works_in_a_browser() {
         );
         if image["name"] == "output2_02" {
             assert_eq!(image["status"], "error");
-            assert_eq!(image["diagnoses"], serde_json::json!(["crash"]));
+            assert_eq!(image["diagnoses"][0]["code"], "crash");
+            assert_eq!(image["diagnoses"][0]["kind"], "run");
             assert!(
                 image["explanation"]
                     .as_str()
@@ -428,7 +429,7 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
             "sed 's/center 0 0 10/center -0.0125 -0.0125 10/' scene2_01_diffuse.txt > moved.txt\n\
              exec RAYCAST -input moved.txt \"${@:3}\"",
             "raytracer -input scene2_01_diffuse.txt -size 200 200 -output output2_01.tga",
-            "half_pixel",
+            "pixel_corner",
         ),
         (
             // Triangles dropped while reading the mesh: every fifth face.
@@ -442,7 +443,7 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
             "args=(); for a in \"$@\"; do [ \"$a\" = -shade_back ] || args+=(\"$a\"); done\n\
              exec RAYCAST \"${args[@]}\"",
             "raytracer -input scene2_05_inside_sphere.txt -size 200 200 -output output2_05.tga -shade_back",
-            "back_faces",
+            "shade_back_ignored",
         ),
         (
             // t measured in object space under a scaling Transform (see `object_space_t`).
@@ -546,5 +547,8 @@ fn a_suite_without_references_is_graded_against_raycasts_own_renders() {
     let output = raycast(&["check", suite, "--renderer", &renderer]);
     let out = stdout(&output);
     assert_eq!(output.status.code(), Some(1), "{out}");
-    assert!(out.starts_with("FAIL   a: size: "), "{out}");
+    assert!(
+        out.lines().any(|l| l.starts_with("FAIL   a: size: ")),
+        "{out}"
+    );
 }

@@ -3,10 +3,14 @@
 //! same comparison for two image files.
 
 pub mod diagnose;
+pub mod faults;
+mod finding;
 mod report;
 mod rule;
 mod run;
+mod simulate;
 mod suite;
+mod verdict;
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -14,10 +18,13 @@ use std::time::Duration;
 use rayon::prelude::*;
 
 pub use diagnose::Diagnosis;
+pub use finding::Finding;
 pub use report::write_report;
 pub use rule::{Comparison, Rule, compare};
-pub use run::Ending;
+pub use run::{Ending, Ran};
+pub use simulate::FaultMatch;
 pub use suite::{Line, Suite};
+pub use verdict::Group;
 
 use crate::shade::Image;
 
@@ -85,14 +92,19 @@ pub struct Graded {
     pub status: Status,
     /// The share of pixels off by more than the tolerance, when both images could be read.
     pub bad_fraction: Option<f64>,
-    /// The likely causes.
-    pub diagnoses: Vec<Diagnosis>,
+    /// The causes named: the faults whose render matches the picture, or what the run or the
+    /// pixels show.
+    pub findings: Vec<Finding>,
     /// What a student should look at.
     pub explanation: String,
     /// The renderer's image, when it could be read.
     pub actual: Option<Image>,
     /// The reference image, when there is one.
     pub reference: Option<Image>,
+    /// The end of what the renderer said on stderr while making it.
+    pub stderr: String,
+    /// How long the renderer took over the line, in seconds.
+    pub seconds: f64,
 }
 
 /// What the rule says of one picture against its reference.
@@ -169,13 +181,18 @@ fn grade_line(
     folder: &Path,
     ourselves: &Path,
 ) -> Vec<Graded> {
-    let produce = |who: &str, program: &[String]| -> (Ending, PathBuf) {
+    let produce = |who: &str, program: &[String]| -> (Ran, PathBuf) {
         let work = folder.join(format!("{who}-work"));
         let out = folder.join(format!("{who}-out"));
         let prepared = run::work_folder(scenes, &work)
             .and_then(|()| std::fs::create_dir_all(&out).map_err(|e| e.to_string()));
         if let Err(e) = prepared {
-            return (Ending::NotStarted(e), out);
+            let ran = Ran {
+                ending: Ending::NotStarted(e),
+                stderr: String::new(),
+                seconds: 0.0,
+            };
+            return (ran, out);
         }
         let mut args = line.args.clone();
         for (at, name) in &line.outputs {
@@ -183,33 +200,71 @@ fn grade_line(
         }
         (run::run(program, &args, &work, options.timeout), out)
     };
-    let (ending, out) = produce("renderer", &options.renderer);
+    let (ran, out) = produce("renderer", &options.renderer);
     let reference_run = suite.references.is_none().then(|| {
         let program = [ourselves.to_string_lossy().into_owned()];
         produce("raycast", &program)
     });
-    line.outputs
+    let mut graded: Vec<Graded> = line
+        .outputs
         .iter()
         .map(|(_, name)| {
             let image_name = suite::image_name(name);
             let reference = match (&suite.references, &reference_run) {
                 (Some(folder), _) => read_image(&folder.join(format!("{image_name}.png"))),
-                (None, Some((Ending::Success, out))) => read_image(&out.join(file_name(name))),
-                (None, Some((ending, _))) => {
-                    Err(format!("raycast itself could not render it: {ending:?}"))
+                (None, Some((ran, out))) if ran.ending == Ending::Success => {
+                    read_image(&out.join(file_name(name)))
                 }
+                (None, Some((ran, _))) => Err(format!(
+                    "raycast itself could not render it: {:?}",
+                    ran.ending
+                )),
                 (None, None) => Err("no reference".into()),
             };
             grade(
                 options,
                 line,
                 &image_name,
-                &ending,
+                &ran,
                 &out.join(file_name(name)),
                 reference,
             )
         })
-        .collect()
+        .collect();
+    explain_by_simulation(options, suite, line, &mut graded);
+    graded
+}
+
+/// Names the faults whose render of the line matches each failing picture; where none does,
+/// the pixels' guesses stay, said to be guesses.
+fn explain_by_simulation(
+    options: &CheckOptions,
+    suite: &Suite,
+    line: &Line,
+    graded: &mut [Graded],
+) {
+    let failing: Vec<(usize, &Image)> = graded
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| g.status == Status::Fail)
+        .filter_map(|(k, g)| g.actual.as_ref().map(|actual| (k, actual)))
+        .collect();
+    if failing.is_empty() {
+        return;
+    }
+    let indices: Vec<usize> = failing.iter().map(|&(k, _)| k).collect();
+    let Ok(simulated) = simulate::simulate(line, &suite.scenes, &failing, options.rule) else {
+        // A line raycast cannot render itself leaves the guesses as they are.
+        return;
+    };
+    for (k, result) in indices.into_iter().zip(simulated) {
+        if result.matches.is_empty() {
+            continue;
+        }
+        let g = &mut graded[k];
+        g.findings = result.matches.into_iter().map(Finding::Fault).collect();
+        g.explanation = finding::explain(&g.findings);
+    }
 }
 
 fn file_name(name: &str) -> String {
@@ -223,71 +278,104 @@ fn grade(
     options: &CheckOptions,
     line: &Line,
     name: &str,
-    ending: &Ending,
+    ran: &Ran,
     path: &Path,
     reference: Result<Image, String>,
 ) -> Graded {
-    let error = |diagnoses: Vec<Diagnosis>, explanation: String, reference: Option<Image>| Graded {
+    let graded = |status, findings: Vec<Finding>, explanation: String| Graded {
         name: name.to_string(),
         command: line.command.clone(),
-        status: Status::Error,
+        status,
         bad_fraction: None,
-        diagnoses,
+        findings,
         explanation,
         actual: None,
-        reference,
+        reference: None,
+        stderr: ran.stderr.clone(),
+        seconds: ran.seconds,
     };
     let reference = match reference {
         Ok(image) => image,
-        Err(why) => return error(vec![], format!("No reference image: {why}."), None),
+        Err(why) => {
+            return graded(Status::Error, vec![], format!("No reference image: {why}."));
+        }
     };
-    if let Some(explanation) = failed_run(ending) {
-        return error(vec![Diagnosis::CRASH], explanation, Some(reference));
+    if let Some(explanation) = failed_run(ran) {
+        return Graded {
+            reference: Some(reference),
+            ..graded(
+                Status::Error,
+                vec![Finding::Diagnosis(Diagnosis::CRASH)],
+                explanation,
+            )
+        };
     }
     let actual = match read_image(path) {
         Ok(image) => image,
         Err(why) => {
-            return error(
-                vec![Diagnosis::MISSING_OUTPUT],
-                format!("{why}. {}", Diagnosis::MISSING_OUTPUT.explanation()),
-                Some(reference),
+            let explanation = format!(
+                "{why}. {}{}",
+                Diagnosis::MISSING_OUTPUT.explanation(),
+                said(&ran.stderr)
             );
+            return Graded {
+                reference: Some(reference),
+                ..graded(
+                    Status::Error,
+                    vec![Finding::Diagnosis(Diagnosis::MISSING_OUTPUT)],
+                    explanation,
+                )
+            };
         }
     };
     let judgement = judge(&actual, &reference, options.rule);
+    let findings: Vec<Finding> = judgement
+        .diagnoses
+        .into_iter()
+        .map(Finding::Diagnosis)
+        .collect();
     Graded {
-        name: name.to_string(),
-        command: line.command.clone(),
         status: if judgement.pass {
             Status::Pass
         } else {
             Status::Fail
         },
         bad_fraction: judgement.bad_fraction,
-        explanation: diagnose::explain(&judgement.diagnoses),
-        diagnoses: judgement.diagnoses,
+        explanation: finding::explain(&findings),
+        findings,
         actual: Some(actual),
         reference: Some(reference),
+        ..graded(Status::Pass, vec![], String::new())
     }
 }
 
+/// The renderer's last words on stderr, for a message: " It said: ..." (up to three lines), or
+/// nothing.
+fn said(stderr: &str) -> String {
+    let lines: Vec<&str> = stderr
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    if lines.is_empty() {
+        return String::new();
+    }
+    let last = &lines[lines.len().saturating_sub(3)..];
+    format!(" It said: {}", last.join(" / "))
+}
+
 /// What went wrong with a run that did not end well, for the student; `None` for a success.
-fn failed_run(ending: &Ending) -> Option<String> {
-    match ending {
+fn failed_run(ran: &Ran) -> Option<String> {
+    match &ran.ending {
         Ending::Success => None,
-        Ending::Failed { status, stderr } => {
+        Ending::Failed { status } => {
             let how = match status {
                 Some(code) => format!("exited with status {code}"),
                 None => "was killed by a signal".to_string(),
             };
-            let said = stderr.lines().next().unwrap_or("").trim();
-            let said = if said.is_empty() {
-                String::new()
-            } else {
-                format!(" It said: {said}")
-            };
             Some(format!(
-                "The renderer {how}.{said} {}",
+                "The renderer {how}.{} {}",
+                said(&ran.stderr),
                 Diagnosis::CRASH.explanation()
             ))
         }
@@ -341,7 +429,7 @@ pub fn verdict(graded: &Graded) -> String {
     match graded.status {
         Status::Pass => format!("pass   {}{off}", graded.name),
         Status::Fail | Status::Error => {
-            let codes: Vec<&str> = graded.diagnoses.iter().map(|d| d.code()).collect();
+            let codes: Vec<String> = graded.findings.iter().map(Finding::code).collect();
             let codes = if codes.is_empty() {
                 "unknown".to_string()
             } else {
@@ -355,25 +443,50 @@ pub fn verdict(graded: &Graded) -> String {
                     "ERROR"
                 },
                 graded.name,
-                graded.explanation
+                finding::headline(&graded.findings, &graded.explanation)
             )
         }
     }
 }
 
-/// `summary.json`'s contents.
-pub fn summary_json(graded: &[Graded]) -> serde_json::Value {
+/// Groups the failing pictures by cause ([`verdict::verdict`]), putting first among each
+/// picture's equal matches the fault the most pictures share.
+pub fn renderer_verdict(graded: &mut [Graded]) -> Vec<Group> {
+    verdict::verdict(graded)
+}
+
+/// The renderer's verdict for the terminal, one line a group.
+pub fn verdict_lines(groups: &[Group]) -> Vec<String> {
+    verdict::lines(groups)
+}
+
+/// `summary.json`'s contents: raycast's version and the rule, the counts, the renderer's
+/// verdict (`{fault, lines}`, biggest group first), and for each image its status, the share
+/// of pixels off, its causes (`diagnoses`, the one the verdict names first), what to look at,
+/// the renderer's last words on stderr and its time for the line.
+pub fn summary_json(graded: &[Graded], groups: &[Group], rule: Rule) -> serde_json::Value {
     let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
     serde_json::json!({
+        "raycast": env!("CARGO_PKG_VERSION"),
+        "rule": { "tolerance": rule.tolerance, "max_bad": rule.max_bad },
         "passed": passed,
         "failed": graded.len() - passed,
+        "verdict": verdict::json(groups),
         "images": graded.iter().map(|g| serde_json::json!({
             "name": g.name,
             "command": g.command,
             "status": g.status.code(),
             "bad_fraction": g.bad_fraction,
-            "diagnoses": g.diagnoses.iter().map(|d| d.code()).collect::<Vec<_>>(),
+            "diagnoses": g.findings.iter().map(Finding::json).collect::<Vec<_>>(),
             "explanation": g.explanation,
+            "stderr": last_lines(&g.stderr, 20),
+            "seconds": g.seconds,
         })).collect::<Vec<_>>(),
     })
+}
+
+/// The last `n` lines of `text`.
+pub(crate) fn last_lines(text: &str, n: usize) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    lines[lines.len().saturating_sub(n)..].join("\n")
 }

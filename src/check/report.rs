@@ -9,14 +9,21 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{Graded, Status, diagnose, summary_json};
+use super::{Finding, Graded, Group, Rule, Status, diagnose, summary_json, verdict_lines};
 use crate::image_io::{self, ImageFormat};
 
 /// Writes `summary.json`, `index.html` and the pictures into `dir` (made if missing).
-pub fn write_report(dir: &Path, graded: &[Graded], tolerance: u8) -> Result<(), String> {
+pub fn write_report(
+    dir: &Path,
+    graded: &[Graded],
+    groups: &[Group],
+    rule: Rule,
+) -> Result<(), String> {
+    let tolerance = rule.tolerance;
     let fail = |e: std::io::Error| format!("{}: {e}", dir.display());
     std::fs::create_dir_all(dir).map_err(fail)?;
-    let json = serde_json::to_string_pretty(&summary_json(graded)).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(&summary_json(graded, groups, rule))
+        .map_err(|e| e.to_string())?;
     std::fs::write(dir.join("summary.json"), json + "\n").map_err(fail)?;
     let mut order: Vec<&Graded> = graded.iter().collect();
     // Failures and errors first, then passes, each in the suite's order.
@@ -50,6 +57,7 @@ pub fn write_report(dir: &Path, graded: &[Graded], tolerance: u8) -> Result<(), 
             "{{SUMMARY}}",
             &format!("{passed} passed, {} failed", graded.len() - passed),
         )
+        .replace("{{VERDICT}}", &verdict_html(groups))
         .replace("{{BLOCKS}}", &blocks);
     std::fs::write(dir.join("index.html"), page).map_err(fail)
 }
@@ -83,6 +91,21 @@ pub fn escape(text: &str) -> String {
     out
 }
 
+/// The renderer's verdict, at the top of the page: one line a group of failing pictures.
+fn verdict_html(groups: &[Group]) -> String {
+    if groups.is_empty() {
+        return String::new();
+    }
+    let items: String = verdict_lines(groups)
+        .iter()
+        .map(|line| {
+            let text = line.strip_prefix("verdict: ").unwrap_or(line);
+            format!("<li>{}</li>", escape(text))
+        })
+        .collect();
+    format!("<section class=\"verdict\"><h2>Verdict</h2><ol>{items}</ol></section>")
+}
+
 fn block(
     g: &Graded,
     actual: Option<String>,
@@ -90,7 +113,7 @@ fn block(
     diff: Option<String>,
 ) -> String {
     let status = g.status.code();
-    let codes: Vec<&str> = g.diagnoses.iter().map(|d| d.code()).collect();
+    let codes: Vec<String> = g.findings.iter().map(Finding::code).collect();
     let off = g
         .bad_fraction
         .map(|f| format!("{:.3}% of pixels off", 100.0 * f))
@@ -122,12 +145,21 @@ fn block(
         "<section class=\"image {status}\" data-status=\"{status}\">\
          <h2><span class=\"badge\">{status}</span> {name} <small>{off}</small></h2>\
          <p class=\"codes\">{codes}</p><p class=\"why\">{why}</p>\
-         <pre class=\"command\">{command}</pre>\
+         <pre class=\"command\">{command}</pre>{stderr}\
          <div class=\"pictures\">{a}{r}{d}{wipe}</div></section>",
         name = escape(&g.name),
         codes = escape(&codes.join(", ")),
         why = escape(&g.explanation),
         command = escape(&g.command),
+        stderr = if g.status == super::Status::Error && !g.stderr.trim().is_empty() {
+            format!(
+                "<details open><summary>the renderer's stderr (last lines)</summary>\
+                 <pre class=\"stderr\">{}</pre></details>",
+                escape(&super::last_lines(&g.stderr, 20))
+            )
+        } else {
+            String::new()
+        },
         a = picture(&actual, "yours"),
         r = picture(&reference, "reference"),
         d = picture(&diff, "difference"),
@@ -170,6 +202,7 @@ img.px { image-rendering: pixelated; image-rendering: crisp-edges; width: calc(v
 <label>zoom <select id="zoom"><option>1</option><option>2</option><option>4</option><option>8</option></select></label>
 </header>
 <main>
+{{VERDICT}}
 {{BLOCKS}}
 </main>
 <pre id="selftest" class="hidden"></pre>

@@ -5,6 +5,17 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// A run: how it ended, the end of what the renderer said on stderr, and how long it took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ran {
+    /// How it ended.
+    pub ending: Ending,
+    /// The last 64 KiB of its stderr.
+    pub stderr: String,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
 /// How a run ended.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Ending {
@@ -14,8 +25,6 @@ pub enum Ending {
     Failed {
         /// The exit status; `None` for a signal.
         status: Option<i32>,
-        /// The start of what it said on stderr.
-        stderr: String,
     },
     /// It outlasted the time limit and was killed.
     TimedOut(Duration),
@@ -61,10 +70,31 @@ pub fn work_folder(scenes: &Path, work: &Path) -> Result<(), String> {
 /// Runs `program` (its first word the executable, the rest its own arguments) with `args` in
 /// `work`, for at most `limit`. The program runs in a process group of its own, so that a
 /// time-out ends whatever it started too.
-pub fn run(program: &[String], args: &[String], work: &Path, limit: Duration) -> Ending {
+pub fn run(program: &[String], args: &[String], work: &Path, limit: Duration) -> Ran {
+    let start = Instant::now();
+    let (ending, stderr) = run_to_end(program, args, work, limit);
+    Ran {
+        ending,
+        stderr,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// The last this many bytes of a renderer's stderr are kept: its error message comes last.
+const STDERR_TAIL: usize = 64 * 1024;
+
+fn run_to_end(
+    program: &[String],
+    args: &[String],
+    work: &Path,
+    limit: Duration,
+) -> (Ending, String) {
     use std::os::unix::process::CommandExt;
     let Some((executable, own)) = program.split_first() else {
-        return Ending::NotStarted("no renderer given".into());
+        return (
+            Ending::NotStarted("no renderer given".into()),
+            String::new(),
+        );
     };
     let child = Command::new(resolve(executable))
         .args(own)
@@ -77,25 +107,44 @@ pub fn run(program: &[String], args: &[String], work: &Path, limit: Duration) ->
         .spawn();
     let mut child = match child {
         Ok(child) => child,
-        Err(e) => return Ending::NotStarted(format!("{executable}: {e}")),
+        Err(e) => {
+            return (
+                Ending::NotStarted(format!("{executable}: {e}")),
+                String::new(),
+            );
+        }
     };
     // Read stderr as it comes, so a chatty renderer never blocks on a full pipe.
     let stderr = child.stderr.take().map(|mut pipe| {
         std::thread::spawn(move || {
             use std::io::Read;
-            let mut text = Vec::new();
-            let _ = (&mut pipe).take(64 * 1024).read_to_end(&mut text);
-            let _ = std::io::copy(&mut pipe, &mut std::io::sink());
-            String::from_utf8_lossy(&text).into_owned()
+            let mut tail: Vec<u8> = Vec::new();
+            let mut chunk = [0u8; 8192];
+            while let Ok(n) = pipe.read(&mut chunk) {
+                if n == 0 {
+                    break;
+                }
+                tail.extend_from_slice(&chunk[..n]);
+                if tail.len() > 2 * STDERR_TAIL {
+                    tail.drain(..tail.len() - STDERR_TAIL);
+                }
+            }
+            let keep = tail.len().saturating_sub(STDERR_TAIL);
+            String::from_utf8_lossy(&tail[keep..]).into_owned()
         })
     });
     let start = Instant::now();
+    let read_stderr = |stderr: Option<std::thread::JoinHandle<String>>| {
+        stderr
+            .and_then(|reader| reader.join().ok())
+            .unwrap_or_default()
+    };
     let status = loop {
         match child.try_wait() {
             Ok(Some(status)) => break Some(status),
             Ok(None) if start.elapsed() >= limit => break None,
             Ok(None) => std::thread::sleep(Duration::from_millis(5)),
-            Err(e) => return Ending::NotStarted(e.to_string()),
+            Err(e) => return (Ending::NotStarted(e.to_string()), String::new()),
         }
     };
     let Some(status) = status else {
@@ -112,18 +161,18 @@ pub fn run(program: &[String], args: &[String], work: &Path, limit: Duration) ->
         }
         let _ = child.kill();
         let _ = child.wait();
-        return Ending::TimedOut(limit);
+        return (Ending::TimedOut(limit), String::new());
     };
-    let stderr = stderr
-        .and_then(|reader| reader.join().ok())
-        .unwrap_or_default();
+    let stderr = read_stderr(stderr);
     if status.success() {
-        Ending::Success
+        (Ending::Success, stderr)
     } else {
-        Ending::Failed {
-            status: status.code(),
+        (
+            Ending::Failed {
+                status: status.code(),
+            },
             stderr,
-        }
+        )
     }
 }
 

@@ -145,7 +145,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             bar.inc(1);
         }
     };
-    let graded = match check::check(&options, &advance) {
+    let mut graded = match check::check(&options, &advance) {
         Ok(graded) => graded,
         Err(message) => {
             say(std::io::stderr(), &format!("raycast: check: {message}"));
@@ -155,7 +155,12 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
+    let groups = check::renderer_verdict(&mut graded);
     let mut out = std::io::stdout().lock();
+    // The verdict first: what to fix first, for all the lines at once.
+    for line in check::verdict_lines(&groups) {
+        let _ = writeln!(out, "{line}");
+    }
     for g in &graded {
         let _ = writeln!(out, "{}", check::verdict(g));
     }
@@ -163,7 +168,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     let failed = graded.len() - passed;
     let _ = writeln!(out, "{passed} passed, {failed} failed");
     if let Some(dir) = &options.report {
-        if let Err(message) = check::write_report(dir, &graded, options.rule.tolerance) {
+        if let Err(message) = check::write_report(dir, &graded, &groups, options.rule) {
             say(
                 std::io::stderr(),
                 &format!("raycast: check: cannot write the report: {message}"),

@@ -14,6 +14,7 @@ use std::time::Instant;
 
 use crate::job::{Command, Options, parse_args, usage};
 
+use crate::check::faults::{LineScene, plant_for};
 use crate::error::Error;
 use crate::image_io::{self, PendingOutputs};
 use crate::job::{is_stdio, render_pictures, same_file};
@@ -128,7 +129,30 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
         load.build += start.elapsed();
     }
     let render_start = Instant::now();
-    let rendered = render_pictures(options, &scene, crate::render::Exact);
+    let rendered = match &options.fault {
+        None => render_pictures(options, &scene, crate::render::Exact),
+        Some(spec) => {
+            let description = if is_stdio(&options.input) {
+                return Err(Error::Refused(
+                    "raycast: -fault needs the scene from a file, not standard input".into(),
+                ));
+            } else {
+                crate::parse::read_scene(&options.input)?
+            };
+            let line = LineScene {
+                options: options.clone(),
+                description,
+                scene,
+            };
+            let plant =
+                plant_for(spec, &line).map_err(|e| Error::Refused(format!("raycast: {e}")))?;
+            scene = line.scene;
+            match plant {
+                Some(plant) => render_pictures(options, &scene, plant),
+                None => render_pictures(options, &scene, crate::render::Exact),
+            }
+        }
+    };
     let render_time = render_start.elapsed();
     let write_start = Instant::now();
     write_pictures(options, rendered.pictures, pending)?;

@@ -297,6 +297,13 @@ pub const OPTIONS: &[OptionSpec] = &[
         read_inspect,
     ),
     spec(
+        "fault",
+        "NAME",
+        Group::Own,
+        "render with one of check's faults planted (to test graders)",
+        read_fault,
+    ),
+    spec(
         "json",
         "",
         Group::Own,
@@ -390,6 +397,8 @@ pub struct Options {
     pub inspect: Option<(u32, u32)>,
     /// `-json`: the account as JSON.
     pub json: bool,
+    /// `-fault NAME`: render with one of check's faults planted.
+    pub fault: Option<String>,
 }
 
 /// What a command line asks for.
@@ -728,6 +737,12 @@ fn read_inspect(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
     let x = whole("X")?;
     let y = whole("Y")?;
     draft.options.inspect = Some((x, y));
+    Ok(())
+}
+
+fn read_fault(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let name = values.next("a fault's name")?;
+    draft.options.fault = Some(name.to_string_lossy().into_owned());
     Ok(())
 }
 

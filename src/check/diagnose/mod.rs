@@ -61,6 +61,12 @@ impl Diagnosis {
         self.explanation
     }
 
+    /// Whether it is a fact of the run (a crash, no picture, the wrong size) rather than a
+    /// guess from the pixels.
+    pub fn is_fact(self) -> bool {
+        [Diagnosis::CRASH, Diagnosis::MISSING_OUTPUT, Diagnosis::SIZE].contains(&self)
+    }
+
     /// Every diagnosis `check` can name: those its caller decides, then those of the lists.
     pub fn all() -> impl Iterator<Item = Diagnosis> {
         let found = WHOLE_PICTURE.iter().map(|&(d, _)| d);

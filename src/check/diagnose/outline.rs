@@ -16,7 +16,7 @@ const HALF_PIXEL_COVERAGE: f64 = 0.05;
 impl Diagnosis {
     /// Every outline is off by about half a pixel.
     pub const HALF_PIXEL: Diagnosis = Diagnosis::new(
-        "half_pixel",
+        "pixel_corner",
         6,
         "Every edge is off by about half a pixel: the camera rays go through pixel \
         corners instead of centres; sample at (i + 0.5, j + 0.5).",

@@ -19,7 +19,7 @@ const MAX_SHIFT: isize = 3;
 impl Diagnosis {
     /// The picture is upside down.
     pub const FLIPPED_VERTICAL: Diagnosis = Diagnosis::new(
-        "flipped_vertical",
+        "flip_vertical",
         8,
         "The picture is upside down: image rows run from the top, while the camera's \
         screen y runs up, so row j is screen y = height - 1 - j (or the up vector is \
@@ -28,7 +28,7 @@ impl Diagnosis {
 
     /// The picture is mirrored left to right.
     pub const FLIPPED_HORIZONTAL: Diagnosis = Diagnosis::new(
-        "flipped_horizontal",
+        "flip_horizontal",
         8,
         "The picture is mirrored left to right: check the camera's horizontal vector \
         (direction × up, in that order) and the sign of the screen x coordinate.",

@@ -1,0 +1,254 @@
+//! Faults of the camera: where each pixel's ray goes through, and the ray itself.
+
+use glam::Vec3A;
+
+use super::{Candidate, Fault, LineScene, Planted};
+use crate::camera::Camera;
+use crate::geometry::Ray;
+use crate::parse::description::Projection;
+
+/// How a student's camera makes its rays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CameraFault {
+    /// Rays through a corner of each pixel: (0, 0) the lower left, (1, 1) the upper right.
+    Corner(u8, u8),
+    /// Pixels spread over width - 1 and height - 1: the first and last pixel's rays through the
+    /// view's edges.
+    SpanMinusOne,
+    /// Rows counted from the other end.
+    FlipVertical,
+    /// Columns counted from the other end.
+    FlipHorizontal,
+    /// Another camera: a wrong field of view, or a frame made another way.
+    Other(Camera),
+    /// Rays at equal angles across the field of view rather than through an image plane.
+    EqualAngles(Camera, f32),
+}
+
+impl CameraFault {
+    /// The pixel whose point is used for pixel (i, j).
+    pub(super) fn pixel(&self, i: u32, j: u32, width: u32, height: u32) -> (u32, u32) {
+        match *self {
+            CameraFault::FlipVertical => (i, height - 1 - j),
+            CameraFault::FlipHorizontal => (width - 1 - i, j),
+            _ => (i, j),
+        }
+    }
+
+    /// The point of the image pixel (i, j) samples, where it is not its centre.
+    pub(super) fn film_point(&self, i: u32, j: u32, width: u32, height: u32) -> Option<(f32, f32)> {
+        match *self {
+            CameraFault::Corner(x, y) => Some((i as f32 + f32::from(x), j as f32 + f32::from(y))),
+            CameraFault::SpanMinusOne => {
+                let spread = |k: u32, n: u32| {
+                    if n > 1 {
+                        k as f32 * n as f32 / (n - 1) as f32
+                    } else {
+                        0.5
+                    }
+                };
+                Some((spread(i, width), spread(j, height)))
+            }
+            _ => None,
+        }
+    }
+
+    /// The ray through (u, v) of the view, where it is not the scene camera's.
+    pub(super) fn ray(&self, u: f32, v: f32) -> Option<Ray> {
+        match *self {
+            CameraFault::Other(camera) => Some(camera.ray(u, v)),
+            CameraFault::EqualAngles(camera, angle) => {
+                let (direction, horizontal, up) = camera.frame();
+                let (a, b) = ((u - 0.5) * angle, (v - 0.5) * angle);
+                // Turned by a about the up axis, then by b about the horizontal one.
+                let turned = direction * (a.cos() * b.cos())
+                    + horizontal * (a.sin() * b.cos())
+                    + up * b.sin();
+                Some(Ray::new(camera.center(), turned))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// The perspective camera's angle, in degrees, where the line's camera is one.
+fn perspective_angle(line: &LineScene) -> Option<f32> {
+    match line.description.camera.projection {
+        Projection::Perspective { angle } => Some(angle),
+        Projection::Orthographic { .. } => None,
+    }
+}
+
+/// The scene's camera with its field of view `degrees` wide.
+fn with_angle(line: &LineScene, degrees: f32) -> Camera {
+    let camera = line.scene.camera;
+    let (direction, horizontal, up) = camera.frame();
+    Camera::from_frame(
+        camera.center(),
+        direction,
+        horizontal,
+        up,
+        Projection::Perspective { angle: degrees },
+    )
+}
+
+fn corners(_: &LineScene) -> Vec<Candidate> {
+    [(0, 0), (1, 0), (0, 1), (1, 1)]
+        .into_iter()
+        .map(|(x, y)| {
+            // The corner as a student names it: 0 lower left, 1 lower right, 2 upper left,
+            // 3 upper right.
+            let corner = f64::from(x + 2 * y);
+            Candidate::with(Planted::Camera(CameraFault::Corner(x, y)), "corner", corner)
+        })
+        .collect()
+}
+
+pub(super) const PIXEL_CORNER: Fault = Fault {
+    name: "pixel_corner",
+    assignment: 1,
+    sentence: "My rays go through a corner of each pixel, not its centre.",
+    look_for: "Where a pixel's screen coordinates are computed: a pixel's ray goes through \
+               (i + 0.5) / width and (j + 0.5) / height, not i / width and j / height.",
+    candidates: corners,
+};
+
+pub(super) const PIXEL_SPAN_MINUS_ONE: Fault = Fault {
+    name: "pixel_span_minus_one",
+    assignment: 1,
+    sentence: "I spread my pixels over width - 1, so the first and last rays go through the \
+               edges of the view.",
+    look_for: "The mapping from pixel to screen: i / (width - 1) puts the last pixel on the \
+               view's edge; use (i + 0.5) / width.",
+    candidates: |_| vec![Candidate::plain(Planted::Camera(CameraFault::SpanMinusOne))],
+};
+
+pub(super) const FLIP_VERTICAL: Fault = Fault {
+    name: "flip_vertical",
+    assignment: 1,
+    sentence: "My picture is upside down: I count rows from the top where the camera counts \
+               from the bottom.",
+    look_for: "Where rows are written: the image's row 0 is its top, the screen's y = 0 its \
+               bottom, so row j is screen y = height - 1 - j (or the up vector is reversed).",
+    candidates: |_| vec![Candidate::plain(Planted::Camera(CameraFault::FlipVertical))],
+};
+
+pub(super) const FLIP_HORIZONTAL: Fault = Fault {
+    name: "flip_horizontal",
+    assignment: 1,
+    sentence: "My picture is mirrored left to right.",
+    look_for: "The camera's horizontal vector: direction × up, in that order, and the sign of \
+               the screen's x coordinate.",
+    candidates: |_| {
+        vec![Candidate::plain(Planted::Camera(
+            CameraFault::FlipHorizontal,
+        ))]
+    },
+};
+
+/// The angles students' formulas make of the file's `angle`, each with its name, and then a
+/// search for the angle that fits best is left to the caller's fitting.
+fn field_of_view(line: &LineScene) -> Vec<Candidate> {
+    let Some(angle) = perspective_angle(line) else {
+        return Vec::new();
+    };
+    let radians = f64::from(angle).to_radians();
+    let formulas = [
+        // tan(angle) for tan(angle / 2): the angle used whole.
+        2.0 * radians,
+        // tan(angle / 4): halved twice.
+        radians / 2.0,
+        // The angle's degrees taken for radians (no conversion), folded into a view.
+        2.0 * (f64::from(angle) / 2.0).tan().abs().atan(),
+        // asin(tan(angle / 2)) where atan was meant, or the reverse.
+        2.0 * (radians / 2.0).tan().min(1.0).asin(),
+        2.0 * (radians / 2.0).sin().atan(),
+    ];
+    formulas
+        .into_iter()
+        .map(|full| full.to_degrees() as f32)
+        .filter(|&degrees| degrees > 0.0 && degrees < 179.9 && (degrees - angle).abs() > 0.01)
+        .map(|degrees| {
+            Candidate::with(
+                Planted::Camera(CameraFault::Other(with_angle(line, degrees))),
+                "angle",
+                f64::from(degrees),
+            )
+        })
+        .collect()
+}
+
+pub(super) const FIELD_OF_VIEW: Fault = Fault {
+    name: "field_of_view",
+    assignment: 2,
+    sentence: "My perspective camera sees a wider or narrower view than the file's angle.",
+    look_for: "The perspective camera's screen: at distance 1 it is 2·tan(angle / 2) wide, \
+               with the angle converted from degrees to radians once.",
+    candidates: field_of_view,
+};
+
+fn equal_angles(line: &LineScene) -> Vec<Candidate> {
+    let Some(angle) = perspective_angle(line) else {
+        return Vec::new();
+    };
+    let camera = line.scene.camera;
+    vec![Candidate::plain(Planted::Camera(CameraFault::EqualAngles(
+        camera,
+        f64::from(angle).to_radians() as f32,
+    )))]
+}
+
+pub(super) const EQUAL_ANGLE_RAYS: Fault = Fault {
+    name: "equal_angle_rays",
+    assignment: 2,
+    sentence: "My perspective rays step by equal angles across the view instead of going through \
+               evenly spaced points of a screen.",
+    look_for: "How a perspective ray is made: direction + x·horizontal + y·up through points \
+               evenly spaced on the screen, not rotations by equal angles.",
+    candidates: equal_angles,
+};
+
+/// The frames students make of the file's up: not made perpendicular to the direction (then
+/// normalised or not), and the horizontal vector not normalised either. (The parser keeps the
+/// direction normalised, so a direction's own length cannot be told here.)
+fn camera_basis(line: &LineScene) -> Vec<Candidate> {
+    let spec = line.description.camera;
+    let raw_up = Vec3A::from(spec.up);
+    let direction = Vec3A::from(spec.direction).normalize();
+    let horizontal = direction.cross(raw_up).normalize();
+    let frames = [
+        (horizontal, raw_up.normalize()),
+        (horizontal, raw_up),
+        (direction.cross(raw_up), raw_up),
+    ];
+    let (_, _, course_up) = line.scene.camera.frame();
+    let mut candidates = Vec::new();
+    let mut seen = vec![(horizontal, course_up)];
+    for (k, (horizontal, up)) in frames.into_iter().enumerate() {
+        let same = |(h, u): &(Vec3A, Vec3A)| {
+            (*h - horizontal).abs().max_element() < 1e-6 && (*u - up).abs().max_element() < 1e-6
+        };
+        if seen.iter().any(same) {
+            continue;
+        }
+        seen.push((horizontal, up));
+        let center = line.scene.camera.center();
+        let camera = Camera::from_frame(center, direction, horizontal, up, spec.projection);
+        candidates.push(Candidate::with(
+            Planted::Camera(CameraFault::Other(camera)),
+            "frame",
+            k as f64,
+        ));
+    }
+    candidates
+}
+
+pub(super) const CAMERA_BASIS: Fault = Fault {
+    name: "camera_basis",
+    assignment: 1,
+    sentence: "My camera's up vector is used as given: not made perpendicular to the direction, \
+               or not normalised.",
+    look_for: "The camera's frame: horizontal = normalize(direction × up), then up' = \
+               horizontal × direction; use up', not the file's up.",
+    candidates: camera_basis,
+};

@@ -1,0 +1,367 @@
+//! The fault library: mistakes students make in the course's ray tracer, each a small, explicit
+//! change to how raycast renders (through the seams of [`crate::variant`]), with a name, a
+//! sentence in a student's words, the assignment it belongs to, and what to look for in the
+//! code. `check` renders a failing line under the faults that can change it and names the one
+//! whose picture matches the student's.
+//!
+//! A fault is one entry of [`FAULTS`], defined in the file of its family (camera, intersection,
+//! shading, pictures), with the function that lists the renders to try on a line (several where
+//! the fault has a parameter to fit: a corner, an angle, a limit).
+
+mod camera;
+mod intersection;
+mod pictures;
+mod shading;
+
+use glam::Vec3A;
+
+use crate::accel::Hit;
+use crate::camera::{Camera, CameraSeam};
+use crate::geometry::Ray;
+use crate::job::Options;
+use crate::parse::description::SceneDescription;
+use crate::sample::{SampleSeam, Sampler};
+use crate::scene::Scene;
+use crate::shade::PictureSeam;
+use crate::trace::{BackFace, TraceSeam};
+
+pub use camera::CameraFault;
+pub use intersection::HitFault;
+pub use pictures::PictureFault;
+pub use shading::ShadingFault;
+
+/// One mistake a student's tracer may make.
+#[derive(Debug)]
+pub struct Fault {
+    /// The stable name reports carry (snake_case).
+    pub name: &'static str,
+    /// The assignment whose code holds it.
+    pub assignment: u8,
+    /// What the code does, in a student's words.
+    pub sentence: &'static str,
+    /// Where to look in the code, and what it should do instead.
+    pub look_for: &'static str,
+    /// The renders to try on a line: none where the fault cannot change its pictures.
+    pub candidates: fn(&LineScene) -> Vec<Candidate>,
+}
+
+impl PartialEq for Fault {
+    fn eq(&self, other: &Fault) -> bool {
+        self.name == other.name
+    }
+}
+
+/// A line of a suite as the simulation sees it: its command line understood, the scene as the
+/// file describes it, and the scene built.
+pub struct LineScene {
+    /// The command line.
+    pub options: Options,
+    /// The scene file, as parsed.
+    pub description: SceneDescription,
+    /// The scene, ready to render (with the line's grid, if it asks for one).
+    pub scene: Scene,
+}
+
+impl LineScene {
+    /// Whether the line makes the shaded picture.
+    pub fn has_image(&self) -> bool {
+        self.options.output.is_some()
+    }
+
+    /// Whether the line makes a depth or normals picture.
+    pub fn has_depth_or_normals(&self) -> bool {
+        self.options.depth.is_some() || self.options.normals.is_some()
+    }
+}
+
+/// One render to try: a fault planted, with its parameters fitted to this value.
+#[derive(Debug, Clone, Copy)]
+pub struct Candidate {
+    /// The fault as planted.
+    pub planted: Planted,
+    /// The fitted parameter, if the fault has one: its name and value.
+    pub parameter: Option<(&'static str, f64)>,
+}
+
+impl Candidate {
+    /// A fault without a parameter.
+    pub fn plain(planted: Planted) -> Candidate {
+        Candidate {
+            planted,
+            parameter: None,
+        }
+    }
+
+    /// A fault with a parameter fitted to `value`.
+    pub fn with(planted: Planted, name: &'static str, value: f64) -> Candidate {
+        Candidate {
+            planted,
+            parameter: Some((name, value)),
+        }
+    }
+}
+
+/// A fault as planted in a render: which seam it changes, and how.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Planted {
+    /// Camera rays made another way.
+    Camera(CameraFault),
+    /// Hits taken another way.
+    Hit(HitFault),
+    /// Shading done another way.
+    Shading(ShadingFault),
+    /// Pictures made another way.
+    Picture(PictureFault),
+}
+
+/// Every fault the library knows, in the order they are tried and listed among equals.
+pub static FAULTS: &[Fault] = &[
+    camera::PIXEL_CORNER,
+    camera::PIXEL_SPAN_MINUS_ONE,
+    camera::FLIP_VERTICAL,
+    camera::FLIP_HORIZONTAL,
+    camera::FIELD_OF_VIEW,
+    camera::EQUAL_ANGLE_RAYS,
+    camera::CAMERA_BASIS,
+    pictures::CHANNEL_SWAP,
+    intersection::T_MIN_IGNORED,
+    intersection::T_LIMIT,
+    shading::SHADE_BACK_IGNORED,
+    shading::BACK_FACES_LIT,
+    shading::SHADE_BACK_ABS,
+    shading::AMBIENT_PER_LIGHT,
+    shading::AMBIENT_MISSING,
+    shading::AMBIENT_ON_BACK_FACES,
+    shading::COSINE_TWICE,
+    pictures::NO_CLAMP,
+    intersection::DEPTH_TMIN,
+    pictures::DEPTH_CLAMP,
+    pictures::PICTURE_BACKGROUND,
+    pictures::NORMALS_SIGNED,
+];
+
+/// The fault of `name`.
+pub fn fault(name: &str) -> Option<&'static Fault> {
+    FAULTS.iter().find(|f| f.name == name)
+}
+
+/// The plant `-fault` asks for: `NAME` (the fault's first render for the line), `NAME:K` (its
+/// K-th, from 0, where it has several: corners, angles, limits), or two of these joined by `,`.
+/// `None` where no fault named can change the line's pictures (a fault of back faces on a line
+/// without any, say): the line renders as the course's.
+pub fn plant_for(spec: &str, line: &LineScene) -> Result<Option<Plant>, String> {
+    let one = |part: &str| -> Result<Option<Planted>, String> {
+        let (name, index) = match part.split_once(':') {
+            Some((name, k)) => {
+                let k = k.parse::<usize>().map_err(|_| {
+                    format!("-fault {part}: expected a render number after ':', found '{k}'")
+                })?;
+                (name, k)
+            }
+            None => (part, 0),
+        };
+        let fault = fault(name).ok_or_else(|| {
+            let names: Vec<&str> = FAULTS.iter().map(|f| f.name).collect();
+            format!(
+                "-fault: unknown fault '{name}' (one of {})",
+                names.join(", ")
+            )
+        })?;
+        let candidates = (fault.candidates)(line);
+        match (candidates.get(index), candidates.len()) {
+            (Some(candidate), _) => Ok(Some(candidate.planted)),
+            (None, 0) => Ok(None),
+            (None, n) => Err(format!(
+                "-fault {part}: the fault has {n} renders for this line (0 to {})",
+                n - 1
+            )),
+        }
+    };
+    let (first, second) = match spec.split_once(',') {
+        Some((first, second)) => (one(first)?, one(second)?),
+        None => (one(spec)?, None),
+    };
+    Ok(match (first, second) {
+        (Some(a), Some(b)) => Some(Plant::two(a, b)),
+        (Some(one), None) | (None, Some(one)) => Some(Plant::one(one)),
+        (None, None) => None,
+    })
+}
+
+/// One or two faults planted in one render; each seam applies them in turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plant {
+    faults: [Option<Planted>; 2],
+}
+
+impl Plant {
+    /// One fault.
+    pub fn one(fault: Planted) -> Plant {
+        Plant {
+            faults: [Some(fault), None],
+        }
+    }
+
+    /// Two faults at once.
+    pub fn two(first: Planted, second: Planted) -> Plant {
+        Plant {
+            faults: [Some(first), Some(second)],
+        }
+    }
+
+    /// The first fault planted.
+    pub fn first(&self) -> Planted {
+        self.faults[0].expect("a plant holds at least one fault")
+    }
+
+    fn each(&self) -> impl Iterator<Item = Planted> + '_ {
+        self.faults.iter().flatten().copied()
+    }
+
+    fn cameras(&self) -> impl Iterator<Item = CameraFault> + '_ {
+        self.each().filter_map(|p| match p {
+            Planted::Camera(c) => Some(c),
+            _ => None,
+        })
+    }
+
+    fn hits(&self) -> impl Iterator<Item = HitFault> + '_ {
+        self.each().filter_map(|p| match p {
+            Planted::Hit(h) => Some(h),
+            _ => None,
+        })
+    }
+
+    fn shadings(&self) -> impl Iterator<Item = ShadingFault> + '_ {
+        self.each().filter_map(|p| match p {
+            Planted::Shading(s) => Some(s),
+            _ => None,
+        })
+    }
+
+    fn pictures(&self) -> impl Iterator<Item = PictureFault> + '_ {
+        self.each().filter_map(|p| match p {
+            Planted::Picture(p) => Some(p),
+            _ => None,
+        })
+    }
+}
+
+impl CameraSeam for Plant {
+    fn pixel_to_screen(&self, i: u32, j: u32, width: u32, height: u32) -> (f32, f32) {
+        let (i, j) = self
+            .cameras()
+            .fold((i, j), |(i, j), c| c.pixel(i, j, width, height));
+        let (x, y) = self
+            .cameras()
+            .find_map(|c| c.film_point(i, j, width, height))
+            .unwrap_or((i as f32 + 0.5, j as f32 + 0.5));
+        self.film_to_screen(x, y, width, height)
+    }
+
+    fn ray(&self, camera: &Camera, u: f32, v: f32) -> Ray {
+        self.cameras()
+            .find_map(|c| c.ray(u, v))
+            .unwrap_or_else(|| camera.ray(u, v))
+    }
+}
+
+impl TraceSeam for Plant {
+    fn camera_t_min(&self, camera: &Camera) -> f32 {
+        self.hits()
+            .find_map(|h| h.camera_t_min(camera))
+            .unwrap_or_else(|| camera.t_min())
+    }
+
+    fn found(&self, scene: &Scene, ray: &Ray, hit: Option<Hit>) -> Option<Hit> {
+        self.hits().fold(hit, |hit, h| h.found(scene, ray, hit))
+    }
+
+    fn back_face(&self, shade_back: bool) -> BackFace {
+        let course = if shade_back {
+            BackFace::Shaded
+        } else {
+            BackFace::Black
+        };
+        self.shadings()
+            .fold(course, |face, s| s.back_face(shade_back, face))
+    }
+
+    fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {
+        self.shadings()
+            .fold(term, |term, s| s.ambient(term, lights))
+    }
+
+    fn light(&self, shade: impl Fn(Vec3A) -> Vec3A, normal: Vec3A, to_light: Vec3A) -> Vec3A {
+        let mut shadings = self.shadings();
+        match (shadings.next(), shadings.next()) {
+            (None, _) => shade(normal),
+            (Some(s), None) => s.light(&shade, normal, to_light),
+            (Some(first), Some(second)) => first.light(
+                &|n: Vec3A| second.light(&shade, n, to_light),
+                normal,
+                to_light,
+            ),
+        }
+    }
+}
+
+impl PictureSeam for Plant {
+    fn to_rgb(&self, colour: Vec3A) -> [u8; 3] {
+        let bytes = self
+            .pictures()
+            .find_map(|p| p.bytes(colour))
+            .unwrap_or_else(|| crate::shade::to_rgb(colour));
+        self.pictures().fold(bytes, |bytes, p| p.rearrange(bytes))
+    }
+
+    fn normal_colour(&self, hit: &Hit) -> Vec3A {
+        self.pictures()
+            .find_map(|p| p.normal_colour(hit))
+            .unwrap_or_else(|| crate::shade::normal_colour(hit))
+    }
+
+    fn depth_grey(&self, t: f32, t_near: f32, t_far: f32) -> f32 {
+        self.pictures()
+            .find_map(|p| p.depth_grey(t, t_near, t_far))
+            .unwrap_or_else(|| crate::shade::depth_grey(t, t_near, t_far))
+    }
+
+    fn picture_miss(&self, background: [u8; 3]) -> Option<[u8; 3]> {
+        self.pictures().find_map(|p| p.picture_miss(background))
+    }
+}
+
+impl SampleSeam for Plant {
+    fn positions(&self, sampler: Sampler, seed: u64, pixel: u64, out: &mut [glam::Vec2]) {
+        sampler.positions(seed, pixel, out);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_distinct_snake_case_and_every_fault_explains_itself() {
+        for (i, fault) in FAULTS.iter().enumerate() {
+            assert!(
+                fault
+                    .name
+                    .chars()
+                    .all(|c| c.is_ascii_lowercase() || c == '_'),
+                "{}",
+                fault.name
+            );
+            assert!(
+                FAULTS[..i].iter().all(|f| f.name != fault.name),
+                "{} twice",
+                fault.name
+            );
+            assert!(fault.sentence.ends_with('.'), "{}", fault.name);
+            assert!(fault.look_for.ends_with('.'), "{}", fault.name);
+            assert!((1..=7).contains(&fault.assignment), "{}", fault.name);
+            assert_eq!(super::fault(fault.name).map(|f| f.name), Some(fault.name));
+        }
+    }
+}

@@ -1,0 +1,134 @@
+//! One verdict per renderer: the failing pictures grouped by the fault that explains them,
+//! the biggest group first, then those no fault explains. Where a picture matches several
+//! faults equally, the one the most pictures share is named first, so that one fix explains
+//! the most.
+
+use serde_json::{Value, json};
+
+use super::finding::Finding;
+use super::{Graded, Status};
+
+/// Failing pictures that one cause explains.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Group {
+    /// The cause's code; `None` for the pictures no fault of the library explains.
+    pub code: Option<String>,
+    /// The pictures' names, in the suite's order.
+    pub images: Vec<String>,
+}
+
+/// Groups the failing pictures of `graded` by cause, after putting first, among each picture's
+/// equal matches, the fault the most pictures share.
+pub fn verdict(graded: &mut [Graded]) -> Vec<Group> {
+    let failing = |g: &Graded| g.status != Status::Pass;
+    // How many pictures each fault explains, counting each picture once per fault it matches.
+    let mut shared: Vec<(String, usize)> = Vec::new();
+    for g in graded.iter().filter(|g| failing(g)) {
+        for finding in g.findings.iter().filter(|f| matches!(f, Finding::Fault(_))) {
+            let code = finding.code();
+            match shared.iter_mut().find(|(c, _)| *c == code) {
+                Some((_, n)) => *n += 1,
+                None => shared.push((code, 1)),
+            }
+        }
+    }
+    let share = |code: &str| {
+        shared
+            .iter()
+            .find(|(c, _)| c == code)
+            .map_or(0, |&(_, n)| n)
+    };
+    for g in graded.iter_mut().filter(|g| failing(g)) {
+        let best = g
+            .findings
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| matches!(f, Finding::Fault(_)))
+            .max_by_key(|&(k, f)| (share(&f.code()), std::cmp::Reverse(k)))
+            .map(|(k, _)| k);
+        if let Some(best) = best.filter(|&k| k > 0) {
+            let chosen = g.findings.remove(best);
+            g.findings.insert(0, chosen);
+            g.explanation = super::finding::explain(&g.findings);
+        }
+    }
+    let mut groups: Vec<Group> = Vec::new();
+    let mut unexplained = Vec::new();
+    for g in graded.iter().filter(|g| failing(g)) {
+        match g.findings.first().filter(|f| !f.is_guess()) {
+            Some(finding) => {
+                let code = finding.code();
+                match groups
+                    .iter_mut()
+                    .find(|group| group.code.as_ref() == Some(&code))
+                {
+                    Some(group) => group.images.push(g.name.clone()),
+                    None => groups.push(Group {
+                        code: Some(code),
+                        images: vec![g.name.clone()],
+                    }),
+                }
+            }
+            None => unexplained.push(g.name.clone()),
+        }
+    }
+    // Biggest first; among equals, the order in which the suite first showed them.
+    groups.sort_by_key(|group| std::cmp::Reverse(group.images.len()));
+    if !unexplained.is_empty() {
+        groups.push(Group {
+            code: None,
+            images: unexplained,
+        });
+    }
+    groups
+}
+
+/// The verdict for the terminal: one line a group, the first saying what to fix first.
+pub fn lines(groups: &[Group]) -> Vec<String> {
+    let failing: usize = groups.iter().map(|g| g.images.len()).sum();
+    let plural = |n: usize| if n == 1 { "" } else { "s" };
+    let mut out = Vec::new();
+    for (k, group) in groups.iter().enumerate() {
+        let n = group.images.len();
+        let line = match (&group.code, k) {
+            (Some(code), 0) => format!(
+                "verdict: {n} of {failing} failing picture{} {} explained by {code}: fix it \
+                 first, then run check again",
+                plural(failing),
+                if n == 1 { "is" } else { "are" }
+            ),
+            (Some(code), _) => format!("verdict: {n} more by {code}"),
+            (None, _) => format!(
+                "verdict: {n} failing picture{} no fault explains: {}",
+                plural(n),
+                group.images.join(", ")
+            ),
+        };
+        out.push(line);
+        if let Some(faults) = group.code.as_deref().and_then(faults_of) {
+            for fault in faults {
+                out.push(format!(
+                    "         {} (assignment {}): \"{}\" Look for: {}",
+                    fault.name, fault.assignment, fault.sentence, fault.look_for
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// The library's faults a code names (`a` or `a+b`); `None` for a code of no fault.
+fn faults_of(code: &str) -> Option<Vec<&'static super::faults::Fault>> {
+    code.split('+').map(super::faults::fault).collect()
+}
+
+/// The verdict as `summary.json` carries it: `{fault, lines}` for each group, biggest first,
+/// `fault` null for the pictures no fault explains.
+pub fn json(groups: &[Group]) -> Value {
+    Value::Array(
+        groups
+            .iter()
+            .map(|g| json!({ "fault": g.code, "lines": g.images }))
+            .collect(),
+    )
+}
