@@ -533,7 +533,7 @@ fn a_suite_without_references_is_graded_against_raycasts_own_renders() {
     assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
     assert_eq!(
         stdout(&output),
-        "pass   a, 0.000% of pixels off\n1 passed, 0 failed\n"
+        "pass   a, 0.000% of pixels off against raycast's render\n1 passed, 0 failed\n"
     );
     // A renderer that ignores -size fails against raycast's render of the line.
     let renderer = script(

@@ -105,6 +105,8 @@ pub struct Graded {
     pub stderr: String,
     /// How long the renderer took over the line, in seconds.
     pub seconds: f64,
+    /// The suite has no reference for it: it is graded against raycast's render of the line.
+    pub against_raycast: bool,
 }
 
 /// What the rule says of one picture against its reference.
@@ -154,8 +156,6 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
         .num_threads(options.jobs.max(1))
         .build()
         .map_err(|e| format!("cannot start {} threads: {e}", options.jobs))?;
-    let ourselves =
-        std::env::current_exe().map_err(|e| format!("cannot find raycast's own program: {e}"))?;
     let graded: Vec<Vec<Graded>> = pool.install(|| {
         suite
             .lines
@@ -163,23 +163,40 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
             .enumerate()
             .map(|(number, line)| {
                 let folder = scratch.path().join(format!("line{number}"));
-                let graded = grade_line(options, &suite, line, &scenes, &folder, &ourselves);
+                let graded = grade_line(options, &suite, line, &scenes, &folder);
                 progress();
                 graded
             })
             .collect()
     });
-    Ok(graded.into_iter().flatten().collect())
+    let mut graded: Vec<Graded> = graded.into_iter().flatten().collect();
+    unique_names(&mut graded);
+    Ok(graded)
 }
 
-/// Runs one line (and raycast on it, where the suite has no references) and grades its images.
+/// Several lines may write an image of the same name (the course's A3 lines write output3_08
+/// four times): the second and later are named `NAME#2`, `NAME#3`, so a report tells them apart.
+fn unique_names(graded: &mut [Graded]) {
+    let mut seen: Vec<(String, usize)> = Vec::new();
+    for g in graded.iter_mut() {
+        match seen.iter_mut().find(|(name, _)| *name == g.name) {
+            Some((_, count)) => {
+                *count += 1;
+                g.name = format!("{}#{count}", g.name);
+            }
+            None => seen.push((g.name.clone(), 1)),
+        }
+    }
+}
+
+/// Runs one line and grades its images, each against its reference, or where the suite has
+/// none, against raycast's own render of the line.
 fn grade_line(
     options: &CheckOptions,
     suite: &Suite,
     line: &Line,
     scenes: &Path,
     folder: &Path,
-    ourselves: &Path,
 ) -> Vec<Graded> {
     let produce = |who: &str, program: &[String]| -> (Ran, PathBuf) {
         let work = folder.join(format!("{who}-work"));
@@ -201,34 +218,39 @@ fn grade_line(
         (run::run(program, &args, &work, options.timeout), out)
     };
     let (ran, out) = produce("renderer", &options.renderer);
-    let reference_run = suite.references.is_none().then(|| {
-        let program = [ourselves.to_string_lossy().into_owned()];
-        produce("raycast", &program)
-    });
+    // raycast's own render of the line, made once and only if an image has no reference.
+    let own = std::sync::OnceLock::new();
     let mut graded: Vec<Graded> = line
         .outputs
         .iter()
-        .map(|(_, name)| {
+        .enumerate()
+        .map(|(k, (_, name))| {
             let image_name = suite::image_name(name);
-            let reference = match (&suite.references, &reference_run) {
-                (Some(folder), _) => read_image(&folder.join(format!("{image_name}.png"))),
-                (None, Some((ran, out))) if ran.ending == Ending::Success => {
-                    read_image(&out.join(file_name(name)))
+            let (reference, own_render) = match suite.reference(&image_name) {
+                Some(path) => (read_image(&path), false),
+                None => {
+                    let pictures =
+                        own.get_or_init(|| simulate::course_pictures(line, &suite.scenes));
+                    let picture = match pictures {
+                        Ok(pictures) => pictures
+                            .get(k)
+                            .cloned()
+                            .ok_or_else(|| "raycast made no such picture".to_string()),
+                        Err(why) => Err(format!("raycast itself could not render it: {why}")),
+                    };
+                    (picture, true)
                 }
-                (None, Some((ran, _))) => Err(format!(
-                    "raycast itself could not render it: {:?}",
-                    ran.ending
-                )),
-                (None, None) => Err("no reference".into()),
             };
-            grade(
+            let mut graded = grade(
                 options,
                 line,
                 &image_name,
                 &ran,
                 &out.join(file_name(name)),
                 reference,
-            )
+            );
+            graded.against_raycast = own_render;
+            graded
         })
         .collect();
     explain_by_simulation(options, suite, line, &mut graded);
@@ -293,6 +315,7 @@ fn grade(
         reference: None,
         stderr: ran.stderr.clone(),
         seconds: ran.seconds,
+        against_raycast: false,
     };
     let reference = match reference {
         Ok(image) => image,
@@ -422,9 +445,14 @@ pub fn read_image(path: &Path) -> Result<Image, String> {
 
 /// The one-line verdict of an image for the terminal.
 pub fn verdict(graded: &Graded) -> String {
+    let against = if graded.against_raycast {
+        " against raycast's render"
+    } else {
+        ""
+    };
     let off = graded
         .bad_fraction
-        .map(|f| format!(", {:.3}% of pixels off", 100.0 * f))
+        .map(|f| format!(", {:.3}% of pixels off{against}", 100.0 * f))
         .unwrap_or_default();
     match graded.status {
         Status::Pass => format!("pass   {}{off}", graded.name),
@@ -479,6 +507,7 @@ pub fn summary_json(graded: &[Graded], groups: &[Group], rule: Rule) -> serde_js
             "bad_fraction": g.bad_fraction,
             "diagnoses": g.findings.iter().map(Finding::json).collect::<Vec<_>>(),
             "explanation": g.explanation,
+            "reference": if g.against_raycast { "raycast" } else { "suite" },
             "stderr": last_lines(&g.stderr, 20),
             "seconds": g.seconds,
         })).collect::<Vec<_>>(),

@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use super::faults::{FAULTS, Fault, LineScene, Plant, Planted};
+use super::faults::{FAULTS, Fault, LineScene, Plant};
 use super::rule::{Rule, compare};
 use super::suite::Line;
 use crate::job::{Command, parse_args, render_pictures};
@@ -15,8 +15,10 @@ use crate::scene::Scene;
 use crate::shade::Image;
 
 /// At most this many renders for one line, pairs included (a course picture renders in
-/// milliseconds).
+/// milliseconds)...
 const MAX_RENDERS: usize = 64;
+/// ...but at least this many pairs for each picture no single fault explains.
+const MIN_PAIRS: usize = 24;
 
 /// Faults (one, or two planted together) whose render of a line matches a picture.
 #[derive(Debug, Clone, PartialEq)]
@@ -96,6 +98,67 @@ fn prepare(line: &Line, scenes: &Path) -> Result<Prepared, String> {
     })
 }
 
+/// Takes a fault that only moves pixels out of a picture.
+type Undo = fn(&Image) -> Image;
+
+/// Faults that only move a picture's pixels, each with the function that undoes it.
+const PERMUTATIONS: [(&str, Undo); 3] = [
+    ("flip_vertical", flipped_vertically),
+    ("flip_horizontal", flipped_horizontally),
+    ("channel_swap", channels_swapped),
+];
+
+fn flipped_vertically(image: &Image) -> Image {
+    let width = image.width as usize;
+    Image {
+        pixels: image
+            .pixels
+            .chunks(width.max(1))
+            .rev()
+            .flatten()
+            .copied()
+            .collect(),
+        ..image.clone()
+    }
+}
+
+fn flipped_horizontally(image: &Image) -> Image {
+    let width = image.width as usize;
+    Image {
+        pixels: image
+            .pixels
+            .chunks(width.max(1))
+            .flat_map(|row| row.iter().rev().copied())
+            .collect(),
+        ..image.clone()
+    }
+}
+
+fn channels_swapped(image: &Image) -> Image {
+    Image {
+        pixels: image.pixels.iter().map(|&[r, g, b]| [b, g, r]).collect(),
+        ..image.clone()
+    }
+}
+
+/// The pictures raycast makes of `line` (as the course's renderer), in the order of the line's
+/// images: the reference of a line whose suite has none.
+pub fn course_pictures(line: &Line, scenes: &Path) -> Result<Vec<Image>, String> {
+    let prepared = prepare(line, scenes)?;
+    let pictures = render_pictures(
+        &prepared.line.options,
+        &prepared.line.scene,
+        crate::render::Exact,
+    )
+    .pictures;
+    Ok(prepared
+        .slots
+        .iter()
+        .map(|&slot| pictures[slot].clone())
+        .collect())
+}
+
+#[derive(Clone)]
 /// One render tried: the plant, the faults in it and their parameters, and the share of pixels
 /// off against each failing picture.
 struct Tried {
@@ -103,6 +166,25 @@ struct Tried {
     faults: Vec<&'static Fault>,
     parameters: Vec<(&'static str, f64)>,
     bad: Vec<f64>,
+    /// The mean difference of the channels against each failing picture, which falls as a fault
+    /// explains part of a picture even where every pixel is still off.
+    error: Vec<f64>,
+}
+
+/// The mean of every channel's difference, in levels; infinite for pictures of other sizes.
+fn mean_difference(picture: Option<&Image>, actual: &Image) -> f64 {
+    match picture {
+        Some(p) if (p.width, p.height) == (actual.width, actual.height) && !p.pixels.is_empty() => {
+            let sum: u64 = p
+                .pixels
+                .iter()
+                .zip(&actual.pixels)
+                .map(|(a, b)| (0..3).map(|c| u64::from(a[c].abs_diff(b[c]))).sum::<u64>())
+                .sum();
+            sum as f64 / p.pixels.len() as f64
+        }
+        _ => f64::INFINITY,
+    }
 }
 
 /// For each of `failing` (the index of an image among the line's outputs, and the student's
@@ -114,18 +196,50 @@ pub fn simulate(
     rule: Rule,
 ) -> Result<Vec<Simulated>, String> {
     let prepared = prepare(line, scenes)?;
-    let render = |plant: Plant| -> Vec<f64> {
+    // Each failing picture, and each undone by a fault that only moves its pixels (a flip, the
+    // channels swapped): a render that matches one of those is that fault with another.
+    let undone: Vec<Vec<(&'static Fault, Image)>> = failing
+        .iter()
+        .map(|&(_, actual)| {
+            PERMUTATIONS
+                .iter()
+                .filter_map(|&(name, undo)| Some((super::faults::fault(name)?, undo(actual))))
+                .collect()
+        })
+        .collect();
+    let permuted: std::cell::RefCell<Vec<Vec<Tried>>> =
+        std::cell::RefCell::new(vec![Vec::new(); failing.len()]);
+    let render = |plant: Plant, faults: &[&'static Fault], parameters: &[(&'static str, f64)]| {
         let pictures = render_pictures(&prepared.line.options, &prepared.line.scene, plant);
-        failing
-            .iter()
-            .map(|&(image, actual)| {
-                pictures
-                    .pictures
-                    .get(prepared.slots[image])
-                    .and_then(|picture| compare(picture, actual, rule.tolerance))
-                    .map_or(1.0, |c| c.bad_fraction)
-            })
-            .collect()
+        let bad = |picture: Option<&Image>, actual: &Image| {
+            picture
+                .and_then(|picture| compare(picture, actual, rule.tolerance))
+                .map_or(1.0, |c| c.bad_fraction)
+        };
+        let mut bads = Vec::with_capacity(failing.len());
+        let mut errors = Vec::with_capacity(failing.len());
+        for (k, &(image, actual)) in failing.iter().enumerate() {
+            let picture = pictures.pictures.get(prepared.slots[image]);
+            bads.push(bad(picture, actual));
+            errors.push(mean_difference(picture, actual));
+            if faults.len() == 1 {
+                for (fault, undone_picture) in &undone[k] {
+                    if faults[0].name == fault.name {
+                        continue;
+                    }
+                    let mut found = vec![f64::INFINITY; failing.len()];
+                    found[k] = bad(picture, undone_picture);
+                    permuted.borrow_mut()[k].push(Tried {
+                        plant,
+                        faults: vec![fault, faults[0]],
+                        parameters: parameters.to_vec(),
+                        bad: found,
+                        error: vec![f64::INFINITY; failing.len()],
+                    });
+                }
+            }
+        }
+        (bads, errors)
     };
     let mut tried: Vec<Tried> = Vec::new();
     for fault in FAULTS {
@@ -134,11 +248,14 @@ pub fn simulate(
                 break;
             }
             let plant = Plant::one(candidate.planted);
+            let parameters: Vec<_> = candidate.parameter.into_iter().collect();
+            let (bad, error) = render(plant, &[fault], &parameters);
             tried.push(Tried {
                 plant,
                 faults: vec![fault],
-                parameters: candidate.parameter.into_iter().collect(),
-                bad: render(plant),
+                parameters,
+                bad,
+                error,
             });
         }
     }
@@ -147,65 +264,86 @@ pub fn simulate(
             matches: matches(&tried, k, rule),
         })
         .collect();
-    // Pairs, for the pictures no single fault explains but the closest goes at least halfway.
+    // Pairs, for the pictures no single fault explains: the closest render of each fault, the
+    // closest faults first, paired in order of their closeness while the budget lasts.
     let unexplained: Vec<usize> = (0..failing.len())
         .filter(|&k| results[k].matches.is_empty())
         .collect();
     for k in unexplained {
-        let plain = compare_plain(&prepared, failing[k], rule);
-        let Some(best) = closest(&tried, k) else {
-            continue;
-        };
-        if tried[best].bad[k] > plain / 2.0 {
+        let plain = compare_plain(&prepared, failing[k]);
+        let mut closest: Vec<usize> = Vec::new();
+        for (index, t) in tried
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.faults.len() == 1)
+        {
+            match closest
+                .iter_mut()
+                .find(|c| tried[**c].faults[0].name == t.faults[0].name)
+            {
+                Some(c) if tried[*c].error[k] <= t.error[k] => {}
+                Some(c) => *c = index,
+                None => closest.push(index),
+            }
+        }
+        // A fault that moves pixels, with another: found without a render.
+        let moved = matches(&permuted.borrow()[k], k, rule);
+        if !moved.is_empty() {
+            results[k].matches = moved;
             continue;
         }
-        let first = single_planted(&tried[best]);
-        let mut pairs = Vec::new();
-        for (other, candidate) in tried.iter().enumerate() {
-            if other == best || candidate.faults[0].name == tried[best].faults[0].name {
-                continue;
+        closest.sort_by(|&a, &b| tried[a].error[k].total_cmp(&tried[b].error[k]));
+        // The closest faults first (at their closest render), each with every render of the
+        // other faults (a parameter that fits with another fault need not fit alone): one of a
+        // pair usually brings the picture nearest alone.
+        let singles: Vec<usize> = (0..tried.len())
+            .filter(|&t| tried[t].faults.len() == 1)
+            .collect();
+        let mut order: Vec<(usize, usize)> = Vec::new();
+        for &first in closest
+            .iter()
+            .filter(|&&first| tried[first].error[k] < plain)
+        {
+            for &other in &singles {
+                if tried[other].faults[0].name != tried[first].faults[0].name {
+                    order.push((first, other));
+                }
             }
-            if tried.len() + pairs.len() >= MAX_RENDERS {
-                break;
-            }
-            let plant = Plant::two(first, single_planted(candidate));
-            let mut parameters = tried[best].parameters.clone();
-            parameters.extend(candidate.parameters.iter().copied());
-            pairs.push(Tried {
-                plant,
-                faults: vec![tried[best].faults[0], candidate.faults[0]],
-                parameters,
-                bad: render(plant),
-            });
         }
+        let budget = MAX_RENDERS.saturating_sub(tried.len()).max(MIN_PAIRS);
+        let pairs: Vec<Tried> = order
+            .into_iter()
+            .take(budget)
+            .map(|(first, second)| {
+                let (first, second) = (&tried[first], &tried[second]);
+                let plant = Plant::two(first.plant.first(), second.plant.first());
+                let mut parameters = first.parameters.clone();
+                parameters.extend(second.parameters.iter().copied());
+                let faults = vec![first.faults[0], second.faults[0]];
+                let (bad, error) = render(plant, &faults, &parameters);
+                Tried {
+                    plant,
+                    faults,
+                    parameters,
+                    bad,
+                    error,
+                }
+            })
+            .collect();
         results[k].matches = matches(&pairs, k, rule);
         tried.extend(pairs);
     }
     Ok(results)
 }
 
-/// The one fault planted in a single render.
-fn single_planted(tried: &Tried) -> Planted {
-    tried.plant.first()
-}
-
 /// How far the student's picture is from the course's render of the line.
-fn compare_plain(prepared: &Prepared, (image, actual): (usize, &Image), rule: Rule) -> f64 {
+fn compare_plain(prepared: &Prepared, (image, actual): (usize, &Image)) -> f64 {
     let pictures = render_pictures(
         &prepared.line.options,
         &prepared.line.scene,
         crate::render::Exact,
     );
-    pictures
-        .pictures
-        .get(prepared.slots[image])
-        .and_then(|picture| compare(picture, actual, rule.tolerance))
-        .map_or(1.0, |c| c.bad_fraction)
-}
-
-/// The render closest to picture `k`.
-fn closest(tried: &[Tried], k: usize) -> Option<usize> {
-    (0..tried.len()).min_by(|&a, &b| tried[a].bad[k].total_cmp(&tried[b].bad[k]))
+    mean_difference(pictures.pictures.get(prepared.slots[image]), actual)
 }
 
 /// The renders that pass against picture `k`, the closest of each fault (or pair), closest

@@ -22,8 +22,10 @@ pub struct Suite {
     pub root: PathBuf,
     /// Where the lines run: the scene files and meshes.
     pub scenes: PathBuf,
-    /// The reference images, or `None` to grade against raycast's own renders.
-    pub references: Option<PathBuf>,
+    /// The reference images found in `reference/` and the folders in it (such as
+    /// `reference/a3/`), by image name, those at the top first; an image without one is graded
+    /// against raycast's own render.
+    pub references: Vec<(String, PathBuf)>,
     /// Every command line.
     pub lines: Vec<Line>,
 }
@@ -61,10 +63,48 @@ impl Suite {
         Ok(Suite {
             root: root.to_path_buf(),
             scenes,
-            references: references.is_dir().then_some(references),
+            references: reference_files(&references),
             lines,
         })
     }
+
+    /// The reference image of the image named `name` (without its extension), if the suite
+    /// has one.
+    pub fn reference(&self, name: &str) -> Option<PathBuf> {
+        self.references
+            .iter()
+            .find(|(known, _)| known == name)
+            .map(|(_, path)| path.clone())
+    }
+}
+
+/// The PNG files of `folder` and of the folders in it, by name without extension; those at the
+/// top first, then each folder's in name order.
+fn reference_files(folder: &Path) -> Vec<(String, PathBuf)> {
+    let pngs = |dir: &Path| -> (Vec<(String, PathBuf)>, Vec<PathBuf>) {
+        let mut files = Vec::new();
+        let mut folders = Vec::new();
+        for entry in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+            {
+                let name = image_name(&path.to_string_lossy());
+                files.push((name, path));
+            }
+        }
+        files.sort();
+        folders.sort();
+        (files, folders)
+    };
+    let (mut found, folders) = pngs(folder);
+    for inner in folders {
+        found.extend(pngs(&inner).0);
+    }
+    found
 }
 
 /// A line of `COMMANDS.txt`, or `None` for a comment or a line that writes no image. The
