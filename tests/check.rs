@@ -421,6 +421,25 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
         "exec RAYCAST -input {} \"${{@:3}}\"",
         squashed.to_str().unwrap()
     );
+    // A student's picture fixed up after the render, as a script of its own: raycast renders
+    // the line to a PPM, then Python rewrites its pixels (PPM is read whatever the file's name).
+    let rewritten = |change: &str| {
+        format!(
+            "RAYCAST -input \"$2\" -size $4 $5 -output picture.ppm || exit 1\n\
+             python3 - picture.ppm \"$7\" <<'PY'\n\
+             import sys\n\
+             data = open(sys.argv[1], 'rb').read()\n\
+             _, width, height, _ = data.split(maxsplit=3)\n\
+             w, h = int(width), int(height)\n\
+             pixels = data[-w * h * 3:]\n\
+             rows = [bytearray(pixels[k * w * 3:(k + 1) * w * 3]) for k in range(h)]\n\
+             {change}\n\
+             open(sys.argv[2], 'wb').write(b'P6\\n%d %d\\n255\\n' % (w, h) + b''.join(rows))\n\
+             PY"
+        )
+    };
+    let flipped = rewritten("rows.reverse()");
+    let swapped = rewritten("for row in rows:\n    row[0::3], row[2::3] = row[2::3], row[0::3]");
     // (the renderer's fault, as a script around raycast; the course line; the code expected)
     let cases = [
         (
@@ -451,6 +470,53 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
             "raytracer -input scene2_16_t_scale.txt -size 200 200 -output output2_16.tga -depth 2 7 depth2_16.tga",
             "object_space_t",
         ),
+        (
+            // The ambient term left out: as if the scene had none.
+            "sed -E 's/ambientLight [0-9. ]+/ambientLight 0 0 0 /' scene2_02_ambient.txt > dark.txt\n\
+             exec RAYCAST -input dark.txt \"${@:3}\"",
+            "raytracer -input scene2_02_ambient.txt -size 200 200 -output output2_02.tga",
+            "ambient_missing",
+        ),
+        (
+            // The ambient term added in the loop over the scene's three lights: three times over.
+            "sed -E 's/ambientLight 0.2 0.2 0.2/ambientLight 0.6 0.6 0.6/' scene2_03_colored_lights.txt > bright.txt\n\
+             exec RAYCAST -input bright.txt \"${@:3}\"",
+            "raytracer -input scene2_03_colored_lights.txt -size 200 200 -output output2_03.tga",
+            "ambient_per_light",
+        ),
+        (
+            // tan(angle) where tan(angle / 2) is meant: the view twice as wide.
+            "sed 's/angle 30/angle 60/' scene2_04_perspective.txt > wide.txt\n\
+             exec RAYCAST -input wide.txt \"${@:3}\"",
+            "raytracer -input scene2_04_perspective.txt -size 200 200 -output output2_04.tga",
+            "field_of_view",
+        ),
+        (
+            // Pixels spread over width - 1: i / 199 across the view, as if it were 200/199 as
+            // wide.
+            "sed 's/size 5/size 5.025125628/' scene2_01_diffuse.txt > spread.txt\n\
+             exec RAYCAST -input spread.txt \"${@:3}\"",
+            "raytracer -input scene2_01_diffuse.txt -size 200 200 -output output2_01.tga",
+            "pixel_span_minus_one",
+        ),
+        (
+            // Rows written bottom first.
+            flipped.as_str(),
+            "raytracer -input scene2_07_sphere_triangles.txt -size 200 200 -output output2_07.tga",
+            "flip_vertical",
+        ),
+        (
+            // Red and blue written in each other's place.
+            swapped.as_str(),
+            "raytracer -input scene2_03_colored_lights.txt -size 200 200 -output output2_03.tga",
+            "channel_swap",
+        ),
+        (
+            // Back faces shaded whether -shade_back is given or not.
+            "exec RAYCAST \"$@\" -shade_back",
+            "raytracer -input scene2_05_inside_sphere.txt -size 200 200 -output output2_05_no_back.tga",
+            "back_faces_lit",
+        ),
     ];
     for (k, (body, line, code)) in cases.into_iter().enumerate() {
         let dir = tempfile::tempdir().unwrap();
@@ -465,6 +531,7 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
         assert_eq!(output.status.code(), Some(1), "{line}: {out}");
         // The line's last picture carries the fault (its depth picture, where it has one).
         let verdict = out.lines().rfind(|l| l.starts_with("FAIL")).unwrap();
+        println!("{verdict}");
         assert!(
             verdict.contains(&format!(": {code}")) || verdict.contains(&format!(", {code}")),
             "{line}: {verdict}"
