@@ -275,7 +275,7 @@ fn children(
             children.push(json!({ "kind": kind, "note": "total internal reflection: none" }));
             return;
         };
-        if !worth_tracing(trace, weight, throughput) {
+        if !worth_tracing(trace.cutoff_weight, weight, throughput) {
             children.push(json!({
                 "kind": kind, "weight": weight, "note": "below the -weight cut-off: not traced"
             }));

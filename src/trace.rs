@@ -50,11 +50,17 @@ pub trait TraceSeam: Copy + Send + Sync {
     }
 
     /// One light's term (diffuse plus specular) at a hit whose normal, turned toward the ray,
-    /// is `normal`, the light lying along `to_light`; `shade(n)` is the course's term for a
-    /// normal `n`.
+    /// is `normal`, the light lying along `to_light`; `shade(n, f)` is the course's term for a
+    /// normal `n` and a highlight's fall-off `f`, and `falloff` the line's.
     #[inline(always)]
-    fn light(&self, shade: impl Fn(Vec3A) -> Vec3A, normal: Vec3A, _to_light: Vec3A) -> Vec3A {
-        shade(normal)
+    fn light(
+        &self,
+        shade: impl Fn(Vec3A, SpecularFalloff) -> Vec3A,
+        normal: Vec3A,
+        _to_light: Vec3A,
+        falloff: SpecularFalloff,
+    ) -> Vec3A {
+        shade(normal, falloff)
     }
 
     /// The t range in which a hit blocks a shadow ray toward a light `distance` away.
@@ -73,6 +79,24 @@ pub trait TraceSeam: Copy + Send + Sync {
     #[inline(always)]
     fn bounces(&self, bounces: u32) -> u32 {
         bounces
+    }
+
+    /// The weight below which no mirror or glass ray is traced, given `-weight`.
+    #[inline(always)]
+    fn cutoff_weight(&self, weight: f32) -> f32 {
+        weight
+    }
+
+    /// The mirror direction of unit `direction` about unit `normal`.
+    #[inline(always)]
+    fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Vec3A {
+        reflect(direction, normal)
+    }
+
+    /// η_i / η_t for a ray crossing a surface of `index` (`inside`: from behind it).
+    #[inline(always)]
+    fn crossing_ratio(&self, index: f32, inside: bool) -> f32 {
+        crossing_ratio(index, inside)
     }
 }
 
@@ -397,17 +421,12 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 continue;
             };
             let shaded = self.variant.light(
-                |normal| {
-                    surface.shade(
-                        normal,
-                        direction,
-                        light.to_light,
-                        light.colour,
-                        self.settings.specular,
-                    )
+                |normal, falloff| {
+                    surface.shade(normal, direction, light.to_light, light.colour, falloff)
                 },
                 normal,
                 light.to_light,
+                self.settings.specular,
             );
             if self.settings.shadows {
                 // A light that adds nothing here needs no shadow ray.
@@ -427,7 +446,8 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, direction: Vec3A| {
                 let (weight, throughput) = spawned(branch.weight, branch.throughput, colour);
-                if worth_tracing(&self.settings, weight, throughput) {
+                let cutoff = self.variant.cutoff_weight(self.settings.cutoff_weight);
+                if worth_tracing(cutoff, weight, throughput) {
                     scratch.pending.push(Pending {
                         ray: Ray::new(point, direction),
                         branch: Branch {
@@ -440,13 +460,14 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             };
             let reflective = surface.reflective();
             if reflective != Vec3A::ZERO {
-                spawn(reflective, reflect(unit, normal));
+                spawn(reflective, self.variant.reflect(unit, normal));
             }
             let transparent = surface.transparent();
             if transparent != Vec3A::ZERO {
                 // Outside is air (index 1); which side the ray is on says which way it crosses.
                 let index = surface.index_of_refraction();
-                if let Some(refracted) = refract(unit, normal, crossing_ratio(index, inside)) {
+                let ratio = self.variant.crossing_ratio(index, inside);
+                if let Some(refracted) = refract(unit, normal, ratio) {
                     spawn(transparent, refracted);
                 }
             }
@@ -479,11 +500,11 @@ pub fn spawned(weight: f32, throughput: Vec3A, colour: Vec3A) -> (f32, Vec3A) {
     (weight * colour.length(), throughput * colour)
 }
 
-/// Whether a spawned ray is traced: its weight at least `-weight`, and its colour able to
-/// count for something in the pixel.
+/// Whether a spawned ray is traced: its weight at least the cut-off (`-weight`), and its colour
+/// able to count for something in the pixel.
 #[inline]
-pub fn worth_tracing(settings: &TraceSettings, weight: f32, throughput: Vec3A) -> bool {
-    weight >= settings.cutoff_weight && throughput.abs().max_element() >= NEGLIGIBLE_THROUGHPUT
+pub fn worth_tracing(cutoff_weight: f32, weight: f32, throughput: Vec3A) -> bool {
+    weight >= cutoff_weight && throughput.abs().max_element() >= NEGLIGIBLE_THROUGHPUT
 }
 
 /// η_i / η_t for a ray crossing a surface of `index`: outside is air (index 1), and which side

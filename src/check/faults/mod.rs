@@ -11,6 +11,7 @@
 mod camera;
 mod intersection;
 mod pictures;
+mod rays;
 mod shading;
 
 use glam::Vec3A;
@@ -22,12 +23,14 @@ use crate::job::Options;
 use crate::parse::description::SceneDescription;
 use crate::sample::{SampleSeam, Sampler};
 use crate::scene::Scene;
+use crate::scene::SpecularFalloff;
 use crate::shade::PictureSeam;
 use crate::trace::{BackFace, TraceSeam};
 
 pub use camera::CameraFault;
 pub use intersection::HitFault;
 pub use pictures::PictureFault;
+pub use rays::RayFault;
 pub use shading::ShadingFault;
 
 /// One mistake a student's tracer may make.
@@ -112,6 +115,8 @@ pub enum Planted {
     Shading(ShadingFault),
     /// Pictures made another way.
     Picture(PictureFault),
+    /// Shadow, mirror and glass rays made another way.
+    Ray(RayFault),
 }
 
 /// Every fault the library knows, in the order they are tried and listed among equals.
@@ -138,6 +143,13 @@ pub static FAULTS: &[Fault] = &[
     pictures::DEPTH_CLAMP,
     pictures::PICTURE_BACKGROUND,
     pictures::NORMALS_SIGNED,
+    shading::SPECULAR_FIX,
+    rays::SHADOW_ACNE,
+    rays::SHADOW_PAST_LIGHT,
+    rays::REFLECTION_DIRECTION,
+    rays::REFRACTION_INDEX,
+    rays::BOUNCES_OFF_BY_ONE,
+    rays::WEIGHT_CUTOFF,
 ];
 
 /// The fault of `name`.
@@ -239,6 +251,13 @@ impl Plant {
         })
     }
 
+    fn rays(&self) -> impl Iterator<Item = RayFault> + '_ {
+        self.each().filter_map(|p| match p {
+            Planted::Ray(r) => Some(r),
+            _ => None,
+        })
+    }
+
     fn pictures(&self) -> impl Iterator<Item = PictureFault> + '_ {
         self.each().filter_map(|p| match p {
             Planted::Picture(p) => Some(p),
@@ -292,17 +311,56 @@ impl TraceSeam for Plant {
             .fold(term, |term, s| s.ambient(term, lights))
     }
 
-    fn light(&self, shade: impl Fn(Vec3A) -> Vec3A, normal: Vec3A, to_light: Vec3A) -> Vec3A {
+    fn light(
+        &self,
+        shade: impl Fn(Vec3A, SpecularFalloff) -> Vec3A,
+        normal: Vec3A,
+        to_light: Vec3A,
+        falloff: SpecularFalloff,
+    ) -> Vec3A {
         let mut shadings = self.shadings();
         match (shadings.next(), shadings.next()) {
-            (None, _) => shade(normal),
-            (Some(s), None) => s.light(&shade, normal, to_light),
+            (None, _) => shade(normal, falloff),
+            (Some(s), None) => s.light(&shade, normal, to_light, falloff),
             (Some(first), Some(second)) => first.light(
-                &|n: Vec3A| second.light(&shade, n, to_light),
+                &|n: Vec3A, f: SpecularFalloff| second.light(&shade, n, to_light, f),
                 normal,
                 to_light,
+                falloff,
             ),
         }
+    }
+
+    fn shadow_range(&self, distance: f32) -> (f32, f32) {
+        self.rays()
+            .find_map(|r| r.shadow_range(distance))
+            .unwrap_or_else(|| crate::trace::shadow_range(distance))
+    }
+
+    fn secondary_t_min(&self) -> f32 {
+        self.rays()
+            .find_map(|r| r.secondary_t_min())
+            .unwrap_or(crate::trace::SECONDARY_T_MIN)
+    }
+
+    fn bounces(&self, bounces: u32) -> u32 {
+        self.rays().fold(bounces, |b, r| r.bounces(b))
+    }
+
+    fn cutoff_weight(&self, weight: f32) -> f32 {
+        self.rays().fold(weight, |w, r| r.cutoff_weight(w))
+    }
+
+    fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Vec3A {
+        self.rays()
+            .find_map(|r| r.reflect(direction, normal))
+            .unwrap_or_else(|| crate::trace::reflect(direction, normal))
+    }
+
+    fn crossing_ratio(&self, index: f32, inside: bool) -> f32 {
+        self.rays()
+            .find_map(|r| r.crossing_ratio(index, inside))
+            .unwrap_or_else(|| crate::trace::crossing_ratio(index, inside))
     }
 }
 

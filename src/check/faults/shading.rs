@@ -3,6 +3,7 @@
 use glam::Vec3A;
 
 use super::{Candidate, Fault, LineScene, Planted};
+use crate::scene::SpecularFalloff;
 use crate::trace::BackFace;
 
 /// How a student's tracer shades a hit.
@@ -22,6 +23,8 @@ pub enum ShadingFault {
     AmbientOnBackFaces,
     /// Each light's term multiplied by N·L once more.
     CosineTwice,
+    /// Highlights faded by N·L without `-specular_fix`, or cut with it.
+    SpecularFixSwapped,
 }
 
 impl ShadingFault {
@@ -44,14 +47,22 @@ impl ShadingFault {
 
     pub(super) fn light(
         &self,
-        shade: &dyn Fn(Vec3A) -> Vec3A,
+        shade: &dyn Fn(Vec3A, SpecularFalloff) -> Vec3A,
         normal: Vec3A,
         to_light: Vec3A,
+        falloff: SpecularFalloff,
     ) -> Vec3A {
         match self {
-            ShadingFault::AbsoluteCosine if normal.dot(to_light) < 0.0 => shade(-normal),
-            ShadingFault::CosineTwice => shade(normal) * normal.dot(to_light).max(0.0),
-            _ => shade(normal),
+            ShadingFault::AbsoluteCosine if normal.dot(to_light) < 0.0 => shade(-normal, falloff),
+            ShadingFault::CosineTwice => shade(normal, falloff) * normal.dot(to_light).max(0.0),
+            ShadingFault::SpecularFixSwapped => shade(
+                normal,
+                match falloff {
+                    SpecularFalloff::Cut => SpecularFalloff::Fade,
+                    SpecularFalloff::Fade => SpecularFalloff::Cut,
+                },
+            ),
+            _ => shade(normal, falloff),
         }
     }
 }
@@ -160,6 +171,30 @@ pub(super) const COSINE_TWICE: Fault = Fault {
     candidates: |line: &LineScene| {
         if line.has_image() && !line.scene.lights.is_empty() {
             only(ShadingFault::CosineTwice)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+/// Whether any material of the line's scene has a highlight.
+fn has_highlights(line: &LineScene) -> bool {
+    line.description.materials.iter().any(|m| match m {
+        crate::parse::description::MaterialSpec::Phong(p) => p.specular != glam::Vec3::ZERO,
+        crate::parse::description::MaterialSpec::Texture(_) => false,
+    })
+}
+
+pub(super) const SPECULAR_FIX: Fault = Fault {
+    name: "specular_fix",
+    assignment: 3,
+    sentence: "My highlights fade by N·L where the line does not ask for -specular_fix (or do not \
+               fade where it does).",
+    look_for: "The specular term: without -specular_fix it is cut where N·L < 0 and not faded; \
+               with it, multiplied by N·L (the handout's fix).",
+    candidates: |line: &LineScene| {
+        if line.has_image() && has_highlights(line) && !line.scene.lights.is_empty() {
+            only(ShadingFault::SpecularFixSwapped)
         } else {
             Vec::new()
         }

@@ -1,0 +1,201 @@
+//! Faults of the rays a hit spawns: shadow rays' range, the mirror direction, the index of
+//! refraction, and the limits on recursion.
+
+use glam::Vec3A;
+
+use super::{Candidate, Fault, LineScene, Planted};
+
+/// How a student's tracer makes shadow, mirror and glass rays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RayFault {
+    /// Shadow and secondary rays start with no offset: surfaces shadow and reflect themselves.
+    NoOffset,
+    /// Shadow rays toward a point light go on past the light.
+    PastLight,
+    /// The mirror direction with the wrong sign: d + 2(d·n)n.
+    MirrorSign,
+    /// η_t / η_i where η_i / η_t is meant (the ratio inverted).
+    InvertedIndex,
+    /// One bounce more or fewer than `-bounces` (the signed difference).
+    Bounces(i32),
+    /// `-weight` ignored: every mirror and glass ray is traced.
+    NoCutoff,
+}
+
+impl RayFault {
+    pub(super) fn shadow_range(&self, distance: f32) -> Option<(f32, f32)> {
+        match self {
+            RayFault::NoOffset => Some((0.0, distance.next_down())),
+            RayFault::PastLight => Some((crate::trace::shadow_range(distance).0, f32::MAX)),
+            _ => None,
+        }
+    }
+
+    pub(super) fn secondary_t_min(&self) -> Option<f32> {
+        match self {
+            RayFault::NoOffset => Some(0.0),
+            _ => None,
+        }
+    }
+
+    pub(super) fn bounces(&self, bounces: u32) -> u32 {
+        match *self {
+            RayFault::Bounces(by) => bounces.saturating_add_signed(by),
+            _ => bounces,
+        }
+    }
+
+    pub(super) fn cutoff_weight(&self, weight: f32) -> f32 {
+        match self {
+            RayFault::NoCutoff => 0.0,
+            _ => weight,
+        }
+    }
+
+    pub(super) fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Option<Vec3A> {
+        match self {
+            RayFault::MirrorSign => Some(direction + 2.0 * direction.dot(normal) * normal),
+            _ => None,
+        }
+    }
+
+    pub(super) fn crossing_ratio(&self, index: f32, inside: bool) -> Option<f32> {
+        match self {
+            RayFault::InvertedIndex => Some(1.0 / crate::trace::crossing_ratio(index, inside)),
+            _ => None,
+        }
+    }
+}
+
+fn only(fault: RayFault) -> Vec<Candidate> {
+    vec![Candidate::plain(Planted::Ray(fault))]
+}
+
+/// Whether the line traces mirror or glass rays.
+fn bounces(line: &LineScene) -> bool {
+    line.options.trace.bounces > 0 && line.has_image()
+}
+
+/// Whether any material of the line's scene reflects, or (with `transparent`) refracts.
+fn has_material(line: &LineScene, transparent: bool) -> bool {
+    line.description.materials.iter().any(|m| match m {
+        crate::parse::description::MaterialSpec::Phong(p) => {
+            let colour = if transparent {
+                p.transparent
+            } else {
+                p.reflective
+            };
+            colour != glam::Vec3::ZERO
+        }
+        crate::parse::description::MaterialSpec::Texture(_) => false,
+    })
+}
+
+pub(super) const SHADOW_ACNE: Fault = Fault {
+    name: "shadow_acne",
+    assignment: 4,
+    sentence: "My shadow, mirror and glass rays start exactly on the surface, which then shadows \
+               and reflects itself in speckles.",
+    look_for: "Where a shadow or secondary ray is made: ignore hits nearer than a small epsilon \
+               (the course's 1e-4), or start the ray a little off the surface.",
+    candidates: |line: &LineScene| {
+        if line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0) {
+            only(RayFault::NoOffset)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const SHADOW_PAST_LIGHT: Fault = Fault {
+    name: "shadow_past_light",
+    assignment: 4,
+    sentence: "My shadow rays toward a point light go on past the light, so things behind it \
+               cast shadows.",
+    look_for: "The shadow ray's tmax toward a point light: the distance to the light, not \
+               infinity.",
+    candidates: |line: &LineScene| {
+        let point_light = line
+            .description
+            .lights
+            .iter()
+            .any(|l| matches!(l, crate::parse::description::LightSpec::Point { .. }));
+        if line.has_image() && line.options.trace.shadows && point_light {
+            only(RayFault::PastLight)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const REFLECTION_DIRECTION: Fault = Fault {
+    name: "reflection_direction",
+    assignment: 4,
+    sentence: "My mirror rays go the wrong way: d + 2(d·n)n instead of d - 2(d·n)n.",
+    look_for: "The mirror direction: R = d - 2(d·n)n, with d the incoming unit direction and n \
+               the unit normal.",
+    candidates: |line: &LineScene| {
+        if bounces(line) && has_material(line, false) {
+            only(RayFault::MirrorSign)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const REFRACTION_INDEX: Fault = Fault {
+    name: "refraction_index",
+    assignment: 4,
+    sentence: "I invert the ratio of the indices of refraction when a ray enters or leaves glass.",
+    look_for: "Snell's ratio η_i / η_t: entering glass from air it is 1 / index, leaving it, \
+               index / 1; tell the two apart by the sign of d·n.",
+    candidates: |line: &LineScene| {
+        if bounces(line) && has_material(line, true) {
+            only(RayFault::InvertedIndex)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const BOUNCES_OFF_BY_ONE: Fault = Fault {
+    name: "bounces_off_by_one",
+    assignment: 4,
+    sentence: "My recursion stops one bounce too early or too late.",
+    look_for: "The recursion's test: -bounces N traces N levels of mirror and glass rays after \
+               the camera ray (stop when the depth passes N, not at N - 1 or N + 1).",
+    candidates: |line: &LineScene| {
+        if line.has_image() && (has_material(line, false) || has_material(line, true)) {
+            let mut candidates = vec![Candidate::with(
+                Planted::Ray(RayFault::Bounces(1)),
+                "bounces",
+                1.0,
+            )];
+            if line.options.trace.bounces > 0 {
+                candidates.push(Candidate::with(
+                    Planted::Ray(RayFault::Bounces(-1)),
+                    "bounces",
+                    -1.0,
+                ));
+            }
+            candidates
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const WEIGHT_CUTOFF: Fault = Fault {
+    name: "weight_cutoff",
+    assignment: 4,
+    sentence: "I ignore -weight: every mirror and glass ray is traced however little it adds.",
+    look_for: "Before tracing a mirror or glass ray: its weight (the product of the colours' \
+               magnitudes on the way) must be at least -weight.",
+    candidates: |line: &LineScene| {
+        if bounces(line) && line.options.trace.cutoff_weight > 0.0 {
+            only(RayFault::NoCutoff)
+        } else {
+            Vec::new()
+        }
+    },
+};
