@@ -320,7 +320,11 @@ fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V)
         .reduce(RayCounts::default, |a, b| a + b);
     progress.finish();
     let picture = |wanted: bool, value: fn(&FilmSample) -> Vec3A| {
-        wanted.then(|| film.picture(filter, value, |colour| variant.to_rgb(colour)))
+        wanted.then(|| {
+            film.picture(variant.filter(filter), value, |colour| {
+                variant.to_rgb(colour)
+            })
+        })
     };
     Rendered {
         colour: picture(settings.colour, |s| s.colour),

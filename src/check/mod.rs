@@ -477,7 +477,7 @@ pub fn verdict(graded: &Graded) -> String {
     }
 }
 
-/// Groups the failing pictures by cause ([`verdict::verdict`]), putting first among each
+/// Groups the failing pictures by cause, biggest group first, putting first among each
 /// picture's equal matches the fault the most pictures share.
 pub fn renderer_verdict(graded: &mut [Graded]) -> Vec<Group> {
     verdict::verdict(graded)

@@ -32,6 +32,12 @@ pub trait SampleSeam: Copy + Send + Sync {
     fn positions(&self, sampler: Sampler, seed: u64, pixel: u64, out: &mut [glam::Vec2]) {
         sampler.positions(seed, pixel, out);
     }
+
+    /// The filter that weighs the samples into pixels.
+    #[inline(always)]
+    fn filter(&self, filter: Filter) -> Filter {
+        filter
+    }
 }
 
 impl SampleSeam for crate::variant::Exact {}

@@ -5,13 +5,14 @@
 //! whose picture matches the student's.
 //!
 //! A fault is one entry of [`FAULTS`], defined in the file of its family (camera, intersection,
-//! shading, pictures), with the function that lists the renders to try on a line (several where
-//! the fault has a parameter to fit: a corner, an angle, a limit).
+//! shading, rays, samples, pictures), with the function that lists the renders to try on a line
+//! (several where the fault has a parameter to fit: a corner, an angle, a limit).
 
 mod camera;
 mod intersection;
 mod pictures;
 mod rays;
+mod samples;
 mod shading;
 
 use glam::Vec3A;
@@ -21,7 +22,7 @@ use crate::camera::{Camera, CameraSeam};
 use crate::geometry::Ray;
 use crate::job::Options;
 use crate::parse::description::SceneDescription;
-use crate::sample::{SampleSeam, Sampler};
+use crate::sample::{Filter, SampleSeam, Sampler};
 use crate::scene::Scene;
 use crate::scene::SpecularFalloff;
 use crate::shade::PictureSeam;
@@ -31,6 +32,7 @@ pub use camera::CameraFault;
 pub use intersection::HitFault;
 pub use pictures::PictureFault;
 pub use rays::RayFault;
+pub use samples::SampleFault;
 pub use shading::ShadingFault;
 
 /// One mistake a student's tracer may make.
@@ -117,6 +119,8 @@ pub enum Planted {
     Picture(PictureFault),
     /// Shadow, mirror and glass rays made another way.
     Ray(RayFault),
+    /// Samples placed or filtered another way.
+    Sample(SampleFault),
 }
 
 /// Every fault the library knows, in the order they are tried and listed among equals.
@@ -150,6 +154,10 @@ pub static FAULTS: &[Fault] = &[
     rays::REFRACTION_INDEX,
     rays::BOUNCES_OFF_BY_ONE,
     rays::WEIGHT_CUTOFF,
+    samples::JITTER_WHOLE_PIXEL,
+    samples::UNIFORM_CORNERS,
+    samples::FILTER_RADIUS,
+    pictures::DEPTH_RANGE,
 ];
 
 /// The fault of `name`.
@@ -254,6 +262,13 @@ impl Plant {
     fn rays(&self) -> impl Iterator<Item = RayFault> + '_ {
         self.each().filter_map(|p| match p {
             Planted::Ray(r) => Some(r),
+            _ => None,
+        })
+    }
+
+    fn samples(&self) -> impl Iterator<Item = SampleFault> + '_ {
+        self.each().filter_map(|p| match p {
+            Planted::Sample(s) => Some(s),
             _ => None,
         })
     }
@@ -392,7 +407,14 @@ impl PictureSeam for Plant {
 
 impl SampleSeam for Plant {
     fn positions(&self, sampler: Sampler, seed: u64, pixel: u64, out: &mut [glam::Vec2]) {
-        sampler.positions(seed, pixel, out);
+        match self.samples().find(|s| s.places(sampler)) {
+            Some(fault) => fault.positions(sampler, seed, pixel, out),
+            None => sampler.positions(seed, pixel, out),
+        }
+    }
+
+    fn filter(&self, filter: Filter) -> Filter {
+        self.samples().fold(filter, |f, s| s.filter(f))
     }
 }
 

@@ -6,8 +6,10 @@ use super::{Candidate, Fault, LineScene, Planted};
 use crate::accel::Hit;
 
 /// How a student's tracer writes its pictures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PictureFault {
+    /// The depth picture's grey over another range of distances (near, far).
+    DepthRange(f32, f32),
     /// Red and blue exchanged.
     ChannelSwap,
     /// Colours past 1 (or below 0) wrap around a byte instead of clamping.
@@ -55,6 +57,7 @@ impl PictureFault {
         match self {
             // Left unclamped: the byte then wraps (to_byte clamps, a student's cast does not),
             // which the caller's byte conversion shows as a value outside [0, 1]: fold it here.
+            PictureFault::DepthRange(near, far) => Some(crate::shade::depth_grey(t, *near, *far)),
             PictureFault::DepthWrap => {
                 let grey = (t_far - t) / (t_far - t_near);
                 Some(f32::from(wrapped(grey)) / 255.0 + 0.5 / 255.0)
@@ -152,5 +155,53 @@ pub(super) const NORMALS_SIGNED: Fault = Fault {
         } else {
             Vec::new()
         }
+    },
+};
+
+/// The nearest and farthest distance the line's camera rays hit (through pixel centres).
+fn hit_range(line: &LineScene) -> Option<(f32, f32)> {
+    let (width, height) = (line.options.width, line.options.height);
+    let camera = &line.scene.camera;
+    let mut range: Option<(f32, f32)> = None;
+    for j in 0..height {
+        for i in 0..width {
+            let (u, v) = crate::camera::pixel_to_screen(i, j, width, height);
+            let ray = camera.ray(u, v);
+            if let Some(hit) = line.scene.world.intersect(&ray, camera.t_min()) {
+                let distance = hit.t * ray.direction.length();
+                range = Some(match range {
+                    None => (distance, distance),
+                    Some((near, far)) => (near.min(distance), far.max(distance)),
+                });
+            }
+        }
+    }
+    range.filter(|(near, far)| far > near)
+}
+
+pub(super) const DEPTH_RANGE: Fault = Fault {
+    name: "depth_range",
+    assignment: 2,
+    sentence: "My depth picture is normalised by the distances the picture itself holds (or from \
+               the nearest hit), not by -depth's TMIN and TMAX.",
+    look_for: "The depth picture's grey: (TMAX - t) / (TMAX - TMIN) with the TMIN and TMAX of the \
+               command line, the same for every picture.",
+    candidates: |line: &LineScene| {
+        let (Some((_, far, _)), Some((near_hit, far_hit))) = (&line.options.depth, hit_range(line))
+        else {
+            return Vec::new();
+        };
+        vec![
+            Candidate::with(
+                Planted::Picture(PictureFault::DepthRange(near_hit, far_hit)),
+                "near",
+                f64::from(near_hit),
+            ),
+            Candidate::with(
+                Planted::Picture(PictureFault::DepthRange(near_hit, *far)),
+                "near",
+                f64::from(near_hit),
+            ),
+        ]
     },
 };

@@ -1,0 +1,115 @@
+//! Faults of assignment 7: where a pixel's samples fall, and how far the filter reaches.
+
+use glam::Vec2;
+
+use super::{Candidate, Fault, LineScene, Planted};
+use crate::sample::{Filter, Sampler};
+
+/// How a student's renderer samples and filters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SampleFault {
+    /// Jittered samples anywhere in the pixel, not one in each cell.
+    JitterWholePixel,
+    /// Uniform samples at the cells' lower-left corners, not their centres.
+    UniformCorners,
+    /// The filter's radius (or σ) times this.
+    FilterScale(f32),
+}
+
+impl SampleFault {
+    /// Whether it changes where `sampler`'s samples fall.
+    pub(super) fn places(&self, sampler: Sampler) -> bool {
+        matches!(
+            (self, sampler),
+            (SampleFault::JitterWholePixel, Sampler::Jittered(_))
+                | (SampleFault::UniformCorners, Sampler::Uniform(_))
+        )
+    }
+
+    pub(super) fn positions(&self, sampler: Sampler, seed: u64, pixel: u64, out: &mut [Vec2]) {
+        match (self, sampler) {
+            (SampleFault::JitterWholePixel, Sampler::Jittered(n)) => {
+                Sampler::Random(n).positions(seed, pixel, out);
+            }
+            (SampleFault::UniformCorners, Sampler::Uniform(n)) => {
+                let side = n.isqrt().max(1);
+                for (k, p) in out.iter_mut().enumerate() {
+                    let (i, j) = (k as u32 % side, k as u32 / side);
+                    *p = Vec2::new(i as f32, j as f32) / side as f32;
+                }
+            }
+            _ => sampler.positions(seed, pixel, out),
+        }
+    }
+
+    pub(super) fn filter(&self, filter: Filter) -> Filter {
+        match *self {
+            SampleFault::FilterScale(by) => match filter {
+                Filter::Box(r) => Filter::Box(r * by),
+                Filter::Tent(r) => Filter::Tent(r * by),
+                Filter::Gaussian(s) => Filter::Gaussian(s * by),
+            },
+            _ => filter,
+        }
+    }
+}
+
+pub(super) const JITTER_WHOLE_PIXEL: Fault = Fault {
+    name: "jitter_whole_pixel",
+    assignment: 7,
+    sentence: "My jittered samples fall anywhere in the pixel, not one in each cell of its grid.",
+    look_for: "The jittered sampler: cell (i, j) of the s × s grid gets ((i + r1) / s, (j + r2) / \
+               s) with r1, r2 random in [0, 1), not (r1, r2).",
+    candidates: |line: &LineScene| {
+        if matches!(line.options.sampling.sampler, Sampler::Jittered(n) if n > 1) {
+            vec![Candidate::plain(Planted::Sample(
+                SampleFault::JitterWholePixel,
+            ))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const UNIFORM_CORNERS: Fault = Fault {
+    name: "uniform_corners",
+    assignment: 7,
+    sentence: "My uniform samples sit at the corners of the grid's cells, not their centres.",
+    look_for: "The uniform sampler: cell (i, j) of the s × s grid gets ((i + 0.5) / s, (j + 0.5) \
+               / s).",
+    candidates: |line: &LineScene| {
+        if matches!(line.options.sampling.sampler, Sampler::Uniform(_))
+            && !line.options.sampling.is_plain()
+        {
+            vec![Candidate::plain(Planted::Sample(
+                SampleFault::UniformCorners,
+            ))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const FILTER_RADIUS: Fault = Fault {
+    name: "filter_radius",
+    assignment: 7,
+    sentence: "My filter reaches twice as far, or half as far, as the command line says.",
+    look_for: "The filter's support: a box or tent of radius r weighs samples within r of the \
+               pixel's centre (in pixels, not in the image's units or as a diameter); a Gaussian \
+               of σ reaches to 2σ.",
+    candidates: |line: &LineScene| {
+        if line.options.sampling.is_plain() {
+            return Vec::new();
+        }
+        [2.0f32, 0.5]
+            .into_iter()
+            .map(|by| {
+                Candidate::with(
+                    Planted::Sample(SampleFault::FilterScale(by)),
+                    "scale",
+                    f64::from(by),
+                )
+            })
+            .collect()
+    },
+};
