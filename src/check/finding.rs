@@ -103,7 +103,7 @@ pub fn explain(findings: &[Finding]) -> String {
         format!(", {}", shown.join(", "))
     };
     let mut text = format!(
-        "your picture equals raycast's render of this line with {planted} planted ({:.3}% of \
+        "Your picture equals raycast's render of this line with {planted} planted ({:.3}% of \
          pixels off{parameters}). {} Look for: {}",
         100.0 * first.bad_fraction,
         first

@@ -483,9 +483,14 @@ pub fn renderer_verdict(graded: &mut [Graded]) -> Vec<Group> {
     verdict::verdict(graded)
 }
 
-/// The renderer's verdict for the terminal, one line a group.
+/// The renderer's verdict for the terminal, one line a group (and its faults' advice below).
 pub fn verdict_lines(groups: &[Group]) -> Vec<String> {
     verdict::lines(groups)
+}
+
+/// The renderer's verdict as headlines, each with its faults' advice.
+pub fn verdict_entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
+    verdict::entries(groups)
 }
 
 /// `summary.json`'s contents: raycast's version and the rule, the counts, the renderer's

@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::{Finding, Graded, Group, Rule, Status, diagnose, summary_json, verdict_lines};
+use super::{Finding, Graded, Group, Rule, Status, diagnose, summary_json, verdict_entries};
 use crate::image_io::{self, ImageFormat};
 
 /// Writes `summary.json`, `index.html` and the pictures into `dir` (made if missing).
@@ -96,11 +96,19 @@ fn verdict_html(groups: &[Group]) -> String {
     if groups.is_empty() {
         return String::new();
     }
-    let items: String = verdict_lines(groups)
+    let items: String = verdict_entries(groups)
         .iter()
-        .map(|line| {
-            let text = line.strip_prefix("verdict: ").unwrap_or(line);
-            format!("<li>{}</li>", escape(text))
+        .map(|(headline, details)| {
+            let details: String = details
+                .iter()
+                .map(|d| format!("<li>{}</li>", escape(d)))
+                .collect();
+            let details = if details.is_empty() {
+                String::new()
+            } else {
+                format!("<ul>{details}</ul>")
+            };
+            format!("<li><strong>{}</strong>{details}</li>", escape(headline))
         })
         .collect();
     format!("<section class=\"verdict\"><h2>Verdict</h2><ol>{items}</ol></section>")

@@ -83,36 +83,53 @@ pub fn verdict(graded: &mut [Graded]) -> Vec<Group> {
     groups
 }
 
-/// The verdict for the terminal: one line a group, the first saying what to fix first.
+/// The verdict for the terminal: one line a group, the first saying what to fix first, each
+/// fault's sentence and what to look for indented below its group.
 pub fn lines(groups: &[Group]) -> Vec<String> {
+    let mut out = Vec::new();
+    for (headline, details) in entries(groups) {
+        out.push(format!("verdict: {headline}"));
+        out.extend(details.into_iter().map(|d| format!("         {d}")));
+    }
+    out
+}
+
+/// Each group's headline, and below it each of its faults: name, assignment, sentence and what
+/// to look for.
+pub fn entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
     let failing: usize = groups.iter().map(|g| g.images.len()).sum();
     let plural = |n: usize| if n == 1 { "" } else { "s" };
     let mut out = Vec::new();
     for (k, group) in groups.iter().enumerate() {
         let n = group.images.len();
-        let line = match (&group.code, k) {
+        let headline = match (&group.code, k) {
             (Some(code), 0) => format!(
-                "verdict: {n} of {failing} failing picture{} {} explained by {code}: fix it \
-                 first, then run check again",
+                "{n} of {failing} failing picture{} {} explained by {code}: fix it first, then \
+                 run check again",
                 plural(failing),
                 if n == 1 { "is" } else { "are" }
             ),
-            (Some(code), _) => format!("verdict: {n} more by {code}"),
+            (Some(code), _) => format!("{n} more by {code}"),
             (None, _) => format!(
-                "verdict: {n} failing picture{} no fault explains: {}",
+                "{n} failing picture{} no fault explains: {}",
                 plural(n),
                 group.images.join(", ")
             ),
         };
-        out.push(line);
-        if let Some(faults) = group.code.as_deref().and_then(faults_of) {
-            for fault in faults {
-                out.push(format!(
-                    "         {} (assignment {}): \"{}\" Look for: {}",
+        let details = group
+            .code
+            .as_deref()
+            .and_then(faults_of)
+            .unwrap_or_default()
+            .into_iter()
+            .map(|fault| {
+                format!(
+                    "{} (assignment {}): \"{}\" Look for: {}",
                     fault.name, fault.assignment, fault.sentence, fault.look_for
-                ));
-            }
-        }
+                )
+            })
+            .collect();
+        out.push((headline, details));
     }
     out
 }
