@@ -247,23 +247,8 @@ impl World {
                 (plane.normal, material)
             }
             Found::Item { item, triangle } => {
+                let (object_normal, material) = self.object_normal(ray, t, item, triangle);
                 let item = &self.items[item as usize];
-                let (object_normal, material) = match *item {
-                    Item::Sphere {
-                        sphere, material, ..
-                    } => {
-                        let local = self.ray_into(item, ray);
-                        (sphere.normal_at(local.at(t)), material)
-                    }
-                    Item::Mesh { mesh, material, .. } => {
-                        let material = if material == Item::PER_TRIANGLE {
-                            self.loose_materials[triangle as usize]
-                        } else {
-                            material
-                        };
-                        (self.meshes[mesh as usize].normal(triangle), material)
-                    }
-                };
                 let normal = match item.transform() {
                     Item::WORLD_SPACE => unit_normal(object_normal),
                     i => self.transforms[i as usize].normal_to_world(object_normal),
@@ -283,6 +268,52 @@ impl World {
             normal,
             material,
         }
+    }
+
+    /// The normal of item `item` (triangle `triangle` of a mesh) where `ray` meets it at `t`, in
+    /// the item's own space, not unit length; and its material.
+    fn object_normal(&self, ray: &Ray, t: f32, item: u32, triangle: u32) -> (Vec3A, u32) {
+        let item = &self.items[item as usize];
+        match *item {
+            Item::Sphere {
+                sphere, material, ..
+            } => {
+                let local = self.ray_into(item, ray);
+                (sphere.normal_at(local.at(t)), material)
+            }
+            Item::Mesh { mesh, material, .. } => {
+                let material = if material == Item::PER_TRIANGLE {
+                    self.loose_materials[triangle as usize]
+                } else {
+                    material
+                };
+                (self.meshes[mesh as usize].normal(triangle), material)
+            }
+        }
+    }
+
+    /// How the nearest hit's normal came about: its normal in its object's own space (of any
+    /// length) and the Transform that places the object (`None` in world space, and for
+    /// planes, whose normal is the world's). For check's faults of normals, which a student's
+    /// tracer transforms another way.
+    pub fn normal_origin(&self, ray: &Ray, t_min: f32) -> Option<(Vec3A, Option<&Transform>)> {
+        let mut nearest = self.nearest_plane(ray, t_min);
+        match &self.grid {
+            Some(grid) => self.grid_nearest(grid, ray, t_min, &mut nearest, &mut ()),
+            None => self.nearest_item(ray, t_min, &mut nearest, &mut ()),
+        }
+        let nearest = nearest?;
+        Some(match nearest.found {
+            Found::Plane(i) => (self.planes[i as usize].0.normal, None),
+            Found::Item { item, triangle } => {
+                let (normal, _) = self.object_normal(ray, nearest.t, item, triangle);
+                let transform = match self.items[item as usize].transform() {
+                    Item::WORLD_SPACE => None,
+                    i => Some(&self.transforms[i as usize]),
+                };
+                (normal, transform)
+            }
+        })
     }
 
     /// What the world holds and what its trees take, for `-stats`.

@@ -18,6 +18,10 @@ pub enum HitFault {
     /// Hits nearer than this distance are skipped, for every picture (the depth picture's
     /// near end used as the rays' t_min).
     Nearer(f32),
+    /// Normals carried into the world by the object's matrix, not its inverse transpose.
+    NormalByMatrix,
+    /// Normals carried by the inverse transpose but not made unit length again.
+    NormalNotUnit,
 }
 
 impl HitFault {
@@ -38,9 +42,77 @@ impl HitFault {
                 Some(h) if h.t * length < near => scene.world.intersect(ray, near / length),
                 other => other,
             },
+            HitFault::NormalByMatrix | HitFault::NormalNotUnit => {
+                let hit = hit?;
+                let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, hit.t)
+                else {
+                    return Some(hit);
+                };
+                let object_normal = object_normal.normalize_or_zero();
+                let normal = if *self == HitFault::NormalByMatrix {
+                    transform
+                        .object_to_world
+                        .transform_vector3a(object_normal)
+                        .normalize_or_zero()
+                } else {
+                    transform.normal_to_world * object_normal
+                };
+                Some(Hit {
+                    normal: if normal == glam::Vec3A::ZERO {
+                        hit.normal
+                    } else {
+                        normal
+                    },
+                    ..hit
+                })
+            }
         }
     }
 }
+
+/// Whether the line's scene places something under a Transform, and the line shows normals
+/// (in the normals picture, or in shading with lights).
+fn transformed_normals_show(line: &LineScene) -> bool {
+    let placed = line
+        .description
+        .objects
+        .iter()
+        .any(|o| o.transform.is_some());
+    let shows =
+        line.options.normals.is_some() || (line.has_image() && !line.scene.lights.is_empty());
+    placed && shows
+}
+
+pub(super) const NORMAL_TRANSFORM: Fault = Fault {
+    name: "normal_transform",
+    assignment: 2,
+    sentence: "I carry normals into the world with the object's matrix, not with the transpose \
+               of its inverse.",
+    look_for: "The normal of a transformed object: n_world = (M^-1)^T n_object, then normalised; \
+               M itself tilts normals of scaled or sheared objects.",
+    candidates: |line: &LineScene| {
+        if transformed_normals_show(line) {
+            vec![Candidate::plain(Planted::Hit(HitFault::NormalByMatrix))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const NORMAL_LENGTH: Fault = Fault {
+    name: "normal_length",
+    assignment: 2,
+    sentence: "My normals are not unit length after a Transform.",
+    look_for: "After carrying a normal into the world by the inverse transpose, normalise it \
+               again: a scale changes its length.",
+    candidates: |line: &LineScene| {
+        if transformed_normals_show(line) {
+            vec![Candidate::plain(Planted::Hit(HitFault::NormalNotUnit))]
+        } else {
+            Vec::new()
+        }
+    },
+};
 
 fn t_min_ignored(line: &LineScene) -> Vec<Candidate> {
     // The other of the two choices: hits behind a perspective camera's eye accepted, or an

@@ -158,6 +158,8 @@ pub static FAULTS: &[Fault] = &[
     samples::UNIFORM_CORNERS,
     samples::FILTER_RADIUS,
     pictures::DEPTH_RANGE,
+    intersection::NORMAL_TRANSFORM,
+    intersection::NORMAL_LENGTH,
 ];
 
 /// The fault of `name`.
