@@ -4,6 +4,49 @@ use serde_json::{Value, json};
 
 use super::diagnose::Diagnosis;
 use super::simulate::FaultMatch;
+use super::suite::PictureKind;
+
+/// A guess's advice for the kind of picture it is about: the pixel guesses were written for the
+/// shaded picture, and some say the opposite of what a depth or normals picture needs.
+fn advice(diagnosis: Diagnosis, kind: PictureKind) -> String {
+    let depth = "The depth picture's grey is (TMAX - t) / (TMAX - TMIN) with -depth's TMIN and \
+                 TMAX, clamped to [0, 1], where t is the distance along the ray (from the eye, \
+                 for a perspective camera).";
+    let normals = "The normals picture is (|x|, |y|, |z|) of the unit normal in world space: \
+                   carried by the inverse transpose of a Transform, made unit again, and taken \
+                   absolute, whichever side the ray meets.";
+    let miss = "rays that hit nothing are black in the depth and normals pictures (the scene's \
+                background belongs to the shaded picture alone).";
+    match (kind, diagnosis) {
+        (PictureKind::Depth | PictureKind::Normals, d) if d == Diagnosis::BACKGROUND => {
+            format!("Only the background differs: {miss}")
+        }
+        (PictureKind::Depth, d) if d == Diagnosis::COLOUR_SCALE || d == Diagnosis::GAMMA => {
+            format!("Every depth is off by one curve. {depth}")
+        }
+        (PictureKind::Normals, d)
+            if [
+                Diagnosis::COLOUR_SCALE,
+                Diagnosis::GAMMA,
+                Diagnosis::BACK_FACES,
+            ]
+            .contains(&d) =>
+        {
+            format!("The normals' colours are off. {normals}")
+        }
+        (PictureKind::Samples, _) => format!(
+            "In the picture of the samples (-render_samples): {} Where each sample falls comes \
+             from the sampler (random, uniform at the cells' centres, or jittered one a cell).",
+            diagnosis.explanation()
+        ),
+        (PictureKind::Filter, _) => format!(
+            "In the picture of the filter's weights (-render_filter): {} The weights come from \
+             the filter alone (box, tent or Gaussian, with the radius or σ of the line).",
+            diagnosis.explanation()
+        ),
+        _ => diagnosis.explanation().to_string(),
+    }
+}
 
 /// One cause named for a picture.
 #[derive(Debug, Clone, PartialEq)]
@@ -58,9 +101,10 @@ impl Finding {
     }
 }
 
-/// What a student reads about a failing picture: the faults whose render matches it (all of
-/// them, where the line cannot tell them apart), or the guesses from the pixels.
-pub fn explain(findings: &[Finding]) -> String {
+/// What a student reads about a failing picture of `kind`: the faults whose render matches it
+/// (all of them, where the line cannot tell them apart), or the guesses from the pixels, in
+/// words for that kind of picture.
+pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
     let faults: Vec<&FaultMatch> = findings
         .iter()
         .filter_map(|f| match f {
@@ -73,7 +117,8 @@ pub fn explain(findings: &[Finding]) -> String {
         let text = findings
             .iter()
             .filter_map(|f| match f {
-                Finding::Diagnosis(d) => Some(d.explanation()),
+                Finding::Diagnosis(d) if !d.is_fact() => Some(advice(*d, kind)),
+                Finding::Diagnosis(d) => Some(d.explanation().to_string()),
                 Finding::Fault(_) => None,
             })
             .collect::<Vec<_>>()
@@ -173,5 +218,34 @@ fn show(value: f64) -> String {
         if value > 0.0 { "infinity" } else { "-infinity" }.to_string()
     } else {
         format!("{value:.4}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_guess_about_a_depth_or_normals_picture_speaks_of_that_picture() {
+        let background = [Finding::Diagnosis(Diagnosis::BACKGROUND)];
+        // The shaded picture's advice would send the student the wrong way here.
+        let shaded = explain(&background, PictureKind::Image);
+        assert!(
+            shaded.contains("must take the scene's background colour"),
+            "{shaded}"
+        );
+        for kind in [PictureKind::Depth, PictureKind::Normals] {
+            let text = explain(&background, kind);
+            assert!(
+                text.contains("are black in the depth and normals pictures"),
+                "{text}"
+            );
+            assert!(text.starts_with("No fault in raycast's library"), "{text}");
+        }
+        let curve = explain(&[Finding::Diagnosis(Diagnosis::GAMMA)], PictureKind::Depth);
+        assert!(curve.contains("(TMAX - t) / (TMAX - TMIN)"), "{curve}");
+        // Facts of the run read the same for every picture.
+        let crash = explain(&[Finding::Diagnosis(Diagnosis::CRASH)], PictureKind::Depth);
+        assert_eq!(crash, Diagnosis::CRASH.explanation());
     }
 }

@@ -23,7 +23,7 @@ pub use report::write_report;
 pub use rule::{Comparison, Rule, compare};
 pub use run::{Ending, Ran};
 pub use simulate::FaultMatch;
-pub use suite::{Line, Suite};
+pub use suite::{Line, PictureKind, Suite};
 pub use verdict::Group;
 
 use crate::shade::Image;
@@ -107,6 +107,8 @@ pub struct Graded {
     pub seconds: f64,
     /// The suite has no reference for it: it is graded against raycast's render of the line.
     pub against_raycast: bool,
+    /// What kind of picture it is (the option that names it).
+    pub picture: PictureKind,
 }
 
 /// What the rule says of one picture against its reference.
@@ -244,6 +246,7 @@ fn grade_line(
             let mut graded = grade(
                 options,
                 line,
+                k,
                 &image_name,
                 &ran,
                 &out.join(file_name(name)),
@@ -285,7 +288,7 @@ fn explain_by_simulation(
         }
         let g = &mut graded[k];
         g.findings = result.matches.into_iter().map(Finding::Fault).collect();
-        g.explanation = finding::explain(&g.findings);
+        g.explanation = finding::explain(&g.findings, g.picture);
     }
 }
 
@@ -299,6 +302,7 @@ fn file_name(name: &str) -> String {
 fn grade(
     options: &CheckOptions,
     line: &Line,
+    index: usize,
     name: &str,
     ran: &Ran,
     path: &Path,
@@ -316,6 +320,7 @@ fn grade(
         stderr: ran.stderr.clone(),
         seconds: ran.seconds,
         against_raycast: false,
+        picture: line.picture_kind(index),
     };
     let reference = match reference {
         Ok(image) => image,
@@ -364,7 +369,7 @@ fn grade(
             Status::Fail
         },
         bad_fraction: judgement.bad_fraction,
-        explanation: finding::explain(&findings),
+        explanation: finding::explain(&findings, line.picture_kind(index)),
         findings,
         actual: Some(actual),
         reference: Some(reference),

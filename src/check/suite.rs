@@ -15,6 +15,40 @@ pub struct Line {
     pub outputs: Vec<(usize, String)>,
 }
 
+/// What kind of picture an option writes, which decides the advice a guess gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PictureKind {
+    /// `-output`: the shaded picture.
+    #[default]
+    Image,
+    /// `-normals`.
+    Normals,
+    /// `-depth`.
+    Depth,
+    /// `-render_samples`.
+    Samples,
+    /// `-render_filter`.
+    Filter,
+}
+
+impl Line {
+    /// The kind of the line's `k`-th image.
+    pub fn picture_kind(&self, k: usize) -> PictureKind {
+        let at = self.outputs[k].0;
+        let flag = IMAGE_OPTIONS
+            .iter()
+            .find(|(flag, offset)| at >= *offset && self.args[at - offset] == *flag)
+            .map_or("-output", |(flag, _)| flag);
+        match flag {
+            "-normals" => PictureKind::Normals,
+            "-depth" => PictureKind::Depth,
+            "-render_samples" => PictureKind::Samples,
+            "-render_filter" => PictureKind::Filter,
+            _ => PictureKind::Image,
+        }
+    }
+}
+
 /// A suite read from its folder.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Suite {
@@ -148,6 +182,26 @@ pub fn image_name(file: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn each_image_knows_the_option_that_names_it() {
+        let line = parse_line(
+            "raytracer -input s.txt -size 9 9 -normals n.tga -depth 9 11 d.tga -output o.tga \
+             -render_samples s.tga 4 -render_filter f.tga 4",
+        )
+        .unwrap();
+        let kinds: Vec<PictureKind> = (0..5).map(|k| line.picture_kind(k)).collect();
+        assert_eq!(
+            kinds,
+            [
+                PictureKind::Normals,
+                PictureKind::Depth,
+                PictureKind::Image,
+                PictureKind::Samples,
+                PictureKind::Filter
+            ]
+        );
+    }
 
     #[test]
     fn lines_with_their_images() {

@@ -49,7 +49,7 @@ pub fn verdict(graded: &mut [Graded]) -> Vec<Group> {
         if let Some(best) = best.filter(|&k| k > 0) {
             let chosen = g.findings.remove(best);
             g.findings.insert(0, chosen);
-            g.explanation = super::finding::explain(&g.findings);
+            g.explanation = super::finding::explain(&g.findings, g.picture);
         }
     }
     let mut groups: Vec<Group> = Vec::new();
