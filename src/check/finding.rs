@@ -101,17 +101,30 @@ impl Finding {
     }
 }
 
-/// What a student reads about a failing picture of `kind`: the faults whose render matches it
-/// (all of them, where the line cannot tell them apart), or the guesses from the pixels, in
-/// words for that kind of picture.
-pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
-    let faults: Vec<&FaultMatch> = findings
+/// The fault matches among `findings`, in their order.
+fn fault_matches(findings: &[Finding]) -> Vec<&FaultMatch> {
+    findings
         .iter()
         .filter_map(|f| match f {
             Finding::Fault(m) => Some(m),
             Finding::Diagnosis(_) => None,
         })
-        .collect();
+        .collect()
+}
+
+/// A match's fitted parameters as `, name value` each (empty without any).
+fn parameters_text(m: &FaultMatch) -> String {
+    m.parameters
+        .iter()
+        .map(|(name, value)| format!(", {name} {}", show(*value)))
+        .collect()
+}
+
+/// What a student reads about a failing picture of `kind`: the faults whose render matches it
+/// (all of them, where the line cannot tell them apart), or the guesses from the pixels, in
+/// words for that kind of picture.
+pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
+    let faults = fault_matches(findings);
     let Some(first) = faults.first() else {
         let guesses: Vec<&Finding> = findings.iter().filter(|f| f.is_guess()).collect();
         let text = findings
@@ -137,16 +150,7 @@ pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
     } else {
         "these two faults"
     };
-    let parameters = if first.parameters.is_empty() {
-        String::new()
-    } else {
-        let shown: Vec<String> = first
-            .parameters
-            .iter()
-            .map(|(name, value)| format!("{name} {}", show(*value)))
-            .collect();
-        format!(", {}", shown.join(", "))
-    };
+    let parameters = parameters_text(first);
     let mut text = format!(
         "Your picture equals raycast's render of this line with {planted} planted ({:.3}% of \
          pixels off{parameters}). {} Look for: {}",
@@ -179,21 +183,10 @@ pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
 /// fitted parameters), their sentences and what to look for being in the verdict above; or the
 /// full explanation where no fault matches.
 pub fn headline(findings: &[Finding], explanation: &str) -> String {
-    let faults: Vec<&FaultMatch> = findings
-        .iter()
-        .filter_map(|f| match f {
-            Finding::Fault(m) => Some(m),
-            Finding::Diagnosis(_) => None,
-        })
-        .collect();
+    let faults = fault_matches(findings);
     let Some(first) = faults.first() else {
         return explanation.to_string();
     };
-    let parameters: Vec<String> = first
-        .parameters
-        .iter()
-        .map(|(name, value)| format!(", {name} {}", show(*value)))
-        .collect();
     let mut text = format!(
         "raycast's render with {} planted matches ({:.3}% of pixels off{})",
         if first.faults.len() == 1 {
@@ -202,7 +195,7 @@ pub fn headline(findings: &[Finding], explanation: &str) -> String {
             "these faults"
         },
         100.0 * first.bad_fraction,
-        parameters.concat()
+        parameters_text(first)
     );
     if faults.len() > 1 {
         text.push_str("; this line alone cannot tell the faults named apart");

@@ -24,7 +24,9 @@ pub use rule::{Comparison, Rule, compare};
 pub use run::{Ending, Ran};
 pub use simulate::FaultMatch;
 pub use suite::{Line, PictureKind, Suite};
-pub use verdict::Group;
+pub use verdict::{
+    Group, entries as verdict_entries, lines as verdict_lines, verdict as renderer_verdict,
+};
 
 use crate::shade::Image;
 
@@ -480,22 +482,6 @@ pub fn verdict(graded: &Graded) -> String {
             )
         }
     }
-}
-
-/// Groups the failing pictures by cause, biggest group first, putting first among each
-/// picture's equal matches the fault the most pictures share.
-pub fn renderer_verdict(graded: &mut [Graded]) -> Vec<Group> {
-    verdict::verdict(graded)
-}
-
-/// The renderer's verdict for the terminal, one line a group (and its faults' advice below).
-pub fn verdict_lines(groups: &[Group]) -> Vec<String> {
-    verdict::lines(groups)
-}
-
-/// The renderer's verdict as headlines, each with its faults' advice.
-pub fn verdict_entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
-    verdict::entries(groups)
 }
 
 /// `summary.json`'s contents: raycast's version and the rule, the counts, the renderer's

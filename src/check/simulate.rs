@@ -118,7 +118,7 @@ fn flipped_vertically(image: &Image) -> Image {
             .flatten()
             .copied()
             .collect(),
-        ..image.clone()
+        ..*image
     }
 }
 
@@ -130,14 +130,14 @@ fn flipped_horizontally(image: &Image) -> Image {
             .chunks(width.max(1))
             .flat_map(|row| row.iter().rev().copied())
             .collect(),
-        ..image.clone()
+        ..*image
     }
 }
 
 fn channels_swapped(image: &Image) -> Image {
     Image {
         pixels: image.pixels.iter().map(|&[r, g, b]| [b, g, r]).collect(),
-        ..image.clone()
+        ..*image
     }
 }
 
@@ -269,8 +269,24 @@ pub fn simulate(
     let unexplained: Vec<usize> = (0..failing.len())
         .filter(|&k| results[k].matches.is_empty())
         .collect();
+    // How far each picture is from the course's render of the line, rendered once.
+    let plain: Vec<f64> = if unexplained.is_empty() {
+        Vec::new()
+    } else {
+        let course = render_pictures(
+            &prepared.line.options,
+            &prepared.line.scene,
+            crate::render::Exact,
+        );
+        failing
+            .iter()
+            .map(|&(image, actual)| {
+                mean_difference(course.pictures.get(prepared.slots[image]), actual)
+            })
+            .collect()
+    };
     for k in unexplained {
-        let plain = compare_plain(&prepared, failing[k]);
+        let plain = plain[k];
         let mut closest: Vec<usize> = Vec::new();
         for (index, t) in tried
             .iter()
@@ -334,16 +350,6 @@ pub fn simulate(
         tried.extend(pairs);
     }
     Ok(results)
-}
-
-/// How far the student's picture is from the course's render of the line.
-fn compare_plain(prepared: &Prepared, (image, actual): (usize, &Image)) -> f64 {
-    let pictures = render_pictures(
-        &prepared.line.options,
-        &prepared.line.scene,
-        crate::render::Exact,
-    );
-    mean_difference(pictures.pictures.get(prepared.slots[image]), actual)
 }
 
 /// The renders that pass against picture `k`, the closest of each fault (or pair), closest

@@ -213,31 +213,34 @@ pub fn plant_for(spec: &str, line: &LineScene) -> Result<Option<Plant>, String> 
 /// One or two faults planted in one render; each seam applies them in turn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Plant {
-    faults: [Option<Planted>; 2],
+    first: Planted,
+    second: Option<Planted>,
 }
 
 impl Plant {
     /// One fault.
     pub fn one(fault: Planted) -> Plant {
         Plant {
-            faults: [Some(fault), None],
+            first: fault,
+            second: None,
         }
     }
 
     /// Two faults at once.
     pub fn two(first: Planted, second: Planted) -> Plant {
         Plant {
-            faults: [Some(first), Some(second)],
+            first,
+            second: Some(second),
         }
     }
 
     /// The first fault planted.
     pub fn first(&self) -> Planted {
-        self.faults[0].expect("a plant holds at least one fault")
+        self.first
     }
 
     fn each(&self) -> impl Iterator<Item = Planted> + '_ {
-        self.faults.iter().flatten().copied()
+        std::iter::once(self.first).chain(self.second)
     }
 
     fn cameras(&self) -> impl Iterator<Item = CameraFault> + '_ {
