@@ -10,7 +10,7 @@ use serde_json::{Value, json};
 use crate::accel::{Hit, Item};
 use crate::camera::pixel_to_screen;
 use crate::geometry::{Ray, intersect_plane, intersect_sphere, intersect_triangle};
-use crate::scene::{Light, Scene, Surface};
+use crate::scene::{Highlight, Light, Scene, Surface};
 use crate::shade::to_rgb;
 use crate::trace::{
     SECONDARY_T_MIN, Scratch, TraceSettings, Tracer, crossing_ratio, reflect, refract,
@@ -213,6 +213,7 @@ fn light_terms(
             light.to_light,
             light.colour,
             trace.specular,
+            Highlight::Course,
         );
         let n_dot_l = normal.dot(light.to_light);
         let diffuse = surface.diffuse() * n_dot_l.max(0.0) * light.colour;

@@ -321,7 +321,7 @@ fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V)
     progress.finish();
     let picture = |wanted: bool, value: fn(&FilmSample) -> Vec3A| {
         wanted.then(|| {
-            film.picture(variant.filter(filter), value, |colour| {
+            film.picture(variant, variant.filter(filter), value, |colour| {
                 variant.to_rgb(colour)
             })
         })

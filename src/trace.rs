@@ -14,7 +14,7 @@ use std::ops::ControlFlow;
 use crate::accel::{Hit, PACKET, Tallies};
 use crate::camera::Camera;
 use crate::geometry::Ray;
-use crate::scene::{Scene, SpecularFalloff};
+use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surface};
 use crate::variant::Exact;
 
 /// How rays are traced and shaded: the seam where a render may trace as a student's tracer
@@ -26,10 +26,17 @@ pub trait TraceSeam: Copy + Send + Sync {
         camera.t_min()
     }
 
-    /// The hit as the tracer takes it from the search (its t, normal and material), or none.
+    /// The hit as the tracer takes it from the search of `ray` from `t_min` on (its t, normal
+    /// and material), or none.
     #[inline(always)]
-    fn found(&self, _scene: &Scene, _ray: &Ray, hit: Option<Hit>) -> Option<Hit> {
+    fn found(&self, _scene: &Scene, _ray: &Ray, _t_min: f32, hit: Option<Hit>) -> Option<Hit> {
         hit
+    }
+
+    /// The material `material` of a hit at `point`, its textures weighed there.
+    #[inline(always)]
+    fn surface<'s>(&self, scene: &'s Scene, material: u32, point: Vec3A) -> Surface<'s> {
+        scene.materials.at(material, point)
     }
 
     /// What a back face shows: black, or shaded as seen from its other side (`-shade_back`).
@@ -49,18 +56,24 @@ pub trait TraceSeam: Copy + Send + Sync {
         term
     }
 
+    /// The light `light` sends to `point` (its direction, colour and distance).
+    #[inline(always)]
+    fn illuminate(&self, light: &Light, point: Vec3A) -> Option<Illumination> {
+        light.illuminate(point)
+    }
+
     /// One light's term (diffuse plus specular) at a hit whose normal, turned toward the ray,
-    /// is `normal`, the light lying along `to_light`; `shade(n, f)` is the course's term for a
-    /// normal `n` and a highlight's fall-off `f`, and `falloff` the line's.
+    /// is `normal`, the light lying along `to_light`; `shade(n, f, h)` is the term for a
+    /// normal `n`, a highlight's fall-off `f` and its formula `h`, and `falloff` the line's.
     #[inline(always)]
     fn light(
         &self,
-        shade: impl Fn(Vec3A, SpecularFalloff) -> Vec3A,
+        shade: impl Fn(Vec3A, SpecularFalloff, Highlight) -> Vec3A,
         normal: Vec3A,
         _to_light: Vec3A,
         falloff: SpecularFalloff,
     ) -> Vec3A {
-        shade(normal, falloff)
+        shade(normal, falloff, Highlight::Course)
     }
 
     /// The t range in which a hit blocks a shadow ray toward a light `distance` away.
@@ -97,6 +110,13 @@ pub trait TraceSeam: Copy + Send + Sync {
     #[inline(always)]
     fn crossing_ratio(&self, index: f32, inside: bool) -> f32 {
         crossing_ratio(index, inside)
+    }
+
+    /// The refracted direction of unit `direction` through unit `normal` (facing against it)
+    /// with `ratio` = η_i / η_t; `None` on total internal reflection.
+    #[inline(always)]
+    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+        refract(direction, normal, ratio)
     }
 }
 
@@ -287,7 +307,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             world.intersect_packet_with(rays, t_min, hits, &mut ());
         }
         for (i, (ray, &hit)) in rays.iter().zip(hits.iter()).enumerate() {
-            let hit = self.variant.found(self.scene, ray, hit);
+            let hit = self.variant.found(self.scene, ray, t_min, hit);
             each(i, self.seen(ray, hit.as_ref(), colour, scratch), hit);
         }
     }
@@ -313,7 +333,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         } else {
             world.intersect(ray, t_min)
         };
-        self.variant.found(self.scene, ray, hit)
+        self.variant.found(self.scene, ray, t_min, hit)
     }
 
     #[inline(always)]
@@ -404,7 +424,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 BackFace::Shaded => {}
                 BackFace::Black => return Vec3A::ZERO,
                 BackFace::Ambient => {
-                    let diffuse = scene.materials.at(hit.material, point).diffuse();
+                    let diffuse = self.variant.surface(scene, hit.material, point).diffuse();
                     return self
                         .variant
                         .ambient(scene.ambient * diffuse, scene.lights.len());
@@ -412,17 +432,25 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             }
         }
         let normal = if inside { -hit.normal } else { hit.normal };
-        let surface = scene.materials.at(hit.material, point);
+        let surface = self.variant.surface(scene, hit.material, point);
         let mut colour = self
             .variant
             .ambient(scene.ambient * surface.diffuse(), scene.lights.len());
         for light in &scene.lights {
-            let Some(light) = light.illuminate(point) else {
+            let Some(light) = self.variant.illuminate(light, point) else {
                 continue;
             };
             let shaded = self.variant.light(
-                |normal, falloff| {
-                    surface.shade(normal, direction, light.to_light, light.colour, falloff)
+                |normal, falloff, highlight| {
+                    let to_light = light.to_light;
+                    surface.shade(
+                        normal,
+                        direction,
+                        to_light,
+                        light.colour,
+                        falloff,
+                        highlight,
+                    )
                 },
                 normal,
                 light.to_light,
@@ -467,7 +495,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 // Outside is air (index 1); which side the ray is on says which way it crosses.
                 let index = surface.index_of_refraction();
                 let ratio = self.variant.crossing_ratio(index, inside);
-                if let Some(refracted) = refract(unit, normal, ratio) {
+                if let Some(refracted) = self.variant.refract(unit, normal, ratio) {
                     spawn(transparent, refracted);
                 }
             }

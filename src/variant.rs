@@ -8,11 +8,13 @@
 //!
 //! - [`crate::camera::CameraSeam`]: where each pixel's ray goes through, the ray itself, and its
 //!   least t;
-//! - [`crate::trace::TraceSeam`]: the hit as found (its t, its normal), the ambient and light
-//!   terms, back faces, shadow rays' range, the epsilon of mirror and glass rays, and the
-//!   number of bounces;
+//! - [`crate::trace::TraceSeam`]: the hit as found (its t, its normal), the material's
+//!   textures at the hit, the light that reaches it, the ambient and light terms (the
+//!   highlight's formula among them), back faces, shadow rays' range, the epsilon of mirror and
+//!   glass rays, refraction, and the number of bounces;
 //! - [`crate::shade::PictureSeam`]: colours to bytes, and the normals and depth pictures;
-//! - [`crate::sample::SampleSeam`]: where a pixel's samples fall.
+//! - [`crate::sample::SampleSeam`]: where a pixel's samples fall, the filter, and how the
+//!   weighted samples make a pixel.
 //!
 //! A render chooses its variant once: the renderer is generic over it, so the course's own,
 //! [`Exact`], which keeps every default, compiles to the same code as calling the formulas

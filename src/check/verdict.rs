@@ -15,6 +15,9 @@ pub struct Group {
     pub code: Option<String>,
     /// The pictures' names, in the suite's order.
     pub images: Vec<String>,
+    /// Other faults whose renders match every one of these pictures too: the pictures cannot
+    /// tell them from `code`'s.
+    pub equals: Vec<String>,
 }
 
 /// Groups the failing pictures of `graded` by cause, after putting first, among each picture's
@@ -58,14 +61,23 @@ pub fn verdict(graded: &mut [Graded]) -> Vec<Group> {
         match g.findings.first().filter(|f| !f.is_guess()) {
             Some(finding) => {
                 let code = finding.code();
+                let others: Vec<String> = g.findings[1..]
+                    .iter()
+                    .filter(|f| matches!(f, Finding::Fault(_)))
+                    .map(Finding::code)
+                    .collect();
                 match groups
                     .iter_mut()
                     .find(|group| group.code.as_ref() == Some(&code))
                 {
-                    Some(group) => group.images.push(g.name.clone()),
+                    Some(group) => {
+                        group.images.push(g.name.clone());
+                        group.equals.retain(|c| others.contains(c));
+                    }
                     None => groups.push(Group {
                         code: Some(code),
                         images: vec![g.name.clone()],
+                        equals: others,
                     }),
                 }
             }
@@ -78,6 +90,7 @@ pub fn verdict(graded: &mut [Graded]) -> Vec<Group> {
         groups.push(Group {
             code: None,
             images: unexplained,
+            equals: Vec::new(),
         });
     }
     groups
@@ -102,14 +115,27 @@ pub fn entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
     let mut out = Vec::new();
     for (k, group) in groups.iter().enumerate() {
         let n = group.images.len();
+        let equally = if group.equals.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (or, as well, by {}: {} cannot tell them apart)",
+                group.equals.join(" or "),
+                if n == 1 {
+                    "that picture"
+                } else {
+                    "those pictures"
+                }
+            )
+        };
         let headline = match (&group.code, k) {
             (Some(code), 0) => format!(
-                "{n} of {failing} failing picture{} {} explained by {code}: fix it first, then \
-                 run check again",
+                "{n} of {failing} failing picture{} {} explained by {code}{equally}: fix it \
+                 first, then run check again",
                 plural(failing),
                 if n == 1 { "is" } else { "are" }
             ),
-            (Some(code), _) => format!("{n} more by {code}"),
+            (Some(code), _) => format!("{n} more by {code}{equally}"),
             (None, _) => format!(
                 "{n} failing picture{} no fault explains: {}",
                 plural(n),
@@ -118,9 +144,16 @@ pub fn entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
         };
         let details = group
             .code
-            .as_deref()
-            .and_then(faults_of)
-            .unwrap_or_default()
+            .iter()
+            .chain(&group.equals)
+            .filter_map(|code| faults_of(code))
+            .flatten()
+            .fold(Vec::new(), |mut seen, fault| {
+                if !seen.contains(&fault) {
+                    seen.push(fault);
+                }
+                seen
+            })
             .into_iter()
             .map(|fault| {
                 format!(
@@ -139,13 +172,14 @@ fn faults_of(code: &str) -> Option<Vec<&'static super::faults::Fault>> {
     code.split('+').map(super::faults::fault).collect()
 }
 
-/// The verdict as `summary.json` carries it: `{fault, lines}` for each group, biggest first,
-/// `fault` null for the pictures no fault explains.
+/// The verdict as `summary.json` carries it: `{fault, lines, equals}` for each group, biggest
+/// first, `fault` null for the pictures no fault explains, `equals` the other faults those
+/// pictures cannot tell from it.
 pub fn json(groups: &[Group]) -> Value {
     Value::Array(
         groups
             .iter()
-            .map(|g| json!({ "fault": g.code, "lines": g.images }))
+            .map(|g| json!({ "fault": g.code, "lines": g.images, "equals": g.equals }))
             .collect(),
     )
 }

@@ -4,9 +4,10 @@
 use glam::{Vec2, Vec3A};
 use rayon::prelude::*;
 
-use super::Filter;
+use super::{Filter, SampleSeam};
 use crate::shade::Image;
 use crate::shade::to_rgb;
+use crate::variant::Exact;
 
 /// The samples of an image: for pixel (i, j), i from the left and j from the bottom, and its
 /// sample k, entry `(j·width + i)·samples + k`.
@@ -46,11 +47,24 @@ impl Film {
         j: u32,
         value: impl Fn(&FilmSample) -> Vec3A,
     ) -> Vec3A {
+        self.filtered_as(Exact, filter, i, j, value)
+    }
+
+    /// [`Film::filtered`], the weighted samples summed up as `variant` does.
+    pub fn filtered_as(
+        &self,
+        variant: impl SampleSeam,
+        filter: Filter,
+        i: u32,
+        j: u32,
+        value: impl Fn(&FilmSample) -> Vec3A,
+    ) -> Vec3A {
         let reach = filter.support_radius() as i64;
         let n = self.samples as usize;
         let (centre_x, centre_y) = (i as f32 + 0.5, j as f32 + 0.5);
         let mut sum = Vec3A::ZERO;
         let mut total = 0.0;
+        let mut count = 0;
         let rows = (j as i64 - reach).max(0)..=(j as i64 + reach).min(self.height as i64 - 1);
         for pj in rows {
             let columns = (i as i64 - reach).max(0)..=(i as i64 + reach).min(self.width as i64 - 1);
@@ -63,12 +77,13 @@ impl Film {
                     if weight != 0.0 {
                         sum += value(sample) * weight;
                         total += weight;
+                        count += 1;
                     }
                 }
             }
         }
         if total > 0.0 {
-            return sum / total;
+            return variant.weighted_mean(sum, total, count);
         }
         let first = (j as usize * self.width as usize + i as usize) * n;
         let own: Vec3A = self.entries[first..first + n].iter().map(&value).sum();
@@ -79,6 +94,7 @@ impl Film {
     /// them.
     pub fn picture(
         &self,
+        variant: impl SampleSeam,
         filter: Filter,
         value: impl Fn(&FilmSample) -> Vec3A + Sync,
         to_pixel: impl Fn(Vec3A) -> [u8; 3] + Sync,
@@ -91,7 +107,7 @@ impl Film {
             .for_each(|(row, out)| {
                 let j = height - 1 - row as u32;
                 for (i, pixel) in out.iter_mut().enumerate() {
-                    *pixel = to_pixel(self.filtered(filter, i as u32, j, &value));
+                    *pixel = to_pixel(self.filtered_as(variant, filter, i as u32, j, &value));
                 }
             });
         Image {

@@ -38,6 +38,13 @@ pub trait SampleSeam: Copy + Send + Sync {
     fn filter(&self, filter: Filter) -> Filter {
         filter
     }
+
+    /// A pixel's value from the `count` samples its filter weighs: their weighted `sum`, and
+    /// the sum of their weights `total` (positive).
+    #[inline(always)]
+    fn weighted_mean(&self, sum: glam::Vec3A, total: f32, _count: u32) -> glam::Vec3A {
+        sum / total
+    }
 }
 
 impl SampleSeam for crate::variant::Exact {}

@@ -62,6 +62,25 @@ pub enum SpecularFalloff {
     Fade,
 }
 
+/// How a highlight is worked out: the course's Blinn-Torrance term, or one of the ways a
+/// student's tracer gets it wrong (check's fault library renders with those).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Highlight {
+    /// k_s max(N·H, 0)^q with H = normalize(L + V), V toward the eye, where N·L ≥ 0.
+    #[default]
+    Course,
+    /// (N·H)^q with N·H not clamped at 0, and worked out where the light is behind the surface
+    /// too (a negative base with a fractional exponent gives no highlight).
+    Unclamped,
+    /// H made from the ray's own direction, which points away from the eye: normalize(L + d).
+    HalfFromRay,
+    /// H = L + V, not made unit length.
+    HalfNotUnit,
+    /// Phong's mirror term (R·V)^q, R the light's direction mirrored about N, instead of
+    /// Blinn's (N·H)^q.
+    Mirror,
+}
+
 /// The scene's materials, asked by index.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Materials {
@@ -93,8 +112,16 @@ impl Material {
 impl Texture {
     /// Where `point` (world space) falls between the first material (0) and the second (1).
     pub fn weight(&self, point: Vec3A) -> f32 {
-        let p = self.to_texture.transform_point3(point.as_dvec3());
-        let weight = match self.pattern {
+        self.pattern
+            .weight(self.to_texture.transform_point3(point.as_dvec3()))
+    }
+}
+
+impl Pattern {
+    /// Where point `p` of texture space falls between the first material (0) and the second
+    /// (1).
+    pub fn weight(&self, p: glam::DVec3) -> f32 {
+        let weight = match *self {
             // Unit cubes alternate; the one at the origin (0 ≤ x, y, z < 1) is the first
             // material's.
             Pattern::Checkerboard => {
@@ -158,8 +185,20 @@ impl Materials {
     /// each light, the mirror and glass terms), instead of once a question.
     #[inline]
     pub fn at(&self, index: u32, point: Vec3A) -> Surface<'_> {
+        self.at_weighing(index, point, Texture::weight)
+    }
+
+    /// [`Materials::at`] with each texture's weight at a point given by `weight` (check's
+    /// faults of textures work it out as a student's tracer would).
+    #[inline]
+    pub fn at_weighing(
+        &self,
+        index: u32,
+        point: Vec3A,
+        weight: impl Fn(&Texture, Vec3A) -> f32,
+    ) -> Surface<'_> {
         let mut weights = ArrayVec::new();
-        self.weigh(index, point, &mut weights);
+        self.weigh(index, point, &weight, &mut weights);
         Surface {
             materials: self,
             index,
@@ -170,17 +209,23 @@ impl Materials {
     /// Pushes the weight of each texture that answering at `point` visits, in the order
     /// [`Surface::blend`] visits them (only one side where the pattern is all one or the other,
     /// as everywhere on a checkerboard).
-    fn weigh(&self, index: u32, point: Vec3A, weights: &mut ArrayVec<f32, MAX_TEXTURES_VISITED>) {
+    fn weigh(
+        &self,
+        index: u32,
+        point: Vec3A,
+        weight_of: &impl Fn(&Texture, Vec3A) -> f32,
+        weights: &mut ArrayVec<f32, MAX_TEXTURES_VISITED>,
+    ) {
         if let Material::Texture(texture) = self.get(index) {
-            let weight = texture.weight(point);
+            let weight = weight_of(texture, point);
             weights.push(weight);
             let [first, second] = texture.materials;
             match weight {
-                0.0 => self.weigh(first, point, weights),
-                1.0 => self.weigh(second, point, weights),
+                0.0 => self.weigh(first, point, weight_of, weights),
+                1.0 => self.weigh(second, point, weight_of, weights),
                 _ => {
-                    self.weigh(first, point, weights);
-                    self.weigh(second, point, weights);
+                    self.weigh(first, point, weight_of, weights);
+                    self.weigh(second, point, weight_of, weights);
                 }
             }
         }
@@ -244,8 +289,9 @@ impl Surface<'_> {
         to_light: Vec3A,
         light: Vec3A,
         falloff: SpecularFalloff,
+        highlight: Highlight,
     ) -> Vec3A {
-        self.blend(&|phong| phong.shade(normal, view, to_light, light, falloff))
+        self.blend(&|phong| phong.shade(normal, view, to_light, light, falloff, highlight))
     }
 
     /// What the mirror ray's colour is multiplied by.
@@ -270,9 +316,10 @@ impl Surface<'_> {
 
 impl Phong {
     /// Diffuse plus Blinn-Torrance specular, k_s (N·H)^q with H = normalize(L + V), as OpenGL
-    /// and the course's lecture have it; no distance term (point lights attenuate their colour).
-    /// `view` is the direction the eye looks along, of any length: it is normalised only for a
-    /// highlight, which most of the course's materials do not have.
+    /// and the course's lecture have it (for [`Highlight::Course`]); no distance term (point
+    /// lights attenuate their colour). `view` is the direction the eye looks along, of any
+    /// length: it is normalised only for a highlight, which most of the course's materials do
+    /// not have.
     #[inline]
     pub fn shade(
         &self,
@@ -281,17 +328,39 @@ impl Phong {
         to_light: Vec3A,
         light: Vec3A,
         falloff: SpecularFalloff,
+        highlight: Highlight,
     ) -> Vec3A {
         let n_dot_l = normal.dot(to_light);
         let mut colour = self.diffuse * n_dot_l.max(0.0);
-        if self.specular != Vec3A::ZERO && n_dot_l >= 0.0 {
+        let lit = n_dot_l >= 0.0 || highlight == Highlight::Unclamped;
+        if self.specular != Vec3A::ZERO && lit {
             let to_eye = -view.normalize();
-            let half = (to_light + to_eye).normalize_or_zero();
-            let mut highlight = normal.dot(half).max(0.0).powf(self.exponent);
+            let mut term = match highlight {
+                Highlight::Course => {
+                    let half = (to_light + to_eye).normalize_or_zero();
+                    normal.dot(half).max(0.0).powf(self.exponent)
+                }
+                Highlight::Unclamped => {
+                    let half = (to_light + to_eye).normalize_or_zero();
+                    let term = normal.dot(half).powf(self.exponent);
+                    if term.is_nan() { 0.0 } else { term }
+                }
+                Highlight::HalfFromRay => {
+                    let half = (to_light - to_eye).normalize_or_zero();
+                    normal.dot(half).max(0.0).powf(self.exponent)
+                }
+                Highlight::HalfNotUnit => {
+                    normal.dot(to_light + to_eye).max(0.0).powf(self.exponent)
+                }
+                Highlight::Mirror => {
+                    let mirrored = 2.0 * n_dot_l * normal - to_light;
+                    mirrored.dot(to_eye).max(0.0).powf(self.exponent)
+                }
+            };
             if falloff == SpecularFalloff::Fade {
-                highlight *= n_dot_l;
+                term *= n_dot_l;
             }
-            colour += self.specular * highlight;
+            colour += self.specular * term;
         }
         colour * light
     }
@@ -303,6 +372,52 @@ mod tests {
 
     use super::*;
     use crate::scene::perlin::noise;
+
+    #[test]
+    fn highlights_by_hand() {
+        let shiny = Phong {
+            diffuse: Vec3A::ZERO,
+            specular: Vec3A::ONE,
+            exponent: 2.0,
+            reflective: Vec3A::ZERO,
+            transparent: Vec3A::ZERO,
+            index_of_refraction: 1.0,
+        };
+        let highlight = |view: Vec3A, to_light: Vec3A, exponent: f32, highlight| {
+            let phong = Phong { exponent, ..shiny };
+            let cut = SpecularFalloff::Cut;
+            phong
+                .shade(Vec3A::Z, view, to_light, Vec3A::ONE, cut, highlight)
+                .x
+        };
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-4;
+        // The eye straight above (looking along −Z), the light at 45°.
+        let (above, at_45) = (-Vec3A::Z, Vec3A::new(1.0, 0.0, 1.0).normalize());
+        // H = normalize(L + V) = (0.3827, 0, 0.9239): (N·H)² = 0.8536.
+        assert!(close(
+            highlight(above, at_45, 2.0, Highlight::Course),
+            0.853_55
+        ));
+        // From the ray's direction, H = (0.9239, 0, −0.3827): N·H < 0, none.
+        assert_eq!(highlight(above, at_45, 2.0, Highlight::HalfFromRay), 0.0);
+        // L + V unnormalised: N·(L + V) = 1.7071, squared 2.9142.
+        assert!(close(
+            highlight(above, at_45, 2.0, Highlight::HalfNotUnit),
+            2.914_21
+        ));
+        // Phong's mirror: R = (−0.7071, 0, 0.7071), (R·V)² = 0.5.
+        assert!(close(highlight(above, at_45, 2.0, Highlight::Mirror), 0.5));
+        // The light behind the surface and the eye grazing: the course has none; unclamped,
+        // N·H = −0.88169, cubed −0.68541; a fractional power of it is no number: none.
+        let grazing = -Vec3A::new(1.0, 0.0, 0.2).normalize();
+        let behind = Vec3A::new(-1.0, 0.0, -1.0).normalize();
+        assert_eq!(highlight(grazing, behind, 3.0, Highlight::Course), 0.0);
+        assert!(close(
+            highlight(grazing, behind, 3.0, Highlight::Unclamped),
+            -0.685_41
+        ));
+        assert_eq!(highlight(grazing, behind, 2.5, Highlight::Unclamped), 0.0);
+    }
 
     fn texture(pattern: Pattern, to_texture: DMat4) -> Texture {
         Texture {
@@ -410,6 +525,7 @@ mod tests {
             Vec3A::Z,
             Vec3A::ONE,
             SpecularFalloff::Cut,
+            Highlight::Course,
         );
         assert!((shaded - blended).abs().max_element() < 1e-6);
         // A checkerboard of the noise texture and red: the noise in the origin's cube, red next

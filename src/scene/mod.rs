@@ -13,7 +13,7 @@ use glam::Vec3A;
 
 pub use builder::{BUILT_IN_CODE, MaterialRef, SceneBuilder};
 pub use light::{Illumination, Light};
-pub use material::{Material, Materials, Phong, SpecularFalloff, Surface, Texture};
+pub use material::{Highlight, Material, Materials, Phong, SpecularFalloff, Surface, Texture};
 
 use crate::accel::{World, WorldStats};
 use crate::camera::Camera;

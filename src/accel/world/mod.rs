@@ -12,6 +12,7 @@
 //!   compare the others with;
 //! - the hit record (`Hit`): what a search's winner becomes, its normal worked out once.
 
+mod as_student;
 mod brute_force;
 mod grid_search;
 mod nearest;

@@ -22,6 +22,32 @@ pub enum HitFault {
     NormalByMatrix,
     /// Normals carried by the inverse transpose but not made unit length again.
     NormalNotUnit,
+    /// Each object's t measured along its own space's ray made unit length.
+    ObjectSpaceT,
+    /// Triangles refused where the determinant of the handout's system is below this in
+    /// magnitude.
+    DeterminantEpsilon(f32),
+    /// Triangles refused where a barycentric coordinate is within this of an edge.
+    EdgeEpsilon(f32),
+    /// The grid's search stopped at the first cell with any hit in it.
+    FirstCellHit,
+}
+
+/// The handout's triangle test by Cramer's rule, for `ray` against corners a, b and c: the
+/// determinant of the system [a − b, a − c, d] and the barycentric β and γ of the point it
+/// meets.
+fn cramer(ray: &Ray, [a, b, c]: &[glam::Vec3; 3]) -> (f32, f32, f32) {
+    let (a, b, c) = (
+        glam::Vec3A::from(*a),
+        glam::Vec3A::from(*b),
+        glam::Vec3A::from(*c),
+    );
+    let (ab, ac, d) = (a - b, a - c, ray.direction);
+    let ae = a - ray.origin;
+    let det = ab.dot(ac.cross(d));
+    let beta = ae.dot(ac.cross(d)) / det;
+    let gamma = ab.dot(ae.cross(d)) / det;
+    (det, beta, gamma)
 }
 
 impl HitFault {
@@ -32,11 +58,34 @@ impl HitFault {
         }
     }
 
-    pub(super) fn found(&self, scene: &Scene, ray: &Ray, hit: Option<Hit>) -> Option<Hit> {
+    pub(super) fn found(
+        &self,
+        scene: &Scene,
+        ray: &Ray,
+        t_min: f32,
+        hit: Option<Hit>,
+    ) -> Option<Hit> {
         // Distances along the ray as a student's unit-direction ray would measure them.
         let length = ray.direction.length();
         match *self {
             HitFault::CameraTMin(_) => hit,
+            HitFault::ObjectSpaceT => scene.world.intersect_object_space_t(ray, t_min),
+            HitFault::FirstCellHit => scene.world.intersect_first_cell(ray, t_min),
+            HitFault::DeterminantEpsilon(epsilon) => {
+                scene
+                    .world
+                    .intersect_accepting(ray, t_min, |local, corners| {
+                        cramer(local, corners).0.abs() >= epsilon
+                    })
+            }
+            HitFault::EdgeEpsilon(epsilon) => {
+                scene
+                    .world
+                    .intersect_accepting(ray, t_min, |local, corners| {
+                        let (_, beta, gamma) = cramer(local, corners);
+                        beta >= epsilon && gamma >= epsilon && beta + gamma <= 1.0 - epsilon
+                    })
+            }
             HitFault::Limit(limit) => hit.filter(|h| h.t * length <= limit),
             HitFault::Nearer(near) => match hit {
                 Some(h) if h.t * length < near => scene.world.intersect(ray, near / length),
@@ -182,3 +231,193 @@ pub(super) const DEPTH_TMIN: Fault = Fault {
                tmin, and t nearer than -depth's TMIN is white, not skipped.",
     candidates: depth_tmin,
 };
+
+/// Whether the line's scene places something under a Transform that changes lengths.
+fn lengths_change(line: &LineScene) -> bool {
+    line.description.objects.iter().any(|o| {
+        o.transform.is_some_and(|t| {
+            let m = glam::DMat3::from_mat4(line.description.transforms[t as usize]);
+            !(m.transpose() * m).abs_diff_eq(glam::DMat3::IDENTITY, 1e-6)
+        })
+    })
+}
+
+pub(super) const OBJECT_SPACE_T: Fault = Fault {
+    name: "object_space_t",
+    assignment: 2,
+    sentence: "I normalise the ray after carrying it into a transformed object's space, so that \
+               object's t is not the world's: the nearer object can lose, and the hit point and \
+               depth are off.",
+    look_for: "Transform::intersect: carry the ray into object space without normalising its \
+               direction (then t means the same in both spaces), or convert the object-space t \
+               back by the direction's length.",
+    candidates: |line: &LineScene| {
+        if lengths_change(line) {
+            vec![Candidate::plain(Planted::Hit(HitFault::ObjectSpaceT))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+/// Whether the line's scene has triangles (loose, or of a mesh).
+fn has_triangles(line: &LineScene) -> bool {
+    line.scene.world.stats().triangles > 0
+}
+
+pub(super) const TRIANGLE_EPSILON: Fault = Fault {
+    name: "triangle_epsilon",
+    assignment: 2,
+    sentence: "My triangle test refuses hits by an absolute epsilon: on the determinant (small \
+               or thin triangles vanish) or on the barycentric coordinates (cracks along the \
+               edges).",
+    look_for: "The triangle test: a hit is refused only where the determinant is exactly 0 (or \
+               by an epsilon relative to the triangle's size), and β ≥ 0, γ ≥ 0, β + γ ≤ 1 \
+               without an epsilon.",
+    candidates: |line: &LineScene| {
+        if !has_triangles(line) {
+            return Vec::new();
+        }
+        let determinants = [1e-2f32, 1e-3, 1e-4, 1e-5, 1e-6].map(|e| {
+            Candidate::with(
+                Planted::Hit(HitFault::DeterminantEpsilon(e)),
+                "determinant_epsilon",
+                f64::from(e),
+            )
+        });
+        let edges = [1e-2f32, 1e-3].map(|e| {
+            Candidate::with(
+                Planted::Hit(HitFault::EdgeEpsilon(e)),
+                "edge_epsilon",
+                f64::from(e),
+            )
+        });
+        determinants.into_iter().chain(edges).collect()
+    },
+};
+
+pub(super) const GRID_FIRST_HIT: Fault = Fault {
+    name: "grid_first_hit",
+    assignment: 5,
+    sentence: "My grid walk returns the first hit found in a cell even when that hit lies beyond \
+               the cell, so an object listed in several cells can hide a nearer one.",
+    look_for: "The grid's ray march: a hit found while visiting a cell counts only if its t is \
+               within that cell (t ≤ the cell's exit); otherwise keep marching and compare with \
+               the later cells' hits.",
+    candidates: |line: &LineScene| {
+        let pictures = line.has_image() || line.has_depth_or_normals();
+        if line.scene.world.grid().is_some() && !line.options.trace.visualize_grid && pictures {
+            vec![Candidate::plain(Planted::Hit(HitFault::FirstCellHit))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use glam::{UVec3, Vec3A};
+
+    use super::*;
+    use crate::parse::parse_scene;
+
+    fn scene(objects: &str) -> Scene {
+        let text = format!(
+            "OrthographicCamera {{ center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }}
+             Background {{ color 0 0 0 ambientLight 1 1 1 }}
+             Materials {{ numMaterials 2 Material {{ diffuseColor 1 0 0 }}
+                 Material {{ diffuseColor 0 1 0 }} }}
+             {objects}"
+        );
+        let description = parse_scene(Path::new("t.txt"), &text).unwrap();
+        Scene::from_description(&description).unwrap()
+    }
+
+    fn found(fault: HitFault, scene: &Scene, ray: &Ray) -> Option<Hit> {
+        let hit = scene.world.intersect(ray, 0.0);
+        fault.found(scene, ray, 0.0, hit)
+    }
+
+    #[test]
+    fn object_space_t_by_hand() {
+        // A unit sphere scaled by 2 (the world's sphere of radius 2 about the origin), and a
+        // small sphere of radius 0.5 at z = 4 in front of it.
+        let scene = scene(
+            "Group { numObjects 2
+                 MaterialIndex 0 Transform { Scale 2 2 2 Sphere { center 0 0 0 radius 1 } }
+                 MaterialIndex 1 Sphere { center 0 0 4 radius 0.5 } }",
+        );
+        let ray = Ray::new(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z);
+        // The course: the small sphere at t = 5.5 (the big one is at 8).
+        assert_eq!(scene.world.intersect(&ray, 0.0).unwrap().t, 5.5);
+        // In object space the ray's direction has length 0.5: made unit, the big sphere's hit
+        // is at t = 8 × 0.5 = 4, which beats 5.5.
+        let hit = found(HitFault::ObjectSpaceT, &scene, &ray).unwrap();
+        assert_eq!((hit.t, hit.material, hit.normal), (4.0, 0, Vec3A::Z));
+        // t_min bounds the measured t: from 4.5 on, the big sphere's far side is at 12 × 0.5 =
+        // 6, and the small sphere's 5.5 wins.
+        let later = HitFault::ObjectSpaceT
+            .found(&scene, &ray, 4.5, None)
+            .unwrap();
+        assert_eq!((later.t, later.material), (5.5, 1));
+    }
+
+    #[test]
+    fn triangle_epsilons_by_hand() {
+        // A triangle of legs 0.01 in the plane z = 0, above a plane at z = −1. For a ray
+        // straight down the determinant of [a − b, a − c, d] is −1e-4.
+        let scene = scene(
+            "Group { numObjects 2
+                 MaterialIndex 0 Triangle { vertex0 0 0 0 vertex1 0.01 0 0 vertex2 0 0.01 0 }
+                 MaterialIndex 1 Plane { normal 0 0 1 offset -1 } }",
+        );
+        let down = |x: f32, y: f32| Ray::new(Vec3A::new(x, y, 10.0), -Vec3A::Z);
+        let inside = down(0.001, 0.001);
+        assert_eq!(
+            cramer(
+                &inside,
+                &[
+                    glam::Vec3::ZERO,
+                    glam::Vec3::new(0.01, 0.0, 0.0),
+                    glam::Vec3::new(0.0, 0.01, 0.0)
+                ]
+            )
+            .0,
+            -1e-4
+        );
+        let material = |fault, ray: &Ray| found(fault, &scene, ray).unwrap().material;
+        assert_eq!(material(HitFault::DeterminantEpsilon(1e-5), &inside), 0);
+        assert_eq!(material(HitFault::DeterminantEpsilon(1e-3), &inside), 1);
+        // (0.001, 0.001) has β = γ = 0.1; (0.00005, 0.005) has β = 0.005, within 0.01 of the
+        // edge γ's side.
+        assert_eq!(material(HitFault::EdgeEpsilon(1e-2), &inside), 0);
+        assert_eq!(
+            material(HitFault::EdgeEpsilon(1e-2), &down(0.000_05, 0.005)),
+            1
+        );
+        assert_eq!(
+            material(HitFault::EdgeEpsilon(1e-3), &down(0.000_05, 0.005)),
+            0
+        );
+    }
+
+    #[test]
+    fn a_grid_walk_that_trusts_its_first_hit() {
+        // A slanted triangle whose box fills the grid's four cells along x, met by a ray along
+        // +x at x = 3.5; a sphere at x = 2.5 in the third cell is nearer.
+        let mut scene = scene(
+            "Group { numObjects 2
+                 MaterialIndex 0 Triangle { vertex0 0 3.5 -5 vertex1 0 3.5 5 vertex2 4 -0.5 0 }
+                 MaterialIndex 1 Sphere { center 2.5 0 0 radius 0.4 } }",
+        );
+        scene.world.use_grid(UVec3::new(4, 1, 1)).unwrap();
+        let ray = Ray::new(Vec3A::new(-1.0, 0.0, 0.0), Vec3A::X);
+        let course = scene.world.intersect(&ray, 0.0).unwrap();
+        assert_eq!((course.material, course.t), (1, 3.1));
+        // The first cell lists the triangle, hit at t = 4.5 beyond the cell: trusted.
+        let first = found(HitFault::FirstCellHit, &scene, &ray).unwrap();
+        assert_eq!((first.material, first.t), (0, 4.5));
+    }
+}

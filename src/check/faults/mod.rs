@@ -14,6 +14,7 @@ mod pictures;
 mod rays;
 mod samples;
 mod shading;
+mod textures;
 
 use glam::Vec3A;
 
@@ -23,17 +24,17 @@ use crate::geometry::Ray;
 use crate::job::Options;
 use crate::parse::description::SceneDescription;
 use crate::sample::{Filter, SampleSeam, Sampler};
-use crate::scene::Scene;
-use crate::scene::SpecularFalloff;
+use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surface};
 use crate::shade::PictureSeam;
 use crate::trace::{BackFace, TraceSeam};
 
 pub use camera::CameraFault;
 pub use intersection::HitFault;
 pub use pictures::PictureFault;
-pub use rays::RayFault;
+pub use rays::{CriticalAngle, RayFault};
 pub use samples::SampleFault;
-pub use shading::ShadingFault;
+pub use shading::{Attenuation, ShadingFault};
+pub use textures::TextureFault;
 
 /// One mistake a student's tracer may make.
 #[derive(Debug)]
@@ -121,6 +122,8 @@ pub enum Planted {
     Ray(RayFault),
     /// Samples placed or filtered another way.
     Sample(SampleFault),
+    /// Textures weighed another way.
+    Texture(TextureFault),
 }
 
 /// Every fault the library knows, in the order they are tried and listed among equals.
@@ -148,18 +151,28 @@ pub static FAULTS: &[Fault] = &[
     pictures::PICTURE_BACKGROUND,
     pictures::NORMALS_SIGNED,
     shading::SPECULAR_FIX,
+    shading::SPECULAR_UNCLAMPED,
+    shading::HALF_VECTOR,
+    shading::ATTENUATION,
     rays::SHADOW_ACNE,
     rays::SHADOW_PAST_LIGHT,
     rays::REFLECTION_DIRECTION,
     rays::REFRACTION_INDEX,
+    rays::TOTAL_INTERNAL_REFLECTION,
     rays::BOUNCES_OFF_BY_ONE,
     rays::WEIGHT_CUTOFF,
     samples::JITTER_WHOLE_PIXEL,
     samples::UNIFORM_CORNERS,
     samples::FILTER_RADIUS,
+    samples::FILTER_WEIGHTS,
+    textures::CHECKER_TRUNCATION,
+    textures::TEXTURE_TRANSFORM,
     pictures::DEPTH_RANGE,
     intersection::NORMAL_TRANSFORM,
     intersection::NORMAL_LENGTH,
+    intersection::OBJECT_SPACE_T,
+    intersection::TRIANGLE_EPSILON,
+    intersection::GRID_FIRST_HIT,
 ];
 
 /// The fault of `name`.
@@ -278,6 +291,13 @@ impl Plant {
         })
     }
 
+    fn textures(&self) -> impl Iterator<Item = TextureFault> + '_ {
+        self.each().filter_map(|p| match p {
+            Planted::Texture(t) => Some(t),
+            _ => None,
+        })
+    }
+
     fn pictures(&self) -> impl Iterator<Item = PictureFault> + '_ {
         self.each().filter_map(|p| match p {
             Planted::Picture(p) => Some(p),
@@ -312,8 +332,18 @@ impl TraceSeam for Plant {
             .unwrap_or_else(|| camera.t_min())
     }
 
-    fn found(&self, scene: &Scene, ray: &Ray, hit: Option<Hit>) -> Option<Hit> {
-        self.hits().fold(hit, |hit, h| h.found(scene, ray, hit))
+    fn found(&self, scene: &Scene, ray: &Ray, t_min: f32, hit: Option<Hit>) -> Option<Hit> {
+        self.hits()
+            .fold(hit, |hit, h| h.found(scene, ray, t_min, hit))
+    }
+
+    fn surface<'s>(&self, scene: &'s Scene, material: u32, point: Vec3A) -> Surface<'s> {
+        match self.textures().next() {
+            Some(fault) => scene
+                .materials
+                .at_weighing(material, point, |t, p| fault.weight(t, p)),
+            None => scene.materials.at(material, point),
+        }
     }
 
     fn back_face(&self, shade_back: bool) -> BackFace {
@@ -331,22 +361,33 @@ impl TraceSeam for Plant {
             .fold(term, |term, s| s.ambient(term, lights))
     }
 
+    fn illuminate(&self, light: &Light, point: Vec3A) -> Option<Illumination> {
+        match self.shadings().find_map(|s| s.attenuation()) {
+            Some(way) => way.illuminate(light, point),
+            None => light.illuminate(point),
+        }
+    }
+
     fn light(
         &self,
-        shade: impl Fn(Vec3A, SpecularFalloff) -> Vec3A,
+        shade: impl Fn(Vec3A, SpecularFalloff, Highlight) -> Vec3A,
         normal: Vec3A,
         to_light: Vec3A,
         falloff: SpecularFalloff,
     ) -> Vec3A {
+        let course = Highlight::Course;
         let mut shadings = self.shadings();
         match (shadings.next(), shadings.next()) {
-            (None, _) => shade(normal, falloff),
-            (Some(s), None) => s.light(&shade, normal, to_light, falloff),
+            (None, _) => shade(normal, falloff, course),
+            (Some(s), None) => s.light(&shade, normal, to_light, falloff, course),
             (Some(first), Some(second)) => first.light(
-                &|n: Vec3A, f: SpecularFalloff| second.light(&shade, n, to_light, f),
+                &|n: Vec3A, f: SpecularFalloff, h: Highlight| {
+                    second.light(&shade, n, to_light, f, h)
+                },
                 normal,
                 to_light,
                 falloff,
+                course,
             ),
         }
     }
@@ -381,6 +422,12 @@ impl TraceSeam for Plant {
         self.rays()
             .find_map(|r| r.crossing_ratio(index, inside))
             .unwrap_or_else(|| crate::trace::crossing_ratio(index, inside))
+    }
+
+    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+        self.rays()
+            .find_map(|r| r.refract(direction, normal, ratio))
+            .or_else(|| crate::trace::refract(direction, normal, ratio))
     }
 }
 
@@ -420,6 +467,12 @@ impl SampleSeam for Plant {
 
     fn filter(&self, filter: Filter) -> Filter {
         self.samples().fold(filter, |f, s| s.filter(f))
+    }
+
+    fn weighted_mean(&self, sum: Vec3A, total: f32, count: u32) -> Vec3A {
+        self.samples()
+            .find_map(|s| s.weighted_mean(sum, count))
+            .unwrap_or(sum / total)
     }
 }
 

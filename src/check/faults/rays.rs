@@ -20,6 +20,19 @@ pub enum RayFault {
     Bounces(i32),
     /// `-weight` ignored: every mirror and glass ray is traced.
     NoCutoff,
+    /// A refracted ray traced even on total internal reflection, in the way of this form.
+    PastCriticalAngle(CriticalAngle),
+}
+
+/// What a student's refraction does where the square root's argument is negative.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CriticalAngle {
+    /// Takes it as 0: the ray leaves along the surface.
+    Grazing,
+    /// Takes its absolute value.
+    Absolute,
+    /// Keeps the ray's direction, unbent.
+    Straight,
 }
 
 impl RayFault {
@@ -57,6 +70,24 @@ impl RayFault {
             RayFault::MirrorSign => Some(direction + 2.0 * direction.dot(normal) * normal),
             _ => None,
         }
+    }
+
+    pub(super) fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+        let RayFault::PastCriticalAngle(way) = *self else {
+            return None;
+        };
+        let incoming = -direction;
+        let cos_in = normal.dot(incoming);
+        let k = 1.0 - ratio * ratio * (1.0 - cos_in * cos_in);
+        if k >= 0.0 {
+            return None;
+        }
+        let root = match way {
+            CriticalAngle::Grazing => 0.0,
+            CriticalAngle::Absolute => (-k).sqrt(),
+            CriticalAngle::Straight => return Some(direction),
+        };
+        Some(((ratio * cos_in - root) * normal - ratio * incoming).normalize())
     }
 
     pub(super) fn crossing_ratio(&self, index: f32, inside: bool) -> Option<f32> {
@@ -158,6 +189,37 @@ pub(super) const REFRACTION_INDEX: Fault = Fault {
     },
 };
 
+pub(super) const TOTAL_INTERNAL_REFLECTION: Fault = Fault {
+    name: "total_internal_reflection",
+    assignment: 4,
+    sentence: "Past the critical angle I still trace a refracted ray (form 0: along the surface, \
+               taking the square root of 0; 1: the root of the absolute value; 2: the ray \
+               unbent).",
+    look_for: "The refraction: where 1 - η²(1 - (N·I)²) is negative the light is totally \
+               reflected inside: trace no refracted ray there (the mirror ray, if the material \
+               reflects, is traced as usual).",
+    candidates: |line: &LineScene| {
+        if !(bounces(line) && has_material(line, true)) {
+            return Vec::new();
+        }
+        [
+            CriticalAngle::Grazing,
+            CriticalAngle::Absolute,
+            CriticalAngle::Straight,
+        ]
+        .into_iter()
+        .enumerate()
+        .map(|(form, way)| {
+            Candidate::with(
+                Planted::Ray(RayFault::PastCriticalAngle(way)),
+                "form",
+                form as f64,
+            )
+        })
+        .collect()
+    },
+};
+
 pub(super) const BOUNCES_OFF_BY_ONE: Fault = Fault {
     name: "bounces_off_by_one",
     assignment: 4,
@@ -199,3 +261,33 @@ pub(super) const WEIGHT_CUTOFF: Fault = Fault {
         }
     },
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: Vec3A, b: Vec3A) -> bool {
+        (a - b).abs().max_element() < 1e-5
+    }
+
+    #[test]
+    fn refraction_past_the_critical_angle_by_hand() {
+        // Inside glass of index 1.5 at 45°, past the critical angle of 41.8°: the course
+        // traces nothing; k = 1 − 2.25 (1 − 0.5) = −0.125.
+        let d = Vec3A::new(1.0, 1.0, 0.0).normalize();
+        let refract = |way| RayFault::PastCriticalAngle(way).refract(d, -Vec3A::Y, 1.5);
+        assert_eq!(crate::trace::refract(d, -Vec3A::Y, 1.5), None);
+        // √0: 1.5 cos 45° (−Y) + 1.5 d = (1.0607, 0, 0), along the surface.
+        assert!(close(refract(CriticalAngle::Grazing).unwrap(), Vec3A::X));
+        // √0.125 = 0.35355: (1.06066, 0.35355, 0) made unit.
+        let absolute = refract(CriticalAngle::Absolute).unwrap();
+        assert!(
+            close(absolute, Vec3A::new(0.948_683, 0.316_228, 0.0)),
+            "{absolute}"
+        );
+        assert_eq!(refract(CriticalAngle::Straight), Some(d));
+        // Short of the critical angle each leaves the course's ray alone.
+        let head_on = RayFault::PastCriticalAngle(CriticalAngle::Straight);
+        assert_eq!(head_on.refract(Vec3A::Y, -Vec3A::Y, 1.5), None);
+    }
+}

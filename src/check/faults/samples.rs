@@ -1,6 +1,6 @@
 //! Faults of assignment 7: where a pixel's samples fall, and how far the filter reaches.
 
-use glam::Vec2;
+use glam::{Vec2, Vec3A};
 
 use super::{Candidate, Fault, LineScene, Planted};
 use crate::sample::{Filter, Sampler};
@@ -14,6 +14,10 @@ pub enum SampleFault {
     UniformCorners,
     /// The filter's radius (or σ) times this.
     FilterScale(f32),
+    /// The weighted samples divided by their number, not by the sum of their weights.
+    DividedByCount,
+    /// The weighted samples divided by the number of samples a pixel has.
+    DividedByPixelSamples(u32),
 }
 
 impl SampleFault {
@@ -39,6 +43,14 @@ impl SampleFault {
                 }
             }
             _ => sampler.positions(seed, pixel, out),
+        }
+    }
+
+    pub(super) fn weighted_mean(&self, sum: Vec3A, count: u32) -> Option<Vec3A> {
+        match *self {
+            SampleFault::DividedByCount => Some(sum / count as f32),
+            SampleFault::DividedByPixelSamples(n) => Some(sum / n as f32),
+            _ => None,
         }
     }
 
@@ -113,3 +125,45 @@ pub(super) const FILTER_RADIUS: Fault = Fault {
             .collect()
     },
 };
+
+pub(super) const FILTER_WEIGHTS: Fault = Fault {
+    name: "filter_weights",
+    assignment: 7,
+    sentence: "I divide the filter's weighted sum by a count of samples (form 0: the samples \
+               weighed; 1: the samples of one pixel), not by the sum of their weights.",
+    look_for: "Film::getColor with a filter: Σ weight × colour over the samples within the \
+               support, divided by Σ weight, so that the weights need not add up to 1.",
+    candidates: |line: &LineScene| {
+        if line.options.sampling.is_plain() {
+            return Vec::new();
+        }
+        let per_pixel = line.options.sampling.sampler.samples();
+        [
+            SampleFault::DividedByCount,
+            SampleFault::DividedByPixelSamples(per_pixel),
+        ]
+        .into_iter()
+        .enumerate()
+        .map(|(form, fault)| Candidate::with(Planted::Sample(fault), "form", form as f64))
+        .collect()
+    },
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn weighted_sums_divided_by_a_count() {
+        let sum = Vec3A::splat(3.0);
+        assert_eq!(
+            SampleFault::DividedByCount.weighted_mean(sum, 4),
+            Some(Vec3A::splat(0.75))
+        );
+        assert_eq!(
+            SampleFault::DividedByPixelSamples(9).weighted_mean(sum, 4),
+            Some(Vec3A::splat(1.0 / 3.0))
+        );
+        assert_eq!(SampleFault::UniformCorners.weighted_mean(sum, 4), None);
+    }
+}

@@ -3,7 +3,8 @@
 use glam::Vec3A;
 
 use super::{Candidate, Fault, LineScene, Planted};
-use crate::scene::SpecularFalloff;
+use crate::parse::description::{LightSpec, MaterialSpec};
+use crate::scene::{Highlight, Illumination, Light, SpecularFalloff};
 use crate::trace::BackFace;
 
 /// How a student's tracer shades a hit.
@@ -25,6 +26,63 @@ pub enum ShadingFault {
     CosineTwice,
     /// Highlights faded by N·L without `-specular_fix`, or cut with it.
     SpecularFixSwapped,
+    /// The highlight worked out by another formula.
+    Highlight(Highlight),
+    /// A point light's attenuation worked out another way.
+    Attenuation(Attenuation),
+}
+
+/// How a student's tracer dims a point light with distance d, the file giving c, l and q.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Attenuation {
+    /// Not at all.
+    Ignored,
+    /// 1 / (c + l·d + q·d): the quadratic term without its square.
+    NotSquared,
+    /// 1 / (q + l·d + c·d²): the terms read in the wrong order.
+    Reversed,
+}
+
+impl Attenuation {
+    const ALL: [Attenuation; 3] = [
+        Attenuation::Ignored,
+        Attenuation::NotSquared,
+        Attenuation::Reversed,
+    ];
+
+    /// What the light's colour is divided by at distance `d`.
+    fn divisor(&self, [c, l, q]: [f32; 3], d: f32) -> f32 {
+        match self {
+            Attenuation::Ignored => 1.0,
+            Attenuation::NotSquared => c + l * d + q * d,
+            Attenuation::Reversed => q + l * d + c * d * d,
+        }
+    }
+
+    /// The light `light` sends to `point`, dimmed this way.
+    pub(super) fn illuminate(&self, light: &Light, point: Vec3A) -> Option<Illumination> {
+        let course = light.illuminate(point)?;
+        Some(match *light {
+            Light::Point {
+                colour,
+                attenuation,
+                ..
+            } => Illumination {
+                colour: colour / self.divisor(attenuation, course.distance),
+                ..course
+            },
+            Light::Directional { .. } => course,
+        })
+    }
+
+    /// Whether some distance dims the light differently than the course's divisor does.
+    fn differs(&self, [c, l, q]: [f32; 3]) -> bool {
+        match self {
+            Attenuation::Ignored => [c, l, q] != [1.0, 0.0, 0.0],
+            Attenuation::NotSquared => q != 0.0,
+            Attenuation::Reversed => c != q,
+        }
+    }
 }
 
 impl ShadingFault {
@@ -45,24 +103,38 @@ impl ShadingFault {
         }
     }
 
+    pub(super) fn attenuation(&self) -> Option<Attenuation> {
+        match *self {
+            ShadingFault::Attenuation(way) => Some(way),
+            _ => None,
+        }
+    }
+
     pub(super) fn light(
         &self,
-        shade: &dyn Fn(Vec3A, SpecularFalloff) -> Vec3A,
+        shade: &dyn Fn(Vec3A, SpecularFalloff, Highlight) -> Vec3A,
         normal: Vec3A,
         to_light: Vec3A,
         falloff: SpecularFalloff,
+        highlight: Highlight,
     ) -> Vec3A {
-        match self {
-            ShadingFault::AbsoluteCosine if normal.dot(to_light) < 0.0 => shade(-normal, falloff),
-            ShadingFault::CosineTwice => shade(normal, falloff) * normal.dot(to_light).max(0.0),
+        match *self {
+            ShadingFault::AbsoluteCosine if normal.dot(to_light) < 0.0 => {
+                shade(-normal, falloff, highlight)
+            }
+            ShadingFault::CosineTwice => {
+                shade(normal, falloff, highlight) * normal.dot(to_light).max(0.0)
+            }
             ShadingFault::SpecularFixSwapped => shade(
                 normal,
                 match falloff {
                     SpecularFalloff::Cut => SpecularFalloff::Fade,
                     SpecularFalloff::Fade => SpecularFalloff::Cut,
                 },
+                highlight,
             ),
-            _ => shade(normal, falloff),
+            ShadingFault::Highlight(student) => shade(normal, falloff, student),
+            _ => shade(normal, falloff, highlight),
         }
     }
 }
@@ -180,9 +252,14 @@ pub(super) const COSINE_TWICE: Fault = Fault {
 /// Whether any material of the line's scene has a highlight.
 fn has_highlights(line: &LineScene) -> bool {
     line.description.materials.iter().any(|m| match m {
-        crate::parse::description::MaterialSpec::Phong(p) => p.specular != glam::Vec3::ZERO,
-        crate::parse::description::MaterialSpec::Texture(_) => false,
+        MaterialSpec::Phong(p) => p.specular != glam::Vec3::ZERO,
+        MaterialSpec::Texture(_) => false,
     })
+}
+
+/// Whether the line's picture shows highlights.
+fn highlights_show(line: &LineScene) -> bool {
+    line.has_image() && has_highlights(line) && !line.scene.lights.is_empty()
 }
 
 pub(super) const SPECULAR_FIX: Fault = Fault {
@@ -193,10 +270,121 @@ pub(super) const SPECULAR_FIX: Fault = Fault {
     look_for: "The specular term: without -specular_fix it is cut where N·L < 0 and not faded; \
                with it, multiplied by N·L (the handout's fix).",
     candidates: |line: &LineScene| {
-        if line.has_image() && has_highlights(line) && !line.scene.lights.is_empty() {
+        if highlights_show(line) {
             only(ShadingFault::SpecularFixSwapped)
         } else {
             Vec::new()
         }
     },
 };
+
+pub(super) const SPECULAR_UNCLAMPED: Fault = Fault {
+    name: "specular_unclamped",
+    assignment: 3,
+    sentence: "My highlight is (N·H)^q without clamping N·H at 0, worked out even where the light \
+               is behind the surface.",
+    look_for: "The specular term: max(N·H, 0)^q, and none at all where N·L < 0 (clamp the \
+               specular term as the diffuse one is clamped).",
+    candidates: |line: &LineScene| {
+        if highlights_show(line) {
+            only(ShadingFault::Highlight(Highlight::Unclamped))
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const HALF_VECTOR: Fault = Fault {
+    name: "half_vector",
+    assignment: 3,
+    sentence: "My highlight's half vector is not normalize(L + V) with V pointing toward the eye \
+               (form 0: V taken as the ray's direction; 1: L + V not normalised; 2: Phong's \
+               (R·V)^q instead of (N·H)^q).",
+    look_for: "The specular term: H = normalize(L + V), L toward the light and V toward the \
+               eye (minus the ray's direction), both unit; then k_s (N·H)^q.",
+    candidates: |line: &LineScene| {
+        if !highlights_show(line) {
+            return Vec::new();
+        }
+        [
+            Highlight::HalfFromRay,
+            Highlight::HalfNotUnit,
+            Highlight::Mirror,
+        ]
+        .into_iter()
+        .enumerate()
+        .map(|(form, h)| {
+            Candidate::with(
+                Planted::Shading(ShadingFault::Highlight(h)),
+                "form",
+                form as f64,
+            )
+        })
+        .collect()
+    },
+};
+
+pub(super) const ATTENUATION: Fault = Fault {
+    name: "attenuation",
+    assignment: 4,
+    sentence: "My point lights dim with distance the wrong way (form 0: not at all; 1: q·d \
+               where q·d² is meant; 2: the constant and quadratic terms swapped).",
+    look_for: "A point light's colour at distance d is divided by c + l·d + q·d², with c, l \
+               and q in the order the file gives them after `attenuation`.",
+    candidates: |line: &LineScene| {
+        if !line.has_image() {
+            return Vec::new();
+        }
+        let terms: Vec<[f32; 3]> = line
+            .description
+            .lights
+            .iter()
+            .filter_map(|l| match l {
+                LightSpec::Point { attenuation, .. } => Some(*attenuation),
+                LightSpec::Directional { .. } => None,
+            })
+            .collect();
+        Attenuation::ALL
+            .into_iter()
+            .enumerate()
+            .filter(|(_, way)| terms.iter().any(|t| way.differs(*t)))
+            .map(|(form, way)| {
+                Candidate::with(
+                    Planted::Shading(ShadingFault::Attenuation(way)),
+                    "form",
+                    form as f64,
+                )
+            })
+            .collect()
+    },
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn attenuation_divisors_by_hand() {
+        let terms = [1.0, 0.5, 0.25];
+        // The course's at d = 2: 1 + 1 + 1 = 3.
+        assert_eq!(Attenuation::Ignored.divisor(terms, 2.0), 1.0);
+        assert_eq!(Attenuation::NotSquared.divisor(terms, 2.0), 2.5);
+        assert_eq!(Attenuation::Reversed.divisor(terms, 2.0), 5.25);
+        assert!(!Attenuation::Ignored.differs([1.0, 0.0, 0.0]));
+        assert!(!Attenuation::NotSquared.differs([1.0, 0.5, 0.0]));
+        assert!(!Attenuation::Reversed.differs([0.5, 1.0, 0.5]));
+        // A point light of colour 3 at distance 2 (c = 1, l = 0.5, q = 0.25).
+        let light = Light::Point {
+            position: Vec3A::new(0.0, 2.0, 0.0),
+            colour: Vec3A::splat(3.0),
+            attenuation: terms,
+        };
+        let course = light.illuminate(Vec3A::ZERO).unwrap();
+        assert_eq!(course.colour, Vec3A::ONE);
+        let lit = Attenuation::NotSquared
+            .illuminate(&light, Vec3A::ZERO)
+            .unwrap();
+        assert_eq!(lit.colour, Vec3A::splat(1.2));
+        assert_eq!((lit.to_light, lit.distance), (Vec3A::Y, 2.0));
+    }
+}

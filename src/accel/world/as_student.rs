@@ -1,0 +1,112 @@
+//! Searches as a student's tracer makes them, for check's fault library: the same surfaces,
+//! measured or accepted another way. Slower than the course's searches (no packets, several
+//! passes), which is no matter for the course's small pictures.
+
+use std::ops::ControlFlow;
+
+use glam::Vec3;
+
+use super::{Found, Hit, Item, Nearest, World, search_limit};
+use crate::geometry::{Ray, intersect_sphere};
+
+/// The most hits one search skips before it gives up on a ray (a mesh whose every triangle
+/// along the ray is refused).
+const MOST_REFUSED: usize = 64;
+
+impl World {
+    /// The nearest hit when each object measures t along the ray in its own space made unit
+    /// length (a tracer that normalises the ray after carrying it into an object's space),
+    /// and the objects' t are compared, bounded by `t_min` and reported as such. The reported
+    /// t is the world ray's parameter that such a t names.
+    pub fn intersect_object_space_t(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        let world_length = ray.direction.length();
+        // The nearest so far: its t as the student measures it, its world parameter, and what.
+        let mut nearest: Option<(f32, f32, Found)> = None;
+        if let Some(plane) = self.nearest_plane(ray, t_min / world_length) {
+            nearest = Some((plane.t * world_length, plane.t, plane.found));
+        }
+        for (i, item) in self.items.iter().enumerate() {
+            let local = self.ray_into(item, ray);
+            let length = local.direction.length();
+            let limit = nearest.map_or(f32::INFINITY, |n| n.0 / length);
+            let hit = match *item {
+                Item::Sphere { sphere, .. } => {
+                    intersect_sphere(&local, &sphere, t_min / length, limit).map(|t| (t, 0))
+                }
+                Item::Mesh { mesh, .. } => {
+                    self.meshes[mesh as usize].intersect(&local, t_min / length, limit)
+                }
+            };
+            if let Some((t, triangle)) = hit {
+                let found = Found::Item {
+                    item: i as u32,
+                    triangle,
+                };
+                nearest = Some((t * length, t, found));
+            }
+        }
+        let (measured, t, found) = nearest?;
+        Some(Hit {
+            t: measured / world_length,
+            ..self.hit(ray, t, found)
+        })
+    }
+
+    /// The nearest hit that `accepts` takes: a triangle is offered with the ray in its object's
+    /// space and its corners there (a tracer whose triangle test refuses some hits the
+    /// course's takes); spheres and planes are taken as they are.
+    pub fn intersect_accepting(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        accepts: impl Fn(&Ray, &[Vec3; 3]) -> bool,
+    ) -> Option<Hit> {
+        let mut from = t_min;
+        for _ in 0..MOST_REFUSED {
+            let mut nearest = self.nearest_plane(ray, from);
+            match &self.grid {
+                Some(grid) => self.grid_nearest(grid, ray, from, &mut nearest, &mut ()),
+                None => self.nearest_item(ray, from, &mut nearest, &mut ()),
+            }
+            let Nearest { t, found, .. } = nearest?;
+            if let Found::Item { item, triangle } = found {
+                let item = &self.items[item as usize];
+                if let Item::Mesh { mesh, .. } = *item {
+                    let corners = &self.meshes[mesh as usize].triangles()[triangle as usize];
+                    if !accepts(&self.ray_into(item, ray), corners) {
+                        from = t.next_up();
+                        continue;
+                    }
+                }
+            }
+            return Some(self.hit(ray, t, found));
+        }
+        None
+    }
+
+    /// The grid's search stopped at the first cell in which any primitive is hit, whether or
+    /// not the hit lies inside that cell (a tracer that trusts a hit before the cells it
+    /// crosses later are searched). Without a grid, the course's search.
+    pub fn intersect_first_cell(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        let Some(grid) = &self.grid else {
+            return self.intersect(ray, t_min);
+        };
+        let mut nearest = self.nearest_plane(ray, t_min);
+        let mut local = None;
+        grid.walk(ray, t_min, search_limit(&nearest), |cell| {
+            let mut hit_here = false;
+            for p in cell.primitives {
+                let limit = search_limit(&nearest);
+                if let Some(t) = self.intersect_primitive(p, ray, t_min, limit, &mut local) {
+                    hit_here |= Nearest::item(t, p.item, p.triangle).replaces(&mut nearest);
+                }
+            }
+            if hit_here {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+}
