@@ -90,4 +90,7 @@ pub enum Error {
     /// A request that cannot be met, found before any work is done.
     #[error("{0}")]
     Refused(String),
+    /// The preview could not be served (its port taken, say).
+    #[error("raycast: preview: {0}")]
+    Preview(String),
 }

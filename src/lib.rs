@@ -52,6 +52,7 @@ pub mod image_io;
 pub mod inspect;
 pub mod job;
 pub mod parse;
+pub mod preview;
 pub mod render;
 pub mod sample;
 pub mod scene;

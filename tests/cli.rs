@@ -796,7 +796,7 @@ fn bounces_and_weight_values() {
             assert_eq!(trace.cutoff_weight, 0.01);
             assert!(trace.shadows && trace.shade_back);
             assert_eq!(trace.specular, raycast::scene::SpecularFalloff::Fade);
-            assert!(!options.preview);
+            assert!(!options.preview.named());
         }
         other => panic!("{other:?}"),
     }

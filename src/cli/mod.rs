@@ -7,7 +7,7 @@ mod completions;
 mod stats;
 
 use std::ffi::OsString;
-use std::io::{Read, Write};
+use std::io::{IsTerminal, Read, Write};
 use std::path::Path;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -54,14 +54,30 @@ pub fn run(args: Vec<OsString>) -> ExitCode {
             ExitCode::SUCCESS
         }
         Ok(Command::Render(options)) => {
-            if options.preview {
+            let preview = &options.preview;
+            if !preview.gui && (preview.port.is_some() || preview.no_browser) {
+                return refuse("-port and -no-browser serve -gui's preview: add -gui");
+            }
+            let live = preview.gui && (preview.port.is_some() || std::io::stdin().is_terminal());
+            if preview.gui && !live {
                 say(
                     std::io::stderr(),
-                    "raycast: -gui, -tessellation and -gouraud drive the course's OpenGL preview, \
-                     which raycast does not have; they are ignored (the image is the same)",
+                    "raycast: -gui: standard input is not a terminal, so no preview is served \
+                     (add -port N to serve one); the images are written as without -gui",
                 );
             }
-            match execute(&options) {
+            if live && options.outputs().iter().any(|(_, path)| is_stdio(path)) {
+                return refuse(
+                    "-gui prints the preview's address on standard output: write the images to \
+                     files, not -",
+                );
+            }
+            let result = if live {
+                crate::preview::serve(&options, &mut std::io::stdout(), || execute(&options))
+            } else {
+                execute(&options)
+            };
+            match result {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(error) => {
                     say(std::io::stderr(), &error.to_string());

@@ -153,22 +153,22 @@ pub const OPTIONS: &[OptionSpec] = &[
         "gui",
         "",
         Group::Phong,
-        "the course's OpenGL preview: accepted and ignored",
-        read_preview,
+        "the course's preview, in the browser (from a terminal, or with -port)",
+        read_gui,
     ),
     spec(
         "tessellation",
         "THETA PHI",
         Group::Phong,
-        "the preview's sphere steps: accepted and ignored",
+        "the preview's sphere steps around and pole to pole (default 20 10)",
         read_tessellation,
     ),
     spec(
         "gouraud",
         "",
         Group::Phong,
-        "the preview's smooth shading: accepted and ignored",
-        read_preview,
+        "the preview's spheres smooth, a normal per vertex",
+        read_gouraud,
     ),
     spec(
         "shadows",
@@ -290,6 +290,20 @@ pub const OPTIONS: &[OptionSpec] = &[
         read_threads,
     ),
     spec(
+        "port",
+        "N",
+        Group::Own,
+        "serve -gui's preview on port N (0: any free one), even without a terminal",
+        read_port,
+    ),
+    spec(
+        "no-browser",
+        "",
+        Group::Own,
+        "with -gui, print the preview's address without opening a browser",
+        read_no_browser,
+    ),
+    spec(
         "inspect",
         "X Y",
         Group::Own,
@@ -385,8 +399,8 @@ pub struct Options {
     pub render_samples: Option<(PathBuf, u32)>,
     /// `-render_filter FILE ZOOM`.
     pub render_filter: Option<(PathBuf, u32)>,
-    /// The course's OpenGL preview was asked for (`-gui`, `-tessellation`, `-gouraud`).
-    pub preview: bool,
+    /// The course's preview: `-gui` and how it draws and is served.
+    pub preview: PreviewOptions,
     /// `-threads N`; `None` for one per core.
     pub threads: Option<usize>,
     /// `-stats`.
@@ -589,16 +603,58 @@ fn read_weight(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
     Ok(())
 }
 
-fn read_preview(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
-    draft.options.preview = true;
+/// The course's preview (`-gui`), and how it draws and is served.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PreviewOptions {
+    /// `-gui`: show the scene in the browser, from a terminal or with `-port`.
+    pub gui: bool,
+    /// `-tessellation THETA PHI`: a sphere's steps around its axis and from pole to pole.
+    pub tessellation: Option<(u32, u32)>,
+    /// `-gouraud`: spheres with a normal per vertex instead of one per face.
+    pub gouraud: bool,
+    /// `-port N`: the port to serve on (0: any free one); it also starts the preview when
+    /// standard input is not a terminal.
+    pub port: Option<u16>,
+    /// `-no-browser`: print the address only.
+    pub no_browser: bool,
+}
+
+impl PreviewOptions {
+    /// Whether the line names any of the preview's options.
+    pub fn named(&self) -> bool {
+        self.gui
+            || self.tessellation.is_some()
+            || self.gouraud
+            || self.port.is_some()
+            || self.no_browser
+    }
+}
+
+fn read_gui(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.preview.gui = true;
+    Ok(())
+}
+
+fn read_gouraud(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.preview.gouraud = true;
     Ok(())
 }
 
 fn read_tessellation(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
     let what = "the preview's THETA and PHI steps";
-    positive(&values.next(what)?, "-tessellation", "THETA")?;
-    positive(&values.next(what)?, "-tessellation", "PHI")?;
-    draft.options.preview = true;
+    let theta = positive(&values.next(what)?, "-tessellation", "THETA")?;
+    let phi = positive(&values.next(what)?, "-tessellation", "PHI")?;
+    draft.options.preview.tessellation = Some((theta, phi));
+    Ok(())
+}
+
+fn read_port(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    draft.options.preview.port = Some(values.whole("a port number", 0..=u16::MAX)?);
+    Ok(())
+}
+
+fn read_no_browser(draft: &mut Draft, _: &mut Values) -> Result<(), String> {
+    draft.options.preview.no_browser = true;
     Ok(())
 }
 
@@ -846,7 +902,7 @@ fn check_outputs(options: &Options) -> Result<(), String> {
     let outputs = options.outputs();
     // The course's preview-only lines (`-gui` and no image): the scene is still read and
     // checked, and raycast says it has no preview.
-    if outputs.is_empty() && !options.preview && options.inspect.is_none() {
+    if outputs.is_empty() && !options.preview.named() && options.inspect.is_none() {
         return Err(
             "nothing to write: give -output, -normals, -depth, -render_samples or -render_filter"
                 .into(),

@@ -309,6 +309,38 @@ fn ellipsoid_bounds(sphere: &Sphere, matrix: &DMat4) -> Aabb {
 }
 
 /// Reads each mesh file once, however often the scene places it.
+/// Where the mesh file `file`, named at `span` of the scene file `scene`, is: beside the scene
+/// file first, then (for a relative name) in the working directory.
+pub fn find_mesh(scene: &Path, file: &str, span: crate::error::Span) -> Result<PathBuf, Error> {
+    let beside_scene = scene.parent().unwrap_or(Path::new("")).join(file);
+    let mut tried = vec![beside_scene];
+    // A scene in the working directory has both places the same: name it once in messages.
+    let plain = |p: &Path| {
+        p.components()
+            .filter(|c| *c != Component::CurDir)
+            .collect::<PathBuf>()
+    };
+    if Path::new(file).is_relative() && plain(&tried[0]) != plain(Path::new(file)) {
+        tried.push(PathBuf::from(file));
+    }
+    match tried.iter().find(|p| p.is_file()) {
+        Some(found) => Ok(found.clone()),
+        None => {
+            let looked = tried
+                .iter()
+                .map(|p| format!("'{}'", p.display()))
+                .collect::<Vec<_>>()
+                .join(" and ");
+            Err(Diagnostic::new(
+                scene,
+                span,
+                format!("cannot open mesh file '{file}': looked for {looked}"),
+            )
+            .into())
+        }
+    }
+}
+
 struct MeshLoader<'a> {
     scene: &'a Path,
     by_path: HashMap<PathBuf, u32>,
@@ -327,30 +359,8 @@ impl<'a> MeshLoader<'a> {
     }
 
     fn load(&mut self, file: &str, span: crate::error::Span) -> Result<u32, Error> {
-        let beside_scene = self.scene.parent().unwrap_or(Path::new("")).join(file);
-        let mut tried = vec![beside_scene];
-        // A scene in the working directory has both places the same: name it once in messages.
-        let plain = |p: &Path| {
-            p.components()
-                .filter(|c| *c != Component::CurDir)
-                .collect::<PathBuf>()
-        };
-        if Path::new(file).is_relative() && plain(&tried[0]) != plain(Path::new(file)) {
-            tried.push(PathBuf::from(file));
-        }
-        let Some(found) = tried.iter().find(|p| p.is_file()) else {
-            let looked = tried
-                .iter()
-                .map(|p| format!("'{}'", p.display()))
-                .collect::<Vec<_>>()
-                .join(" and ");
-            return Err(Diagnostic::new(
-                self.scene,
-                span,
-                format!("cannot open mesh file '{file}': looked for {looked}"),
-            )
-            .into());
-        };
+        let found = find_mesh(self.scene, file, span)?;
+        let found = &found;
         let key = found.canonicalize().unwrap_or_else(|_| found.clone());
         if let Some(&index) = self.by_path.get(&key) {
             return Ok(index);

@@ -11,6 +11,7 @@ use std::time::Duration;
 
 use glam::Vec3A;
 
+pub use build::find_mesh;
 pub use builder::{BUILT_IN_CODE, MaterialRef, SceneBuilder};
 pub use light::{Illumination, Light};
 pub use material::{Highlight, Material, Materials, Phong, SpecularFalloff, Surface, Texture};

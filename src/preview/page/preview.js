@@ -1,0 +1,397 @@
+// raycast's preview: the scene as the course's OpenGL viewer draws it, in WebGL2.
+//
+// The viewer lit each vertex with OpenGL 1.x's fixed-function model (local viewer, two-sided,
+// the scene's ambient light, GL_NORMALIZE) and interpolated the colours; the vertex shader
+// below computes the same sum, in world space (the view matrix is a rigid motion, under which
+// the eye-space sum is the same). The camera moves as the staff's viewer moves it.
+"use strict";
+
+const token = new URLSearchParams(location.search).get("token") || "";
+const withToken = (path) => `${path}${path.includes("?") ? "&" : "?"}token=${encodeURIComponent(token)}`;
+
+const canvas = document.getElementById("preview");
+const gl = canvas.getContext("webgl2", {
+  antialias: false,
+  preserveDrawingBuffer: true,
+  depth: true,
+  alpha: false,
+});
+
+const MAX_LIGHTS = 8;
+
+const vertexSource = `#version 300 es
+in vec3 position;
+in vec3 normal;
+uniform mat4 viewProjection;
+uniform vec3 eye;
+uniform vec3 sceneAmbient;
+uniform vec3 ambientMaterial;
+uniform vec3 diffuseMaterial;
+uniform vec3 specularMaterial;
+uniform float shininess;
+uniform int lightCount;
+uniform vec4 lightPosition[${MAX_LIGHTS}];
+uniform vec3 lightColour[${MAX_LIGHTS}];
+out vec3 frontColour;
+out vec3 backColour;
+
+vec3 lit(vec3 n) {
+  vec3 c = ambientMaterial * sceneAmbient;
+  vec3 toEye = normalize(eye - position);
+  for (int i = 0; i < ${MAX_LIGHTS}; i++) {
+    if (i >= lightCount) break;
+    vec4 at = lightPosition[i];
+    vec3 toLight = at.w == 0.0 ? normalize(at.xyz) : normalize(at.xyz - position);
+    float nl = dot(n, toLight);
+    c += diffuseMaterial * lightColour[i] * max(nl, 0.0);
+    if (nl > 0.0) {
+      float nh = max(dot(n, normalize(toLight + toEye)), 0.0);
+      float highlight = shininess == 0.0 ? 1.0 : pow(nh, shininess);
+      c += specularMaterial * lightColour[i] * highlight;
+    }
+  }
+  return clamp(c, 0.0, 1.0);
+}
+
+void main() {
+  vec3 n = normalize(normal);
+  frontColour = lit(n);
+  backColour = lit(-n);
+  gl_Position = viewProjection * vec4(position, 1.0);
+}`;
+
+const fragmentSource = `#version 300 es
+precision highp float;
+in vec3 frontColour;
+in vec3 backColour;
+out vec4 colour;
+void main() {
+  colour = vec4(gl_FrontFacing ? frontColour : backColour, 1.0);
+}`;
+
+function compile(type, source) {
+  const shader = gl.createShader(type);
+  gl.shaderSource(shader, source);
+  gl.compileShader(shader);
+  if (!gl.getShaderParameter(shader, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(shader));
+  return shader;
+}
+
+const program = gl.createProgram();
+gl.attachShader(program, compile(gl.VERTEX_SHADER, vertexSource));
+gl.attachShader(program, compile(gl.FRAGMENT_SHADER, fragmentSource));
+gl.linkProgram(program);
+if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
+const uniform = {};
+for (const name of ["viewProjection", "eye", "sceneAmbient", "ambientMaterial", "diffuseMaterial",
+  "specularMaterial", "shininess", "lightCount", "lightPosition", "lightColour"]) {
+  uniform[name] = gl.getUniformLocation(program, name);
+}
+const vertexArray = gl.createVertexArray();
+const buffer = gl.createBuffer();
+gl.bindVertexArray(vertexArray);
+gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+for (const [name, offset] of [["position", 0], ["normal", 12]]) {
+  const at = gl.getAttribLocation(program, name);
+  gl.enableVertexAttribArray(at);
+  gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 24, offset);
+}
+
+// ---- Vectors and matrices (column-major, as OpenGL's) ----
+const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+const scale = (a, s) => [a[0] * s, a[1] * s, a[2] * s];
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+const normalize = (a) => { const l = Math.hypot(a[0], a[1], a[2]); return l > 0 ? scale(a, 1 / l) : a; };
+
+function multiply(a, b) {
+  const out = new Array(16).fill(0);
+  for (let c = 0; c < 4; c++) for (let r = 0; r < 4; r++) for (let k = 0; k < 4; k++) out[c * 4 + r] += a[k * 4 + r] * b[c * 4 + k];
+  return out;
+}
+
+// gluLookAt
+function lookAt(eye, target, up) {
+  const f = normalize(sub(target, eye));
+  const s = normalize(cross(f, up));
+  const u = cross(s, f);
+  return [s[0], u[0], -f[0], 0, s[1], u[1], -f[1], 0, s[2], u[2], -f[2], 0,
+    -dot(s, eye), -dot(u, eye), dot(f, eye), 1];
+}
+
+// glOrtho
+function ortho(l, r, b, t, n, f) {
+  return [2 / (r - l), 0, 0, 0, 0, 2 / (t - b), 0, 0, 0, 0, -2 / (f - n), 0,
+    -(r + l) / (r - l), -(t + b) / (t - b), -(f + n) / (f - n), 1];
+}
+
+// gluPerspective, fovy in degrees
+function perspective(fovy, aspect, n, f) {
+  const c = 1 / Math.tan((fovy * Math.PI) / 360);
+  return [c / aspect, 0, 0, 0, 0, c, 0, 0, 0, 0, (f + n) / (n - f), -1, 0, 0, (2 * f * n) / (n - f), 0];
+}
+
+// The staff's Matrix::MakeAxisRotation (Rodrigues), applied to a vector.
+function rotate(v, axis, angle) {
+  const [x, y, z] = axis;
+  const c = Math.cos(angle), s = Math.sin(angle), t = 1 - c;
+  return [
+    (t * x * x + c) * v[0] + (t * x * y - s * z) * v[1] + (t * x * z + s * y) * v[2],
+    (t * x * y + s * z) * v[0] + (t * y * y + c) * v[1] + (t * y * z - s * x) * v[2],
+    (t * x * z - s * y) * v[0] + (t * y * z + s * x) * v[1] + (t * z * z + c) * v[2],
+  ];
+}
+
+// ---- The camera, as the staff's camera_additions move it ----
+const NEAR = 0.5, FAR = 40.0;
+let fileCamera = null;
+let camera = null;
+
+function cameraFrom(spec) {
+  return {
+    kind: spec.kind,
+    center: spec.center.slice(),
+    direction: normalize(spec.direction),
+    // The file's up, kept: "screen up" is worked out from it at each move.
+    up: normalize(spec.up),
+    size: spec.size,
+    angle: spec.angle,
+  };
+}
+
+function dolly(distance) {
+  camera.center = add(camera.center, scale(camera.direction, distance));
+}
+
+function truck(dx, dy) {
+  const horizontal = normalize(cross(camera.direction, camera.up));
+  const screenUp = cross(horizontal, camera.direction);
+  camera.center = add(camera.center, add(scale(horizontal, dx), scale(screenUp, dy)));
+}
+
+function rotateCamera(rx, ry) {
+  const horizontal = normalize(cross(camera.direction, camera.up));
+  const tilt = Math.acos(Math.max(-1, Math.min(1, dot(camera.up, camera.direction))));
+  if (tilt - ry > 3.13) ry = tilt - 3.13;
+  else if (tilt - ry < 0.01) ry = tilt - 0.01;
+  // R(up, rx) R(horizontal, ry): the tilt first; the camera orbits the world's origin.
+  const turn = (v) => rotate(rotate(v, horizontal, ry), camera.up, rx);
+  camera.center = turn(camera.center);
+  camera.direction = turn(camera.direction);
+  if (camera.kind === "perspective") camera.direction = normalize(camera.direction);
+}
+
+function matrices(width, height) {
+  let projection;
+  if (camera.kind === "orthographic") {
+    const s = camera.size;
+    projection = width > height
+      ? ortho(-s / 2, s / 2, (-s * height) / width / 2, (s * height) / width / 2, NEAR, FAR)
+      : ortho((-s * width) / height / 2, (s * width) / height / 2, -s / 2, s / 2, NEAR, FAR);
+  } else {
+    // The staff's viewer took the angle back to degrees with π written 3.14159.
+    const fovy = ((camera.angle * Math.PI) / 180) * (180 / 3.14159);
+    projection = perspective(fovy, width / height, NEAR, FAR);
+  }
+  const view = lookAt(camera.center, add(camera.center, camera.direction), camera.up);
+  return multiply(projection, view);
+}
+
+const number = (x) => {
+  const rounded = Math.abs(x) < 5e-7 ? 0 : x;
+  return String(Number(rounded.toPrecision(6)));
+};
+const triple = (v) => v.map(number).join(" ");
+
+function cameraText() {
+  const lines = [
+    `${camera.kind === "orthographic" ? "OrthographicCamera" : "PerspectiveCamera"} {`,
+    `    center ${triple(camera.center)}`,
+    `    direction ${triple(camera.direction)}`,
+    `    up ${triple(camera.up)}`,
+    camera.kind === "orthographic" ? `    size ${number(camera.size)}` : `    angle ${number(camera.angle)}`,
+    "}",
+  ];
+  return lines.join("\n");
+}
+
+// ---- Drawing ----
+let scene = null;
+let version = 0;
+let frames = 0;
+let pending = false;
+const frameTimes = [];
+
+function setMaterial(material, pass) {
+  const zero = [0, 0, 0], one = [1, 1, 1];
+  let ambient = material.diffuse, diffuse = material.diffuse, specular = material.specular;
+  // The staff's SPECULAR_FIX passes: the highlight, times N.L, plus ambient and diffuse.
+  if (pass === 0 && scene.specular_fix) { ambient = zero; diffuse = zero; }
+  if (pass === 1) { ambient = zero; diffuse = one; specular = zero; }
+  if (pass === 2) { specular = zero; }
+  gl.uniform3fv(uniform.ambientMaterial, ambient);
+  gl.uniform3fv(uniform.diffuseMaterial, diffuse);
+  gl.uniform3fv(uniform.specularMaterial, specular);
+  gl.uniform1f(uniform.shininess, material.exponent);
+}
+
+function paint(pass) {
+  for (const batch of scene.batches) {
+    setMaterial(scene.materials[batch.material], pass);
+    gl.drawArrays(gl.TRIANGLES, batch.first, batch.count);
+  }
+}
+
+function draw() {
+  pending = false;
+  if (!scene) return;
+  const width = canvas.width, height = canvas.height;
+  gl.viewport(0, 0, width, height);
+  const [r, g, b] = scene.background;
+  gl.clearColor(r, g, b, 1);
+  gl.clearDepth(1);
+  gl.enable(gl.DEPTH_TEST);
+  gl.depthFunc(gl.LESS);
+  gl.disable(gl.CULL_FACE);
+  gl.disable(gl.BLEND);
+  gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+  gl.useProgram(program);
+  gl.bindVertexArray(vertexArray);
+  gl.uniformMatrix4fv(uniform.viewProjection, false, new Float32Array(matrices(width, height)));
+  gl.uniform3fv(uniform.eye, camera.center);
+  gl.uniform3fv(uniform.sceneAmbient, scene.ambient);
+  gl.uniform1i(uniform.lightCount, scene.lights.length);
+  if (scene.lights.length > 0) {
+    gl.uniform4fv(uniform.lightPosition, scene.lights.flatMap((l) => l.position));
+    gl.uniform3fv(uniform.lightColour, scene.lights.flatMap((l) => l.colour));
+  }
+  paint(0);
+  if (scene.specular_fix) {
+    gl.depthFunc(gl.EQUAL);
+    gl.enable(gl.BLEND);
+    gl.blendFunc(gl.DST_COLOR, gl.ZERO);
+    paint(1);
+    gl.blendFunc(gl.ONE, gl.ONE);
+    paint(2);
+    gl.depthFunc(gl.LESS);
+    gl.disable(gl.BLEND);
+  }
+  frames += 1;
+  document.body.dataset.frame = String(frames);
+  const now = performance.now();
+  frameTimes.push(now);
+  while (frameTimes.length > 0 && frameTimes[0] < now - 1000) frameTimes.shift();
+}
+
+function redraw() {
+  if (!pending) {
+    pending = true;
+    requestAnimationFrame(draw);
+  }
+}
+
+setInterval(() => {
+  const now = performance.now();
+  while (frameTimes.length > 0 && frameTimes[0] < now - 1000) frameTimes.shift();
+  document.getElementById("fps").textContent = String(frameTimes.length);
+}, 500);
+
+// ---- The camera's report to raycast (GET /api/camera) ----
+let reportTimer = null;
+function cameraMoved() {
+  document.getElementById("camera").textContent = cameraText();
+  redraw();
+  clearTimeout(reportTimer);
+  reportTimer = setTimeout(() => {
+    fetch(withToken("/api/camera"), { method: "POST", body: cameraText() }).catch(() => {});
+  }, 50);
+}
+
+// ---- Mouse and keys, as the staff's glCanvas ----
+let dragging = -1, lastX = 0, lastY = 0;
+canvas.addEventListener("contextmenu", (e) => e.preventDefault());
+canvas.addEventListener("mousedown", (e) => {
+  dragging = e.button;
+  lastX = e.offsetX;
+  lastY = e.offsetY;
+  e.preventDefault();
+});
+window.addEventListener("mouseup", () => { dragging = -1; });
+canvas.addEventListener("mousemove", (e) => {
+  if (dragging < 0 || !camera) return;
+  const x = e.offsetX, y = e.offsetY;
+  if (dragging === 0) rotateCamera(0.005 * (lastX - x), 0.005 * (lastY - y));
+  else if (dragging === 1) truck((lastX - x) * 0.05, (y - lastY) * 0.05);
+  else if (dragging === 2) dolly((x - lastX) * 0.05);
+  lastX = x;
+  lastY = y;
+  cameraMoved();
+});
+canvas.addEventListener("wheel", (e) => {
+  if (!camera) return;
+  e.preventDefault();
+  dolly(-e.deltaY * 0.005);
+  cameraMoved();
+}, { passive: false });
+window.addEventListener("keydown", (e) => {
+  if (e.key === "q" || e.key === "Q") {
+    fetch(withToken("/api/quit"), { method: "POST" }).catch(() => {});
+    document.getElementById("status").textContent = "raycast was asked to quit";
+  } else if ((e.key === "v" || e.key === "V") && fileCamera) {
+    camera = cameraFrom(fileCamera);
+    cameraMoved();
+  }
+});
+
+// ---- The scene, and its changes ----
+async function load() {
+  const answer = await (await fetch(withToken("/api/scene"))).json();
+  const error = document.getElementById("error");
+  error.textContent = answer.error || "";
+  error.classList.toggle("shown", Boolean(answer.error));
+  if (!answer.scene || answer.version === version) return;
+  const bytes = await (await fetch(withToken("/api/geometry"))).arrayBuffer();
+  const first = scene === null;
+  scene = answer.scene;
+  version = answer.version;
+  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+  gl.bufferData(gl.ARRAY_BUFFER, bytes, gl.STATIC_DRAW);
+  canvas.width = scene.width;
+  canvas.height = scene.height;
+  canvas.style.width = `${scene.width}px`;
+  canvas.style.height = `${scene.height}px`;
+  document.getElementById("name").textContent = scene.name || "raycast preview";
+  document.getElementById("triangles").textContent = String(scene.triangles);
+  const fileChanged = JSON.stringify(fileCamera) !== JSON.stringify(scene.camera);
+  fileCamera = scene.camera;
+  // A new camera in the file takes over; otherwise the view stays where the mouse left it.
+  if (first || fileChanged) camera = cameraFrom(fileCamera);
+  cameraMoved();
+}
+
+let loading = Promise.resolve();
+function reload() {
+  loading = loading.then(load).catch((e) => {
+    document.getElementById("status").textContent = `cannot load the scene: ${e}`;
+  });
+}
+
+function listen() {
+  const status = document.getElementById("status");
+  const events = new EventSource(withToken("/api/events"));
+  events.addEventListener("scene", () => {
+    status.textContent = "connected";
+    status.classList.remove("lost");
+    reload();
+  });
+  // EventSource tries again by itself: a raycast started again on this port (with the same
+  // token) is found without reloading the page.
+  events.onerror = () => {
+    status.textContent = "lost: waiting for raycast";
+    status.classList.add("lost");
+  };
+}
+
+reload();
+listen();

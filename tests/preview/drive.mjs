@@ -1,0 +1,93 @@
+// Drives raycast's preview in headless Chromium for tests/preview.rs and the preview bench.
+//   node drive.mjs SCRIPT.json
+// SCRIPT: { "url": ..., "steps": [ ... ] }, each step one of
+//   { "canvas": "OUT.png" }                 the canvas's pixels, as a PNG file
+//   { "drag": [button, [x0, y0], [x1, y1], steps] }   a drag on the canvas (button 0, 1, 2)
+//   { "key": "q" }                          a key press
+//   { "wait_frame_after": N }               until more than N frames were drawn
+//   { "wait_text": [selector, text] }       until the element's text contains text
+//   { "wait_ms": N }
+//   { "eval": "expression" }                its value goes to the report
+//   { "fps": [steps, pixels] }              drags left steps times by pixels and measures frames/s
+// Prints a JSON report: what each step measured, and the page's console errors.
+import { chromium } from "playwright-core";
+import { readFileSync, writeFileSync } from "node:fs";
+
+const script = JSON.parse(readFileSync(process.argv[2], "utf8"));
+const browser = await chromium.launch({
+  executablePath: process.env.RAYCAST_CHROMIUM || "/usr/bin/chromium",
+  args: [
+    "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+    "--ignore-gpu-blocklist", "--disable-background-networking", "--disable-component-update",
+    "--disable-sync", "--no-first-run", "--disable-quic",
+  ],
+});
+const report = { steps: [], console: [] };
+try {
+  const page = await browser.newPage({ deviceScaleFactor: 1, viewport: { width: 1000, height: 800 } });
+  page.on("console", (m) => { if (m.type() === "error") report.console.push(m.text()); });
+  page.on("pageerror", (e) => report.console.push(String(e)));
+  const loadStart = Date.now();
+  await page.goto(script.url);
+  await page.waitForFunction(() => Number(document.body.dataset.frame || 0) >= 1, null, { timeout: 20000 });
+  report.first_frame_ms = Date.now() - loadStart;
+  const frame = () => page.evaluate(() => Number(document.body.dataset.frame || 0));
+  const box = await page.locator("#preview").boundingBox();
+  for (const step of script.steps) {
+    if (step.canvas) {
+      const url = await page.evaluate(() => document.getElementById("preview").toDataURL("image/png"));
+      writeFileSync(step.canvas, Buffer.from(url.split(",")[1], "base64"));
+      report.steps.push({ canvas: step.canvas });
+    } else if (step.drag) {
+      const [button, [x0, y0], [x1, y1], steps] = step.drag;
+      const name = ["left", "middle", "right"][button];
+      const before = await frame();
+      await page.mouse.move(box.x + x0, box.y + y0);
+      await page.mouse.down({ button: name });
+      await page.mouse.move(box.x + x1, box.y + y1, { steps: steps || 10 });
+      await page.mouse.up({ button: name });
+      await page.waitForFunction((n) => Number(document.body.dataset.frame) > n, before, { timeout: 10000 });
+      // Let the camera's report reach raycast.
+      await page.waitForTimeout(300);
+      report.steps.push({ drag: step.drag });
+    } else if (step.key) {
+      await page.keyboard.press(step.key);
+      report.steps.push({ key: step.key });
+    } else if (step.wait_frame_after !== undefined) {
+      await page.waitForFunction((n) => Number(document.body.dataset.frame) > n, step.wait_frame_after, { timeout: 10000 });
+      report.steps.push({ frame: await frame() });
+    } else if (step.wait_text) {
+      const [selector, text] = step.wait_text;
+      const start = Date.now();
+      await page.waitForFunction(([s, t]) => (document.querySelector(s)?.textContent || "").includes(t), [selector, text], { timeout: 10000 });
+      report.steps.push({ wait_text: step.wait_text, ms: Date.now() - start });
+    } else if (step.wait_ms) {
+      await page.waitForTimeout(step.wait_ms);
+    } else if (step.eval) {
+      report.steps.push({ eval: step.eval, value: await page.evaluate(step.eval) });
+    } else if (step.fps) {
+      const [steps, pixels] = step.fps;
+      const canvasHash = () => page.evaluate(() => {
+        const c = document.getElementById("preview");
+        return c.toDataURL().length + ":" + document.body.dataset.frame;
+      });
+      const start = Date.now();
+      const before = await frame();
+      await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+      await page.mouse.down({ button: "left" });
+      for (let i = 0; i < steps; i++) {
+        await page.mouse.move(box.x + box.width / 2 + (i + 1) * pixels, box.y + box.height / 2);
+        const target = before + i + 1;
+        await page.waitForFunction((n) => Number(document.body.dataset.frame) >= n, target, { timeout: 10000 });
+      }
+      await page.mouse.up({ button: "left" });
+      const seconds = (Date.now() - start) / 1000;
+      const drawn = (await frame()) - before;
+      await canvasHash();
+      report.steps.push({ fps: drawn / seconds, frames: drawn, seconds });
+    }
+  }
+} finally {
+  await browser.close();
+}
+console.log(JSON.stringify(report));
