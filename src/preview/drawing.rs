@@ -44,8 +44,10 @@ pub struct Tessellation {
 /// What the page draws.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drawing {
-    /// Every vertex as six little-endian f32: position then normal, in world space; three a
-    /// triangle, the triangles of each batch together.
+    /// Every vertex as fifteen little-endian f32, in world space: position, the normal it is lit
+    /// with, its triangle's own normal (from its corners' winding, which says which side the
+    /// eye sees), and the light reaching its front and its back (Σ colour × max(N·L, 0) over
+    /// the lights); three a triangle, the triangles of each batch together.
     pub vertices: Vec<u8>,
     /// The scene's description for the page: camera, background, lights, materials, batches.
     pub meta: Value,
@@ -53,17 +55,56 @@ pub struct Drawing {
     pub triangles: usize,
 }
 
-/// One vertex: position and normal.
-type Vertex = [Vec3; 2];
+/// One vertex: position, the normal it is lit with, its triangle's winding normal, and the
+/// light reaching its front and its back.
+type Vertex = [Vec3; 5];
+
+/// The lights as OpenGL's sum sees them: toward the light (unit, for a directional one) or the
+/// light's position, and the colour.
+#[derive(Clone, Copy)]
+enum GlLight {
+    Directional(Vec3, Vec3),
+    Point(Vec3, Vec3),
+}
+
+impl GlLight {
+    fn new(light: &LightSpec) -> GlLight {
+        match light {
+            LightSpec::Directional { direction, colour } => {
+                GlLight::Directional(-direction.normalize_or_zero(), *colour)
+            }
+            LightSpec::Point {
+                position, colour, ..
+            } => GlLight::Point(*position, *colour),
+        }
+    }
+
+    /// The light's diffuse part at `position` for a unit normal `n`: colour × max(N·L, 0).
+    /// None of it depends on the camera, so it is summed once here rather than at every frame
+    /// (only the highlight, which depends on where the eye is, is left to the page).
+    fn irradiance(&self, position: Vec3, n: Vec3) -> Vec3 {
+        let (to_light, colour) = match *self {
+            GlLight::Directional(to_light, colour) => (to_light, colour),
+            GlLight::Point(at, colour) => ((at - position).normalize_or_zero(), colour),
+        };
+        colour * n.dot(to_light).max(0.0)
+    }
+}
 
 /// The drawing of `description` (whose meshes are read again from disk).
 pub fn draw(description: &SceneDescription, tessellation: Tessellation) -> Result<Drawing, Error> {
     let mut by_material: Vec<Vec<Vertex>> = vec![Vec::new(); description.materials.len()];
+    let lights: Vec<GlLight> = description
+        .lights
+        .iter()
+        .take(MAX_LIGHTS)
+        .map(GlLight::new)
+        .collect();
     for object in &description.objects {
         let matrix = object
             .transform
             .map_or(DMat4::IDENTITY, |t| description.transforms[t as usize]);
-        let place = Placement::new(matrix);
+        let place = Placement::new(matrix, &lights);
         let out = &mut by_material[object.material as usize];
         match &object.shape {
             Shape::Sphere { center, radius } => {
@@ -128,13 +169,14 @@ pub fn camera_json(camera: &CameraSpec) -> Value {
 }
 
 /// A light as the staff's `Light::glInit` places it: a directional light at infinity toward
-/// where its light comes from (w = 0), a point light at its position (w = 1), the colour as
+/// where its light comes from (w = 0, the direction unit length), a point light at its position (w = 1), the colour as
 /// both diffuse and specular, no ambient and no attenuation (the staff's code sets none, so
 /// OpenGL's default of none applies).
 fn light_json(light: &LightSpec) -> Value {
     match light {
         LightSpec::Directional { direction, colour } => json!({
-            "position": [-direction.x, -direction.y, -direction.z, 0.0],
+            // Unit, as the staff's constructor made it: the page need not normalise it again.
+            "position": (-direction.normalize_or_zero()).extend(0.0).to_array(),
             "colour": colour.to_array(),
         }),
         LightSpec::Point {
@@ -166,24 +208,38 @@ fn material_json(description: &SceneDescription, mut m: usize) -> Value {
     }
 }
 
-/// An object's Transform: points by the matrix, normals by its inverse transpose.
-struct Placement {
+/// An object's Transform (points by the matrix, normals by its inverse transpose), and the
+/// scene's lights.
+struct Placement<'a> {
     matrix: DMat4,
     normals: DMat3,
+    lights: &'a [GlLight],
 }
 
-impl Placement {
-    fn new(matrix: DMat4) -> Placement {
+impl<'a> Placement<'a> {
+    fn new(matrix: DMat4, lights: &'a [GlLight]) -> Placement<'a> {
         Placement {
             matrix,
             normals: DMat3::from_mat4(matrix).inverse().transpose(),
+            lights,
         }
     }
 
-    fn vertex(&self, position: DVec3, normal: DVec3) -> Vertex {
-        let position = self.matrix.transform_point3(position).as_vec3();
-        let normal = (self.normals * normal).normalize_or_zero().as_vec3();
-        [position, normal]
+    /// Triangle (a, b, c) in the world, each corner lit with its normal.
+    fn triangle(&self, corners: [DVec3; 3], normals: [DVec3; 3], out: &mut Vec<Vertex>) {
+        let world = corners.map(|p| self.matrix.transform_point3(p));
+        let face = (world[1] - world[0])
+            .cross(world[2] - world[0])
+            .normalize_or_zero()
+            .as_vec3();
+        for (p, n) in world.iter().zip(normals) {
+            let (position, normal) = (
+                p.as_vec3(),
+                (self.normals * n).normalize_or_zero().as_vec3(),
+            );
+            let light = |n: Vec3| self.lights.iter().map(|l| l.irradiance(position, n)).sum();
+            out.push([position, normal, face, light(normal), light(-normal)]);
+        }
     }
 }
 
@@ -191,7 +247,7 @@ impl Placement {
 fn triangle(corners: &[Vec3; 3], place: &Placement, out: &mut Vec<Vertex>) {
     let [a, b, c] = corners.map(|v| v.as_dvec3());
     let normal = (b - a).cross(c - a);
-    out.extend([a, b, c].map(|p| place.vertex(p, normal)));
+    place.triangle([a, b, c], [normal; 3], out);
 }
 
 /// The handout's plane: a square `PLANE_HALF_SIDE` across each way about the world origin's
@@ -208,14 +264,15 @@ fn plane(normal: Vec3, offset: f32, place: &Placement, out: &mut Vec<Vertex>) {
     let b1 = v.cross(n).normalize();
     let b2 = n.cross(b1);
     let big = PLANE_HALF_SIDE;
-    let corner = |s: f64, t: f64| place.vertex(origin + b1 * (s * big) + b2 * (t * big), n);
+    let corner = |s: f64, t: f64| origin + b1 * (s * big) + b2 * (t * big);
     let [p0, p1, p2, p3] = [
         corner(-1.0, -1.0),
         corner(1.0, -1.0),
         corner(1.0, 1.0),
         corner(-1.0, 1.0),
     ];
-    out.extend([p0, p1, p2, p0, p2, p3]);
+    place.triangle([p0, p1, p2], [n; 3], out);
+    place.triangle([p0, p2, p3], [n; 3], out);
 }
 
 /// The sphere as the staff's viewer draws it: poles on the object's y axis, θ from the x
@@ -249,15 +306,13 @@ fn sphere(
             let at = corners.map(|u| center + u * radius);
             // Seen from outside, (k, j), (k+1, j+1), (k+1, j) runs counter-clockwise.
             let triangles = [[0, 2, 1], [0, 3, 2]];
-            if tessellation.gouraud {
-                for t in triangles {
-                    out.extend(t.map(|i| place.vertex(at[i], corners[i])));
-                }
-            } else {
-                let normal = quad_normal(&at);
-                for t in triangles {
-                    out.extend(t.map(|i| place.vertex(at[i], normal)));
-                }
+            let flat = quad_normal(&at);
+            for t in triangles {
+                let normals = match tessellation.gouraud {
+                    true => t.map(|i| corners[i]),
+                    false => [flat; 3],
+                };
+                place.triangle(t.map(|i| at[i]), normals, out);
             }
         }
     }
@@ -308,14 +363,16 @@ mod tests {
             Vec3::ZERO,
             1.0,
             flat,
-            &Placement::new(DMat4::IDENTITY),
+            &Placement::new(DMat4::IDENTITY, &[]),
             &mut out,
         );
         // 4 × 2 quads, two triangles each.
         assert_eq!(out.len(), 4 * 2 * 6);
-        for [position, normal] in &out {
+        for [position, normal, face, ..] in &out {
             assert!(normal.dot(*position) > 0.0, "{normal} at {position}");
             assert!((normal.length() - 1.0).abs() < 1e-6);
+            // Wound counter-clockwise seen from outside.
+            assert!(face.dot(*position) > 0.0, "{face} at {position}");
         }
         // The first quad (θ 0 to 90°, φ −90° to 0): its corners (0, −1, 0), (1, 0, 0) and
         // (0, 0, 1) span the plane x − y + z = 1, whose outward normal is (1, −1, 1)/√3.
@@ -330,13 +387,13 @@ mod tests {
         let corners = [Vec3::ZERO, Vec3::X, Vec3::Y];
         let mut out = Vec::new();
         let squash = DMat4::from_scale(DVec3::new(0.5, 1.0, 1.0));
-        triangle(&corners, &Placement::new(squash), &mut out);
-        assert_eq!(out[1], [Vec3::new(0.5, 0.0, 0.0), Vec3::Z]);
+        triangle(&corners, &Placement::new(squash, &[]), &mut out);
+        assert_eq!(out[1][..3], [Vec3::new(0.5, 0.0, 0.0), Vec3::Z, Vec3::Z]);
         let shear = DMat4::from_cols_array(&[
             1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
         ]);
         out.clear();
-        triangle(&corners, &Placement::new(shear), &mut out);
+        triangle(&corners, &Placement::new(shear, &[]), &mut out);
         let tilted = Vec3::new(-1.0, 0.0, 1.0).normalize();
         assert!((out[0][1] - tilted).length() < 1e-6, "{}", out[0][1]);
     }
@@ -344,12 +401,17 @@ mod tests {
     #[test]
     fn a_plane_is_a_big_square_about_the_origins_projection() {
         let mut out = Vec::new();
-        plane(Vec3::Y, -2.0, &Placement::new(DMat4::IDENTITY), &mut out);
+        plane(
+            Vec3::Y,
+            -2.0,
+            &Placement::new(DMat4::IDENTITY, &[]),
+            &mut out,
+        );
         assert_eq!(out.len(), 6);
-        for [position, normal] in &out {
+        for [position, normal, face, ..] in &out {
             assert_eq!(position.y, -2.0);
             assert_eq!(position.x.abs(), PLANE_HALF_SIDE as f32);
-            assert_eq!(*normal, Vec3::Y);
+            assert_eq!((*normal, *face), (Vec3::Y, Vec3::Y));
         }
     }
 }

@@ -17,56 +17,60 @@ const gl = canvas.getContext("webgl2", {
   alpha: false,
 });
 
-const MAX_LIGHTS = 8;
-
-const vertexSource = `#version 300 es
+// The vertex shader for a scene of `lights` lights (the loop unrolled by the compiler). Each
+// vertex is lit on the side of its triangle that faces the eye (OpenGL's two-sided lighting
+// decides per triangle, by its winding on screen; the triangle's own normal says the same).
+function vertexSource(lights) {
+  return `#version 300 es
 in vec3 position;
 in vec3 normal;
+in vec3 face;
+in vec3 lightFront;
+in vec3 lightBack;
 uniform mat4 viewProjection;
 uniform vec3 eye;
+uniform vec3 viewDirection;
+uniform bool orthographic;
 uniform vec3 sceneAmbient;
 uniform vec3 ambientMaterial;
 uniform vec3 diffuseMaterial;
 uniform vec3 specularMaterial;
 uniform float shininess;
-uniform int lightCount;
-uniform vec4 lightPosition[${MAX_LIGHTS}];
-uniform vec3 lightColour[${MAX_LIGHTS}];
-out vec3 frontColour;
-out vec3 backColour;
-
-vec3 lit(vec3 n) {
-  vec3 c = ambientMaterial * sceneAmbient;
-  vec3 toEye = normalize(eye - position);
-  for (int i = 0; i < ${MAX_LIGHTS}; i++) {
-    if (i >= lightCount) break;
-    vec4 at = lightPosition[i];
-    vec3 toLight = at.w == 0.0 ? normalize(at.xyz) : normalize(at.xyz - position);
-    float nl = dot(n, toLight);
-    c += diffuseMaterial * lightColour[i] * max(nl, 0.0);
-    if (nl > 0.0) {
-      float nh = max(dot(n, normalize(toLight + toEye)), 0.0);
-      float highlight = shininess == 0.0 ? 1.0 : pow(nh, shininess);
-      c += specularMaterial * lightColour[i] * highlight;
-    }
-  }
-  return clamp(c, 0.0, 1.0);
-}
+${lights > 0 ? `uniform vec4 lightPosition[${lights}];
+uniform vec3 lightColour[${lights}];` : ""}
+out vec3 colour;
 
 void main() {
-  vec3 n = normalize(normal);
-  frontColour = lit(n);
-  backColour = lit(-n);
+  vec3 toEye = eye - position;
+  bool front = dot(face, orthographic ? -viewDirection : toEye) > 0.0;
+  vec3 n = front ? normalize(normal) : -normalize(normal);
+  // The ambient and diffuse terms: the light reaching each side was summed when the scene was
+  // read (it does not depend on the camera); the highlight depends on the eye.
+  vec3 c = ambientMaterial * sceneAmbient + diffuseMaterial * (front ? lightFront : lightBack);
+${lights === 0 ? "" : `
+  if (specularMaterial != vec3(0.0)) {
+    toEye = normalize(toEye);
+    for (int i = 0; i < ${lights}; i++) {
+      vec4 at = lightPosition[i];
+      vec3 toLight = at.w == 0.0 ? at.xyz : normalize(at.xyz - position);
+      float nl = dot(n, toLight);
+      if (nl > 0.0) {
+        float nh = max(dot(n, normalize(toLight + toEye)), 0.0);
+        c += specularMaterial * lightColour[i] * (shininess == 0.0 ? 1.0 : pow(nh, shininess));
+      }
+    }
+  }`}
+  colour = clamp(c, 0.0, 1.0);
   gl_Position = viewProjection * vec4(position, 1.0);
 }`;
+}
 
 const fragmentSource = `#version 300 es
 precision highp float;
-in vec3 frontColour;
-in vec3 backColour;
-out vec4 colour;
+in vec3 colour;
+out vec4 fragment;
 void main() {
-  colour = vec4(gl_FrontFacing ? frontColour : backColour, 1.0);
+  fragment = vec4(colour, 1.0);
 }`;
 
 function compile(type, source) {
@@ -77,24 +81,33 @@ function compile(type, source) {
   return shader;
 }
 
-const program = gl.createProgram();
-gl.attachShader(program, compile(gl.VERTEX_SHADER, vertexSource));
-gl.attachShader(program, compile(gl.FRAGMENT_SHADER, fragmentSource));
-gl.linkProgram(program);
-if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
-const uniform = {};
-for (const name of ["viewProjection", "eye", "sceneAmbient", "ambientMaterial", "diffuseMaterial",
-  "specularMaterial", "shininess", "lightCount", "lightPosition", "lightColour"]) {
-  uniform[name] = gl.getUniformLocation(program, name);
-}
-const vertexArray = gl.createVertexArray();
+const UNIFORMS = ["viewProjection", "eye", "viewDirection", "orthographic", "sceneAmbient",
+  "ambientMaterial", "diffuseMaterial", "specularMaterial", "shininess", "lightPosition", "lightColour"];
 const buffer = gl.createBuffer();
-gl.bindVertexArray(vertexArray);
-gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
-for (const [name, offset] of [["position", 0], ["normal", 12]]) {
-  const at = gl.getAttribLocation(program, name);
-  gl.enableVertexAttribArray(at);
-  gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 24, offset);
+const programs = new Map();
+
+// The program for `lights` lights, with its uniforms and vertex layout; made once each.
+function programFor(lights) {
+  if (programs.has(lights)) return programs.get(lights);
+  const program = gl.createProgram();
+  gl.attachShader(program, compile(gl.VERTEX_SHADER, vertexSource(lights)));
+  gl.attachShader(program, compile(gl.FRAGMENT_SHADER, fragmentSource));
+  gl.linkProgram(program);
+  if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
+  const uniform = {};
+  for (const name of UNIFORMS) uniform[name] = gl.getUniformLocation(program, name);
+  const vertexArray = gl.createVertexArray();
+  gl.bindVertexArray(vertexArray);
+  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+  const layout = [["position", 0], ["normal", 12], ["face", 24], ["lightFront", 36], ["lightBack", 48]];
+  for (const [name, offset] of layout) {
+    const at = gl.getAttribLocation(program, name);
+    gl.enableVertexAttribArray(at);
+    gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 60, offset);
+  }
+  const made = { program, uniform, vertexArray };
+  programs.set(lights, made);
+  return made;
 }
 
 // ---- Vectors and matrices (column-major, as OpenGL's) ----
@@ -223,7 +236,7 @@ let frames = 0;
 let pending = false;
 const frameTimes = [];
 
-function setMaterial(material, pass) {
+function setMaterial(uniform, material, pass) {
   const zero = [0, 0, 0], one = [1, 1, 1];
   let ambient = material.diffuse, diffuse = material.diffuse, specular = material.specular;
   // The staff's SPECULAR_FIX passes: the highlight, times N.L, plus ambient and diffuse.
@@ -236,9 +249,9 @@ function setMaterial(material, pass) {
   gl.uniform1f(uniform.shininess, material.exponent);
 }
 
-function paint(pass) {
+function paint(uniform, pass) {
   for (const batch of scene.batches) {
-    setMaterial(scene.materials[batch.material], pass);
+    setMaterial(uniform, scene.materials[batch.material], pass);
     gl.drawArrays(gl.TRIANGLES, batch.first, batch.count);
   }
 }
@@ -256,24 +269,26 @@ function draw() {
   gl.disable(gl.CULL_FACE);
   gl.disable(gl.BLEND);
   gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+  const { program, uniform, vertexArray } = programFor(scene.lights.length);
   gl.useProgram(program);
   gl.bindVertexArray(vertexArray);
   gl.uniformMatrix4fv(uniform.viewProjection, false, new Float32Array(matrices(width, height)));
   gl.uniform3fv(uniform.eye, camera.center);
+  gl.uniform3fv(uniform.viewDirection, camera.direction);
+  gl.uniform1i(uniform.orthographic, camera.kind === "orthographic" ? 1 : 0);
   gl.uniform3fv(uniform.sceneAmbient, scene.ambient);
-  gl.uniform1i(uniform.lightCount, scene.lights.length);
   if (scene.lights.length > 0) {
     gl.uniform4fv(uniform.lightPosition, scene.lights.flatMap((l) => l.position));
     gl.uniform3fv(uniform.lightColour, scene.lights.flatMap((l) => l.colour));
   }
-  paint(0);
+  paint(uniform, 0);
   if (scene.specular_fix) {
     gl.depthFunc(gl.EQUAL);
     gl.enable(gl.BLEND);
     gl.blendFunc(gl.DST_COLOR, gl.ZERO);
-    paint(1);
+    paint(uniform, 1);
     gl.blendFunc(gl.ONE, gl.ONE);
-    paint(2);
+    paint(uniform, 2);
     gl.depthFunc(gl.LESS);
     gl.disable(gl.BLEND);
   }
@@ -312,15 +327,18 @@ function cameraMoved() {
 let dragging = -1, lastX = 0, lastY = 0;
 canvas.addEventListener("contextmenu", (e) => e.preventDefault());
 canvas.addEventListener("mousedown", (e) => {
+  const bounds = canvas.getBoundingClientRect();
   dragging = e.button;
-  lastX = e.offsetX;
-  lastY = e.offsetY;
+  lastX = e.clientX - bounds.left;
+  lastY = e.clientY - bounds.top;
   e.preventDefault();
 });
 window.addEventListener("mouseup", () => { dragging = -1; });
-canvas.addEventListener("mousemove", (e) => {
+// As GLUT's motion callback, a drag goes on outside the canvas while the button is held.
+window.addEventListener("mousemove", (e) => {
   if (dragging < 0 || !camera) return;
-  const x = e.offsetX, y = e.offsetY;
+  const bounds = canvas.getBoundingClientRect();
+  const x = e.clientX - bounds.left, y = e.clientY - bounds.top;
   if (dragging === 0) rotateCamera(0.005 * (lastX - x), 0.005 * (lastY - y));
   else if (dragging === 1) truck((lastX - x) * 0.05, (y - lastY) * 0.05);
   else if (dragging === 2) dolly((x - lastX) * 0.05);
