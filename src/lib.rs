@@ -35,8 +35,8 @@
 //! over the [`geometry`] ([`accel`]) and the [`camera`] → render-ready [`Scene`] (lights and
 //! materials in [`scene`]) → the ray tracer ([`trace`]), pixel values ([`shade`]) and the
 //! samplers and film of [`sample`] → the pixel loop ([`render`]) and one pixel's account
-//! ([`inspect`]) → files ([`image_io`]); the grader ([`check`]) and the command line ([`cli`])
-//! on top.
+//! ([`inspect`]) → files ([`image_io`]); the grader ([`check`]), the browser preview
+//! ([`preview`]) and the command line ([`cli`]) on top.
 
 // `unsafe` only in `simd`, which allows it and says why each use is sound.
 #![deny(unsafe_code)]

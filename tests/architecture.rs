@@ -82,10 +82,10 @@ fn imports_point_down_the_pipeline() {
         }
     }
     assert!(broken.is_empty(), "{}", broken.join("\n"));
-    // The layers name no module that is gone, but for the preview, whose room is kept.
+    // The layers name no module that is gone.
     for module in LAYERS.iter().flat_map(|peers| peers.iter()) {
         assert!(
-            graph.contains_key(*module) || *module == "preview",
+            graph.contains_key(*module),
             "{module} is listed but not in src/"
         );
     }

@@ -815,18 +815,25 @@ fn bounces_and_weight_values() {
 }
 
 #[test]
-fn the_opengl_preview_options_are_accepted_and_change_nothing() {
+fn the_preview_options_without_a_terminal_change_nothing() {
     let dir = workspace();
     succeeds(dir.path(), "-input scene.txt -size 16 16 -output plain.tga");
     let line =
         "-input scene.txt -size 16 16 -output preview.tga -gui -tessellation 100 50 -gouraud";
+    // Standard input is not a terminal here (as under scripts, check and CI), and no -port.
     let output = raycast(dir.path(), &line.split(' ').collect::<Vec<_>>());
     assert_eq!(output.status.code(), Some(0));
-    // Said once, however many of the three are given.
     assert_eq!(
         stderr(&output),
-        "raycast: -gui, -tessellation and -gouraud drive the course's OpenGL preview, which \
-         raycast does not have; they are ignored (the image is the same)\n"
+        "raycast: -gui: standard input is not a terminal, so no preview is served (add -port N \
+         to serve one); the images are written as without -gui\n"
+    );
+    // -tessellation and -gouraud alone shape the preview, and say nothing.
+    let line = "-input scene.txt -size 16 16 -output quiet.tga -tessellation 10 5 -gouraud";
+    let output = raycast(dir.path(), &line.split(' ').collect::<Vec<_>>());
+    assert_eq!(
+        (output.status.code(), stderr(&output).as_str()),
+        (Some(0), "")
     );
     assert_eq!(
         std::fs::read(dir.path().join("plain.tga")).unwrap(),
@@ -1268,6 +1275,8 @@ fn a_full_or_closed_stream_never_panics() {
                 "-stats",
                 "-gui",
             ])
+            // No terminal: -gui serves no preview.
+            .stdin(std::process::Stdio::null())
             .current_dir(dir.path());
         if stdout_full {
             command.stdout(full());

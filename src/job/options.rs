@@ -153,14 +153,14 @@ pub const OPTIONS: &[OptionSpec] = &[
         "gui",
         "",
         Group::Phong,
-        "the course's preview, in the browser (from a terminal, or with -port)",
+        "the course's preview, in the browser (needs a terminal or -port)",
         read_gui,
     ),
     spec(
         "tessellation",
         "THETA PHI",
         Group::Phong,
-        "the preview's sphere steps around and pole to pole (default 20 10)",
+        "the preview's sphere steps: around, pole to pole (default 20 10)",
         read_tessellation,
     ),
     spec(
@@ -293,14 +293,14 @@ pub const OPTIONS: &[OptionSpec] = &[
         "port",
         "N",
         Group::Own,
-        "serve -gui's preview on port N (0: any free one), even without a terminal",
+        "serve -gui's preview on port N (0: any), even without a terminal",
         read_port,
     ),
     spec(
         "no-browser",
         "",
         Group::Own,
-        "with -gui, print the preview's address without opening a browser",
+        "with -gui: print the preview's address, open no browser",
         read_no_browser,
     ),
     spec(

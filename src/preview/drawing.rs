@@ -44,10 +44,10 @@ pub struct Tessellation {
 /// What the page draws.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drawing {
-    /// Every vertex as fifteen little-endian f32, in world space: position, the normal it is lit
-    /// with, its triangle's own normal (from its corners' winding, which says which side the
-    /// eye sees), and the light reaching its front and its back (Σ colour × max(N·L, 0) over
-    /// the lights); three a triangle, the triangles of each batch together.
+    /// Every vertex as twelve little-endian f32, in world space: position, the normal it is lit
+    /// with, and the light reaching its front and its back (Σ colour × max(N·L, 0) over the
+    /// lights); three a triangle, wound as the scene winds it (which says which side the eye
+    /// sees), the triangles of each batch together.
     pub vertices: Vec<u8>,
     /// The scene's description for the page: camera, background, lights, materials, batches.
     pub meta: Value,
@@ -55,9 +55,9 @@ pub struct Drawing {
     pub triangles: usize,
 }
 
-/// One vertex: position, the normal it is lit with, its triangle's winding normal, and the
-/// light reaching its front and its back.
-type Vertex = [Vec3; 5];
+/// One vertex: position, the normal it is lit with, and the light reaching its front and its
+/// back.
+type Vertex = [Vec3; 4];
 
 /// The lights as OpenGL's sum sees them: toward the light (unit, for a directional one) or the
 /// light's position, and the colour.
@@ -227,18 +227,11 @@ impl<'a> Placement<'a> {
 
     /// Triangle (a, b, c) in the world, each corner lit with its normal.
     fn triangle(&self, corners: [DVec3; 3], normals: [DVec3; 3], out: &mut Vec<Vertex>) {
-        let world = corners.map(|p| self.matrix.transform_point3(p));
-        let face = (world[1] - world[0])
-            .cross(world[2] - world[0])
-            .normalize_or_zero()
-            .as_vec3();
-        for (p, n) in world.iter().zip(normals) {
-            let (position, normal) = (
-                p.as_vec3(),
-                (self.normals * n).normalize_or_zero().as_vec3(),
-            );
+        for (p, n) in corners.iter().zip(normals) {
+            let position = self.matrix.transform_point3(*p).as_vec3();
+            let normal = (self.normals * n).normalize_or_zero().as_vec3();
             let light = |n: Vec3| self.lights.iter().map(|l| l.irradiance(position, n)).sum();
-            out.push([position, normal, face, light(normal), light(-normal)]);
+            out.push([position, normal, light(normal), light(-normal)]);
         }
     }
 }
@@ -368,11 +361,14 @@ mod tests {
         );
         // 4 × 2 quads, two triangles each.
         assert_eq!(out.len(), 4 * 2 * 6);
-        for [position, normal, face, ..] in &out {
+        for [position, normal, ..] in &out {
             assert!(normal.dot(*position) > 0.0, "{normal} at {position}");
             assert!((normal.length() - 1.0).abs() < 1e-6);
-            // Wound counter-clockwise seen from outside.
-            assert!(face.dot(*position) > 0.0, "{face} at {position}");
+        }
+        // Wound counter-clockwise seen from outside.
+        for t in out.chunks(3) {
+            let face = (t[1][0] - t[0][0]).cross(t[2][0] - t[0][0]);
+            assert!(face.dot(t[0][0] + t[1][0] + t[2][0]) > 0.0);
         }
         // The first quad (θ 0 to 90°, φ −90° to 0): its corners (0, −1, 0), (1, 0, 0) and
         // (0, 0, 1) span the plane x − y + z = 1, whose outward normal is (1, −1, 1)/√3.
@@ -383,14 +379,14 @@ mod tests {
     #[test]
     fn normals_go_through_the_inverse_transpose() {
         // A triangle in the z = 0 plane, squashed along x: the normal stays +z; sheared so that
-        // x grows with z, the normal tilts against the shear.
+        // z grows with x (the plane z = x), the normal tilts against the shear.
         let corners = [Vec3::ZERO, Vec3::X, Vec3::Y];
         let mut out = Vec::new();
         let squash = DMat4::from_scale(DVec3::new(0.5, 1.0, 1.0));
         triangle(&corners, &Placement::new(squash, &[]), &mut out);
-        assert_eq!(out[1][..3], [Vec3::new(0.5, 0.0, 0.0), Vec3::Z, Vec3::Z]);
+        assert_eq!(out[1][..2], [Vec3::new(0.5, 0.0, 0.0), Vec3::Z]);
         let shear = DMat4::from_cols_array(&[
-            1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+            1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
         ]);
         out.clear();
         triangle(&corners, &Placement::new(shear, &[]), &mut out);
@@ -408,10 +404,14 @@ mod tests {
             &mut out,
         );
         assert_eq!(out.len(), 6);
-        for [position, normal, face, ..] in &out {
+        for [position, normal, ..] in &out {
             assert_eq!(position.y, -2.0);
             assert_eq!(position.x.abs(), PLANE_HALF_SIDE as f32);
-            assert_eq!((*normal, *face), (Vec3::Y, Vec3::Y));
+            assert_eq!(*normal, Vec3::Y);
+        }
+        // Wound counter-clockwise seen from above: its front faces up.
+        for t in out.chunks(3) {
+            assert!((t[1][0] - t[0][0]).cross(t[2][0] - t[0][0]).y > 0.0);
         }
     }
 }

@@ -6,14 +6,14 @@
 //! tabs on loopback, so a thread per event stream and one loop for the rest are plenty, and
 //! raycast needs no async runtime.
 
-use std::io::Read;
+use std::io::{Read, Write};
 use std::net::SocketAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, channel};
+use std::sync::mpsc::{RecvTimeoutError, Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use tiny_http::{Header, Method, Request, Response, Server, StatusCode};
+use tiny_http::{Header, Method, Request, Response, Server};
 
 /// The page and its script, built into the binary.
 const INDEX_HTML: &str = include_str!("page/index.html");
@@ -227,24 +227,40 @@ impl PreviewServer {
         }
     }
 
-    /// A server-sent event stream, on a thread of its own until the page goes away.
+    /// A server-sent event stream, on a thread of its own until the page goes away. Written
+    /// straight to the connection, each event flushed as it comes (tiny_http's own responses
+    /// buffer their chunks).
     fn stream(&self, request: Request) {
-        let (send, receive) = channel();
+        let (send, receive) = channel::<String>();
         let version = self.shown.lock().expect("not poisoned").version;
         send.send(format!("event: scene\ndata: {version}\n\n")).ok();
         self.streams.lock().expect("not poisoned").push(send);
         std::thread::spawn(move || {
-            let response = Response::new(
-                StatusCode(200),
-                vec![
-                    header("Content-Type", "text/event-stream"),
-                    header("Cache-Control", "no-store"),
-                ],
-                EventReader::new(receive),
-                None,
-                None,
-            );
-            let _ = request.respond(response);
+            let mut out = request.into_writer();
+            let head = "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\n\
+                        Cache-Control: no-store\r\nConnection: close\r\n\r\n";
+            if out
+                .write_all(head.as_bytes())
+                .and_then(|()| out.flush())
+                .is_err()
+            {
+                return;
+            }
+            loop {
+                let message = match receive.recv_timeout(KEEP_ALIVE) {
+                    Ok(message) => message,
+                    // A comment: its failed write ends the stream of a closed tab.
+                    Err(RecvTimeoutError::Timeout) => ": still here\n\n".to_string(),
+                    Err(RecvTimeoutError::Disconnected) => return,
+                };
+                if out
+                    .write_all(message.as_bytes())
+                    .and_then(|()| out.flush())
+                    .is_err()
+                {
+                    return;
+                }
+            }
         });
     }
 }
@@ -269,38 +285,6 @@ fn announce(streams: &Mutex<Vec<Sender<String>>>, event: &str, data: &str) {
     );
     if let Ok(mut streams) = streams.lock() {
         streams.retain(|s| s.send(message.clone()).is_ok());
-    }
-}
-
-/// The bytes of an event stream: each message as it comes, a comment when idle (whose failed
-/// write ends the stream of a closed tab), the end when the server lets go.
-struct EventReader {
-    receive: Receiver<String>,
-    pending: Vec<u8>,
-}
-
-impl EventReader {
-    fn new(receive: Receiver<String>) -> EventReader {
-        EventReader {
-            receive,
-            pending: Vec::new(),
-        }
-    }
-}
-
-impl Read for EventReader {
-    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
-        if self.pending.is_empty() {
-            match self.receive.recv_timeout(KEEP_ALIVE) {
-                Ok(message) => self.pending = message.into_bytes(),
-                Err(RecvTimeoutError::Timeout) => self.pending = b": still here\n\n".to_vec(),
-                Err(RecvTimeoutError::Disconnected) => return Ok(0),
-            }
-        }
-        let n = out.len().min(self.pending.len());
-        out[..n].copy_from_slice(&self.pending[..n]);
-        self.pending.drain(..n);
-        Ok(n)
     }
 }
 

@@ -7,11 +7,13 @@
 //   { "wait_frame_after": N }               until more than N frames were drawn
 //   { "wait_text": [selector, text] }       until the element's text contains text
 //   { "wait_ms": N }
+//   { "save": [path, text] }                the file saved as an editor saves it (rename)
+//   { "wait_eval": "expression" }           until it is true; ms since the last save
 //   { "eval": "expression" }                its value goes to the report
 //   { "fps": [steps, pixels] }              a left drag of `steps` moves of `pixels`: frames/s
 // Prints a JSON report: what each step measured, and the page's console errors.
 import { chromium } from "playwright-core";
-import { readFileSync, writeFileSync } from "node:fs";
+import { readFileSync, renameSync, writeFileSync } from "node:fs";
 
 const script = JSON.parse(readFileSync(process.argv[2], "utf8"));
 const browser = await chromium.launch({
@@ -23,9 +25,12 @@ const browser = await chromium.launch({
   ],
 });
 const report = { steps: [], console: [] };
+let saved = Date.now();
+// After 'q' raycast is gone: the page's attempts to reach it are not errors of the page.
+let quitting = false;
 try {
   const page = await browser.newPage({ deviceScaleFactor: 1, viewport: { width: 1000, height: 800 } });
-  page.on("console", (m) => { if (m.type() === "error") report.console.push(m.text()); });
+  page.on("console", (m) => { if (m.type() === "error" && !quitting) report.console.push(m.text()); });
   page.on("pageerror", (e) => report.console.push(String(e)));
   const loadStart = Date.now();
   await page.goto(script.url);
@@ -51,6 +56,7 @@ try {
       await page.waitForTimeout(300);
       report.steps.push({ drag: step.drag });
     } else if (step.key) {
+      quitting ||= step.key === "q";
       await page.keyboard.press(step.key);
       report.steps.push({ key: step.key });
     } else if (step.wait_frame_after !== undefined) {
@@ -61,6 +67,16 @@ try {
       const start = Date.now();
       await page.waitForFunction(([s, t]) => (document.querySelector(s)?.textContent || "").includes(t), [selector, text], { timeout: 10000 });
       report.steps.push({ wait_text: step.wait_text, ms: Date.now() - start });
+    } else if (step.save) {
+      // As an editor saves: the new text written beside the file, then renamed over it.
+      const [path, text] = step.save;
+      writeFileSync(`${path}.saving`, text);
+      renameSync(`${path}.saving`, path);
+      saved = Date.now();
+      report.steps.push({ save: path });
+    } else if (step.wait_eval) {
+      await page.waitForFunction(step.wait_eval, null, { timeout: 10000 });
+      report.steps.push({ wait_eval: step.wait_eval, ms: Date.now() - saved });
     } else if (step.wait_ms) {
       await page.waitForTimeout(step.wait_ms);
     } else if (step.eval) {

@@ -17,60 +17,64 @@ const gl = canvas.getContext("webgl2", {
   alpha: false,
 });
 
-// The vertex shader for a scene of `lights` lights (the loop unrolled by the compiler). Each
-// vertex is lit on the side of its triangle that faces the eye (OpenGL's two-sided lighting
-// decides per triangle, by its winding on screen; the triangle's own normal says the same).
-function vertexSource(lights) {
+// The vertex shader for a scene of `lights` lights (the loop unrolled by the compiler), with
+// or without highlights. Each vertex is lit on both sides, as OpenGL's two-sided lighting
+// does; the fragment takes the side the eye sees (OpenGL decides by the triangle's winding on
+// screen, which is what gl_FrontFacing tells).
+function vertexSource(lights, highlights) {
+  const highlight = lights === 0 || !highlights ? "" : `
+  vec3 toEye = normalize(eye - position);
+  vec3 n = normalize(normal);
+  for (int i = 0; i < ${lights}; i++) {
+    vec4 at = lightPosition[i];
+    vec3 toLight = at.w == 0.0 ? at.xyz : normalize(at.xyz - position);
+    float nl = dot(n, toLight);
+    vec3 halfway = normalize(toLight + toEye);
+    if (nl > 0.0) front += specularMaterial * lightColour[i] * term(dot(n, halfway));
+    if (nl < 0.0) back += specularMaterial * lightColour[i] * term(-dot(n, halfway));
+  }`;
   return `#version 300 es
 in vec3 position;
 in vec3 normal;
-in vec3 face;
 in vec3 lightFront;
 in vec3 lightBack;
 uniform mat4 viewProjection;
 uniform vec3 eye;
-uniform vec3 viewDirection;
-uniform bool orthographic;
 uniform vec3 sceneAmbient;
 uniform vec3 ambientMaterial;
 uniform vec3 diffuseMaterial;
 uniform vec3 specularMaterial;
 uniform float shininess;
-${lights > 0 ? `uniform vec4 lightPosition[${lights}];
-uniform vec3 lightColour[${lights}];` : ""}
-out vec3 colour;
+${lights > 0 ? `uniform vec4 lightPosition[${lights}];\nuniform vec3 lightColour[${lights}];` : ""}
+out vec3 frontColour;
+out vec3 backColour;
+// SPECULAR_FIX's later passes meet the first one's depths exactly (GL_EQUAL), whichever of the
+// programs draws them.
+invariant gl_Position;
+
+float term(float nh) {
+  return shininess == 0.0 ? 1.0 : pow(max(nh, 0.0), shininess);
+}
 
 void main() {
-  vec3 toEye = eye - position;
-  bool front = dot(face, orthographic ? -viewDirection : toEye) > 0.0;
-  vec3 n = front ? normalize(normal) : -normalize(normal);
   // The ambient and diffuse terms: the light reaching each side was summed when the scene was
   // read (it does not depend on the camera); the highlight depends on the eye.
-  vec3 c = ambientMaterial * sceneAmbient + diffuseMaterial * (front ? lightFront : lightBack);
-${lights === 0 ? "" : `
-  if (specularMaterial != vec3(0.0)) {
-    toEye = normalize(toEye);
-    for (int i = 0; i < ${lights}; i++) {
-      vec4 at = lightPosition[i];
-      vec3 toLight = at.w == 0.0 ? at.xyz : normalize(at.xyz - position);
-      float nl = dot(n, toLight);
-      if (nl > 0.0) {
-        float nh = max(dot(n, normalize(toLight + toEye)), 0.0);
-        c += specularMaterial * lightColour[i] * (shininess == 0.0 ? 1.0 : pow(nh, shininess));
-      }
-    }
-  }`}
-  colour = clamp(c, 0.0, 1.0);
+  vec3 ambient = ambientMaterial * sceneAmbient;
+  vec3 front = ambient + diffuseMaterial * lightFront;
+  vec3 back = ambient + diffuseMaterial * lightBack;${highlight}
+  frontColour = clamp(front, 0.0, 1.0);
+  backColour = clamp(back, 0.0, 1.0);
   gl_Position = viewProjection * vec4(position, 1.0);
 }`;
 }
 
 const fragmentSource = `#version 300 es
 precision highp float;
-in vec3 colour;
+in vec3 frontColour;
+in vec3 backColour;
 out vec4 fragment;
 void main() {
-  fragment = vec4(colour, 1.0);
+  fragment = vec4(gl_FrontFacing ? frontColour : backColour, 1.0);
 }`;
 
 function compile(type, source) {
@@ -81,16 +85,18 @@ function compile(type, source) {
   return shader;
 }
 
-const UNIFORMS = ["viewProjection", "eye", "viewDirection", "orthographic", "sceneAmbient",
-  "ambientMaterial", "diffuseMaterial", "specularMaterial", "shininess", "lightPosition", "lightColour"];
+const UNIFORMS = ["viewProjection", "eye", "sceneAmbient", "ambientMaterial", "diffuseMaterial",
+  "specularMaterial", "shininess", "lightPosition", "lightColour"];
 const buffer = gl.createBuffer();
 const programs = new Map();
 
-// The program for `lights` lights, with its uniforms and vertex layout; made once each.
-function programFor(lights) {
-  if (programs.has(lights)) return programs.get(lights);
+// The program for `lights` lights, with or without highlights, with its uniforms and vertex
+// layout; made once each.
+function programFor(lights, highlights) {
+  const key = `${lights}:${highlights}`;
+  if (programs.has(key)) return programs.get(key);
   const program = gl.createProgram();
-  gl.attachShader(program, compile(gl.VERTEX_SHADER, vertexSource(lights)));
+  gl.attachShader(program, compile(gl.VERTEX_SHADER, vertexSource(lights, highlights)));
   gl.attachShader(program, compile(gl.FRAGMENT_SHADER, fragmentSource));
   gl.linkProgram(program);
   if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
@@ -99,14 +105,16 @@ function programFor(lights) {
   const vertexArray = gl.createVertexArray();
   gl.bindVertexArray(vertexArray);
   gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
-  const layout = [["position", 0], ["normal", 12], ["face", 24], ["lightFront", 36], ["lightBack", 48]];
+  const layout = [["position", 0], ["normal", 12], ["lightFront", 24], ["lightBack", 36]];
   for (const [name, offset] of layout) {
+    // An attribute the shader does not use (the normal, without highlights) is not fetched.
     const at = gl.getAttribLocation(program, name);
+    if (at < 0) continue;
     gl.enableVertexAttribArray(at);
-    gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 60, offset);
+    gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 48, offset);
   }
   const made = { program, uniform, vertexArray };
-  programs.set(lights, made);
+  programs.set(key, made);
   return made;
 }
 
@@ -236,22 +244,37 @@ let frames = 0;
 let pending = false;
 const frameTimes = [];
 
-function setMaterial(uniform, material, pass) {
+// The material as the staff's glSetMaterial sets it, in one of SPECULAR_FIX's passes: the
+// highlight alone, then times N.L (diffuse one, no ambient), then plus ambient and diffuse.
+function materialColours(material, pass) {
   const zero = [0, 0, 0], one = [1, 1, 1];
-  let ambient = material.diffuse, diffuse = material.diffuse, specular = material.specular;
-  // The staff's SPECULAR_FIX passes: the highlight, times N.L, plus ambient and diffuse.
-  if (pass === 0 && scene.specular_fix) { ambient = zero; diffuse = zero; }
-  if (pass === 1) { ambient = zero; diffuse = one; specular = zero; }
-  if (pass === 2) { specular = zero; }
-  gl.uniform3fv(uniform.ambientMaterial, ambient);
-  gl.uniform3fv(uniform.diffuseMaterial, diffuse);
-  gl.uniform3fv(uniform.specularMaterial, specular);
-  gl.uniform1f(uniform.shininess, material.exponent);
+  if (!scene.specular_fix) return [material.diffuse, material.diffuse, material.specular];
+  if (pass === 0) return [zero, zero, material.specular];
+  if (pass === 1) return [zero, one, zero];
+  return [material.diffuse, material.diffuse, zero];
 }
 
-function paint(uniform, pass) {
+// One pass over the scene (the staff's Group::paint): each batch with its material.
+function paint(pass, width, height) {
+  const viewProjection = new Float32Array(matrices(width, height));
   for (const batch of scene.batches) {
-    setMaterial(uniform, scene.materials[batch.material], pass);
+    const material = scene.materials[batch.material];
+    const [ambient, diffuse, specular] = materialColours(material, pass);
+    const highlights = specular.some((c) => c !== 0);
+    const { program, uniform, vertexArray } = programFor(scene.lights.length, highlights);
+    gl.useProgram(program);
+    gl.bindVertexArray(vertexArray);
+    gl.uniformMatrix4fv(uniform.viewProjection, false, viewProjection);
+    gl.uniform3fv(uniform.eye, camera.center);
+    gl.uniform3fv(uniform.sceneAmbient, scene.ambient);
+    if (scene.lights.length > 0 && highlights) {
+      gl.uniform4fv(uniform.lightPosition, scene.lights.flatMap((l) => l.position));
+      gl.uniform3fv(uniform.lightColour, scene.lights.flatMap((l) => l.colour));
+    }
+    gl.uniform3fv(uniform.ambientMaterial, ambient);
+    gl.uniform3fv(uniform.diffuseMaterial, diffuse);
+    gl.uniform3fv(uniform.specularMaterial, specular);
+    gl.uniform1f(uniform.shininess, material.exponent);
     gl.drawArrays(gl.TRIANGLES, batch.first, batch.count);
   }
 }
@@ -269,29 +292,19 @@ function draw() {
   gl.disable(gl.CULL_FACE);
   gl.disable(gl.BLEND);
   gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-  const { program, uniform, vertexArray } = programFor(scene.lights.length);
-  gl.useProgram(program);
-  gl.bindVertexArray(vertexArray);
-  gl.uniformMatrix4fv(uniform.viewProjection, false, new Float32Array(matrices(width, height)));
-  gl.uniform3fv(uniform.eye, camera.center);
-  gl.uniform3fv(uniform.viewDirection, camera.direction);
-  gl.uniform1i(uniform.orthographic, camera.kind === "orthographic" ? 1 : 0);
-  gl.uniform3fv(uniform.sceneAmbient, scene.ambient);
-  if (scene.lights.length > 0) {
-    gl.uniform4fv(uniform.lightPosition, scene.lights.flatMap((l) => l.position));
-    gl.uniform3fv(uniform.lightColour, scene.lights.flatMap((l) => l.colour));
+  const passes = scene.specular_fix ? [0, 1, 2] : [0];
+  for (const pass of passes) {
+    if (pass === 1) {
+      gl.depthFunc(gl.EQUAL);
+      gl.enable(gl.BLEND);
+      gl.blendFunc(gl.DST_COLOR, gl.ZERO);
+    } else if (pass === 2) {
+      gl.blendFunc(gl.ONE, gl.ONE);
+    }
+    paint(pass, width, height);
   }
-  paint(uniform, 0);
-  if (scene.specular_fix) {
-    gl.depthFunc(gl.EQUAL);
-    gl.enable(gl.BLEND);
-    gl.blendFunc(gl.DST_COLOR, gl.ZERO);
-    paint(uniform, 1);
-    gl.blendFunc(gl.ONE, gl.ONE);
-    paint(uniform, 2);
-    gl.depthFunc(gl.LESS);
-    gl.disable(gl.BLEND);
-  }
+  gl.depthFunc(gl.LESS);
+  gl.disable(gl.BLEND);
   frames += 1;
   document.body.dataset.frame = String(frames);
   const now = performance.now();
