@@ -692,3 +692,249 @@ fn an_open_tab_reconnects_when_raycast_starts_again_on_its_port() {
     assert_eq!(status, 204);
     assert_eq!(second.exit_within(Duration::from_secs(5)), Some(0));
 }
+
+/// The course's lines of `prefix` scenes, as argument lists (without `raytracer`), their image
+/// named `name` and their preview options dropped (the tests add their own).
+fn course_lines_of(prefix: &str) -> Vec<Vec<String>> {
+    let later = common::later_dir("the preview's tools").unwrap();
+    common::course_lines(&later, &[prefix])
+        .into_iter()
+        .map(|args| {
+            let mut kept = Vec::new();
+            let mut words = args.into_iter();
+            while let Some(word) = words.next() {
+                match word.as_str() {
+                    "-gui" | "-gouraud" => {}
+                    "-tessellation" => {
+                        words.next();
+                        words.next();
+                    }
+                    _ => kept.push(word),
+                }
+            }
+            kept
+        })
+        .collect()
+}
+
+/// `args` with the value after `flag` set to `value`.
+fn with_value(args: &[String], flag: &str, value: &str) -> Vec<String> {
+    let mut args = args.to_vec();
+    let at = args.iter().position(|a| a == flag).unwrap();
+    args[at + 1] = value.to_string();
+    args
+}
+
+fn strs(args: &[String]) -> Vec<&str> {
+    args.iter().map(String::as_str).collect()
+}
+
+#[test]
+fn r_renders_the_view_as_the_command_line_does() {
+    let Some(scenes) = scenes() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let mut lines = course_lines_of("scene4_");
+    lines.truncate(10);
+    assert_eq!(lines.len(), 10);
+    for (k, line) in lines.iter().enumerate() {
+        let batch = out.path().join(format!("batch{k}.tga"));
+        let status = Command::new(RAYCAST)
+            .current_dir(&scenes)
+            .args(strs(&with_value(line, "-output", batch.to_str().unwrap())))
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let viewed = out.path().join(format!("viewed{k}.tga"));
+        let mut args = with_value(line, "-output", viewed.to_str().unwrap());
+        args.push("-gui".into());
+        let preview = Preview::start(&scenes, &strs(&args));
+        // The line's image is written at the start; 'r' writes it again.
+        let start = Instant::now();
+        while !viewed.is_file() && start.elapsed() < Duration::from_secs(20) {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        std::fs::remove_file(&viewed).unwrap();
+        // 'r' at the initial view (no page has moved the camera): the batch image's bytes.
+        let (status, png) = request_bytes(
+            &preview.authority(),
+            "POST",
+            &format!("/api/render?token={}", preview.token()),
+            &[],
+        );
+        assert_eq!(status, 200);
+        assert_eq!(
+            std::fs::read(&viewed).unwrap(),
+            std::fs::read(&batch).unwrap(),
+            "{line:?}"
+        );
+        let shown = image::load_from_memory(&png).unwrap().to_rgb8();
+        assert_eq!(shown, rgb(&batch), "the page gets the same picture");
+    }
+}
+
+/// `raycast ARGS -inspect X Y [-json]` in `dir`: what it prints.
+fn inspect(dir: &Path, args: &[&str], (x, y): (u32, u32), json: bool) -> String {
+    let output = Command::new(RAYCAST)
+        .current_dir(dir)
+        .args(args)
+        .args(["-inspect", &x.to_string(), &y.to_string()])
+        .args(if json { &["-json"][..] } else { &[][..] })
+        .output()
+        .unwrap();
+    assert!(output.status.success());
+    String::from_utf8(output.stdout).unwrap()
+}
+
+#[test]
+fn the_ray_tree_endpoint_answers_as_inspect_does() {
+    let Some(scenes) = scenes() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let lines = course_lines_of("scene4_");
+    // Every scene of assignment 4, once (its first line).
+    let mut seen = Vec::new();
+    for line in lines {
+        let scene = line[1].clone();
+        if seen.contains(&scene) {
+            continue;
+        }
+        seen.push(scene.clone());
+        let line = with_value(&line, "-output", out.path().join("o.tga").to_str().unwrap());
+        let mut args = line.clone();
+        args.push("-gui".into());
+        let preview = Preview::start(&scenes, &strs(&args));
+        let (w, h) = (200, 200);
+        for pixel in [
+            (w / 2, h / 2),
+            (10, 10),
+            (w - 11, 25),
+            (37, h - 5),
+            (150, 120),
+        ] {
+            let path = format!(
+                "/api/raytree?x={}&y={}&token={}",
+                pixel.0,
+                pixel.1,
+                preview.token()
+            );
+            let (status, body) = request(&preview.authority(), "GET", &path, &[]);
+            assert_eq!(status, 200);
+            assert_eq!(
+                body,
+                inspect(&scenes, &strs(&line), pixel, true),
+                "{scene} {pixel:?}"
+            );
+            let (_, text) = request(
+                &preview.authority(),
+                "GET",
+                &format!("{path}&format=text"),
+                &[],
+            );
+            assert_eq!(
+                text,
+                inspect(&scenes, &strs(&line), pixel, false),
+                "{scene} {pixel:?}"
+            );
+        }
+        // After the page moved the camera: the tree of the moved view, as -inspect gives it for
+        // the scene file with that camera.
+        let original = std::fs::read_to_string(scenes.join(&scene)).unwrap();
+        let moved_camera = "PerspectiveCamera {\n    center 1 2 12\n    direction -0.1 -0.15 -1\n    up 0 1 0\n    angle 35\n}";
+        let body = moved_camera.as_bytes();
+        let mut stream = TcpStream::connect(preview.authority()).unwrap();
+        write!(
+            stream,
+            "POST /api/camera?token={} HTTP/1.0\r\nHost: {}\r\nContent-Length: {}\r\n\r\n",
+            preview.token(),
+            preview.authority(),
+            body.len()
+        )
+        .unwrap();
+        stream.write_all(body).unwrap();
+        let mut answer = String::new();
+        stream.read_to_string(&mut answer).unwrap();
+        assert!(answer.contains(" 204 "), "{answer}");
+        let moved = out.path().join("moved.txt");
+        std::fs::write(&moved, with_camera(&original, moved_camera)).unwrap();
+        let moved_line = with_value(&line, "-input", moved.to_str().unwrap());
+        let path = format!("/api/raytree?x=100&y=100&token={}", preview.token());
+        let (_, body) = request(&preview.authority(), "GET", &path, &[]);
+        assert_eq!(
+            body,
+            inspect(&scenes, &strs(&moved_line), (100, 100), true),
+            "{scene} moved"
+        );
+    }
+    assert_eq!(seen.len(), 14, "{seen:?}");
+    // A pixel outside the image, or none: refused with the reason.
+    let line = course_lines_of("scene4_01").remove(0);
+    let mut args = with_value(&line, "-output", out.path().join("o.tga").to_str().unwrap());
+    args.push("-gui".into());
+    let preview = Preview::start(&scenes, &strs(&args));
+    let at = preview.authority();
+    let (status, body) = request(
+        &at,
+        "GET",
+        &format!("/api/raytree?x=200&y=0&token={}", preview.token()),
+        &[],
+    );
+    assert_eq!(
+        (status, body.as_str()),
+        (400, "pixel (200, 0) is outside the 200x200 image")
+    );
+    let (status, _) = request(
+        &at,
+        "GET",
+        &format!("/api/raytree?token={}", preview.token()),
+        &[],
+    );
+    assert_eq!(status, 400);
+}
+
+#[test]
+fn the_keys_render_and_trace_in_the_page() {
+    let Some(scenes) = scenes() else { return };
+    if !browser() {
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let line = course_lines_of("scene4_03").remove(0);
+    let line = with_value(&line, "-output", out.path().join("o.tga").to_str().unwrap());
+    let mut args = line.clone();
+    args.push("-gui".into());
+    let preview = Preview::start(&scenes, &strs(&args));
+    let before = out.path().join("before.png");
+    let after = out.path().join("after.png");
+    let report = drive(
+        &preview.url,
+        json!([
+            { "canvas": before },
+            { "move": [100, 100] },
+            { "key": "t" },
+            { "wait_eval": "document.body.dataset.tree !== undefined && !pending" },
+            { "canvas": after },
+            { "eval": "document.body.dataset.tree" },
+            { "eval": "document.getElementById('inspect').textContent" },
+            { "key": "r" },
+            { "wait_eval": "document.body.dataset.render === '1'" },
+            { "eval": "document.getElementById('rendered').naturalWidth" },
+        ]),
+    );
+    let steps = report["steps"].as_array().unwrap();
+    // The staff's mapping: the mouse's row 100 of 200 is pixel row 200 - 100 = 100.
+    assert_eq!(steps[5]["value"], "100,100");
+    assert_eq!(
+        steps[6]["value"].as_str().unwrap(),
+        inspect(&scenes, &strs(&line), (100, 100), false)
+    );
+    // The tree is drawn over the scene (the camera ray seen end on is a point; its shadow and
+    // mirror rays are lines).
+    let (a, b) = (rgb(&before), rgb(&after));
+    let changed: Vec<[u8; 3]> = a
+        .pixels()
+        .zip(b.pixels())
+        .filter(|(p, q)| p != q)
+        .map(|(_, q)| q.0)
+        .collect();
+    assert!(changed.len() > 20, "{} pixels changed", changed.len());
+    assert_eq!(steps[9]["value"], 200);
+}

@@ -16,10 +16,9 @@ use crate::job::{Command, Options, parse_args, usage};
 
 use crate::check::faults::{LineScene, plant_for};
 use crate::error::Error;
-use crate::image_io::{self, PendingOutputs};
-use crate::job::{is_stdio, render_pictures, same_file};
+use crate::image_io::PendingOutputs;
+use crate::job::{is_stdio, render_pictures, same_file, write_pictures};
 use crate::scene::{LoadStats, Loaded, Scene};
-use crate::shade::Image;
 
 /// Runs the program on its arguments (without the program name); returns the exit status:
 /// 0 done, 1 the scene or a file is at fault, 2 the command line is.
@@ -232,40 +231,6 @@ fn refuse_to_overwrite_meshes(
                 mesh.display()
             )));
         }
-    }
-    Ok(())
-}
-
-/// Encodes each picture in its file's format and puts the files in place together; the one
-/// named `-` goes to standard output.
-fn write_pictures(
-    options: &Options,
-    pictures: Vec<Image>,
-    pending: PendingOutputs,
-) -> Result<(), Error> {
-    let mut contents = Vec::new();
-    let mut to_stdout = None;
-    for (image, (_, path)) in pictures.iter().zip(options.outputs()) {
-        let format = options
-            .format_of(path)
-            .expect("checked when parsing the command line");
-        let encoded = image_io::encode_parts(image, format);
-        if is_stdio(path) {
-            to_stdout = Some(encoded);
-        } else {
-            contents.push(encoded);
-        }
-    }
-    pending.commit(&contents)?;
-    if let Some(encoded) = to_stdout {
-        let mut out = std::io::stdout().lock();
-        encoded
-            .write_to(&mut out)
-            .and_then(|()| out.flush())
-            .map_err(|e| Error::Write {
-                path: "standard output".into(),
-                message: e.to_string(),
-            })?;
     }
     Ok(())
 }

@@ -11,8 +11,10 @@ pub use options::{
     OptionSpec, Options, is_stdio, parse_args, usage,
 };
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 
+use crate::error::Error;
+use crate::image_io::{self, PendingOutputs};
 use crate::render::{RenderSettings, Variant, render_with};
 use crate::sample;
 use crate::scene::Scene;
@@ -73,4 +75,38 @@ pub fn render_pictures<V: Variant>(options: &Options, scene: &Scene, variant: V)
         pictures: pictures.into_iter().flatten().collect(),
         rays: rendered.rays,
     }
+}
+
+/// Encodes each picture in its file's format and puts the files in place together; the one
+/// named `-` goes to standard output.
+pub fn write_pictures(
+    options: &Options,
+    pictures: Vec<Image>,
+    pending: PendingOutputs,
+) -> Result<(), Error> {
+    let mut contents = Vec::new();
+    let mut to_stdout = None;
+    for (image, (_, path)) in pictures.iter().zip(options.outputs()) {
+        let format = options
+            .format_of(path)
+            .expect("checked when parsing the command line");
+        let encoded = image_io::encode_parts(image, format);
+        if is_stdio(path) {
+            to_stdout = Some(encoded);
+        } else {
+            contents.push(encoded);
+        }
+    }
+    pending.commit(&contents)?;
+    if let Some(encoded) = to_stdout {
+        let mut out = std::io::stdout().lock();
+        encoded
+            .write_to(&mut out)
+            .and_then(|()| out.flush())
+            .map_err(|e| Error::Write {
+                path: "standard output".into(),
+                message: e.to_string(),
+            })?;
+    }
+    Ok(())
 }

@@ -6,10 +6,12 @@
 //! - `drawing.rs`: the scene as the viewer draws it (tessellated, lit per vertex);
 //! - `server.rs`: the HTTP server, its token and Host checks, and its event streams;
 //! - `watch.rs`: re-reading the scene when its files change;
+//! - `view.rs`: the page's view traced by raycast: 'r' renders it, 't' one pixel's ray tree;
 //! - `page/`: the page and its script, built into the binary.
 
 mod drawing;
 mod server;
+mod view;
 mod watch;
 
 use std::io::Write;
@@ -20,6 +22,7 @@ pub use drawing::{
     DEFAULT_TESSELLATION, Drawing, MAX_LIGHTS, PLANE_HALF_SIDE, Tessellation, camera_json, draw,
 };
 pub use server::{PreviewServer, Shown, is_loopback_host};
+pub use view::{Rendered, camera_of, camera_text, ray_tree, render_view, scene_at};
 
 use crate::error::Error;
 use crate::job::Options;
@@ -87,7 +90,7 @@ pub fn serve(
         Err(_) => random_token()?,
     };
     let port = options.preview.port.unwrap_or(0);
-    let server = PreviewServer::bind(port, token, shown).map_err(Error::Preview)?;
+    let server = PreviewServer::bind(port, token, shown, options).map_err(Error::Preview)?;
     writeln!(out, "{}", server.url())
         .and_then(|()| out.flush())
         .ok();

@@ -15,6 +15,8 @@ use std::time::Duration;
 
 use tiny_http::{Header, Method, Request, Response, Server};
 
+use crate::job::Options;
+
 /// The page and its script, built into the binary.
 const INDEX_HTML: &str = include_str!("page/index.html");
 const PREVIEW_JS: &str = include_str!("page/preview.js");
@@ -40,6 +42,8 @@ pub struct Shown {
 /// A running preview server.
 pub struct PreviewServer {
     server: Arc<Server>,
+    /// The command line: what 'r' renders and 't' traces.
+    options: Options,
     token: String,
     /// The cookie the page keeps the token in: named for the port, as cookies are shared by
     /// every port of a host.
@@ -51,12 +55,18 @@ pub struct PreviewServer {
 
 impl PreviewServer {
     /// Binds 127.0.0.1:`port` (0: any free port).
-    pub fn bind(port: u16, token: String, shown: Shown) -> Result<PreviewServer, String> {
+    pub fn bind(
+        port: u16,
+        token: String,
+        shown: Shown,
+        options: &Options,
+    ) -> Result<PreviewServer, String> {
         let server = Server::http(("127.0.0.1", port))
             .map_err(|e| format!("cannot serve the preview on 127.0.0.1:{port}: {e}"))?;
         let port = server.server_addr().to_ip().map_or(port, |a| a.port());
         Ok(PreviewServer {
             server: Arc::new(server),
+            options: options.clone(),
             token,
             cookie: format!("raycast_token_{port}"),
             shown: Arc::new(Mutex::new(shown)),
@@ -170,6 +180,11 @@ impl PreviewServer {
                     .take(64 * 1024)
                     .read_to_string(&mut body);
                 match read {
+                    // Empty: the page is at the file's camera again.
+                    Ok(_) if body.trim().is_empty() => {
+                        self.shown.lock().expect("not poisoned").camera = None;
+                        text(204, "")
+                    }
                     Ok(_) if looks_like_a_camera(&body) => {
                         self.shown.lock().expect("not poisoned").camera = Some(body);
                         text(204, "")
@@ -177,6 +192,11 @@ impl PreviewServer {
                     _ => text(400, "expected a camera in the scene file's syntax"),
                 }
             }
+            (Method::Post, "/api/render") => {
+                self.render(request);
+                return;
+            }
+            (Method::Get, "/api/raytree") => self.ray_tree(&url),
             (Method::Post, "/api/quit") => {
                 self.quit.store(true, Ordering::SeqCst);
                 text(204, "")
@@ -188,10 +208,60 @@ impl PreviewServer {
                 return;
             }
             (_, "/" | "/preview.js" | "/api/scene" | "/api/geometry" | "/api/camera")
-            | (_, "/api/quit" | "/api/events") => text(405, "method not allowed"),
+            | (_, "/api/quit" | "/api/events" | "/api/render" | "/api/raytree") => {
+                text(405, "method not allowed")
+            }
             _ => text(404, "not found"),
         };
         respond(request, response);
+    }
+
+    /// The page's camera, in the scene file's syntax, once it has moved it from the file's.
+    fn camera(&self) -> Option<String> {
+        self.shown.lock().expect("not poisoned").camera.clone()
+    }
+
+    /// 'r': renders the page's view and writes the line's images, on a thread of its own (a
+    /// long render keeps the other requests waiting for nothing); answers with the first
+    /// picture as PNG.
+    fn render(&self, request: Request) {
+        let options = self.options.clone();
+        let camera = self.camera();
+        std::thread::spawn(move || {
+            let answer = match super::view::render_view(&options, camera.as_deref()) {
+                Ok(rendered) => typed(200, rendered.png, "image/png").with_header(header(
+                    "X-Render-Seconds",
+                    &format!("{:.3}", rendered.seconds),
+                )),
+                Err(error) => text(500, &error.to_string()),
+            };
+            respond(request, answer);
+        });
+    }
+
+    /// 't' and `GET /api/raytree?x=X&y=Y[&format=text]`: the pixel's ray tree for the page's
+    /// view, as `-inspect X Y -json` (or without `-json`) prints it.
+    fn ray_tree(&self, url: &str) -> Answer {
+        let query = url.split_once('?').map_or("", |(_, q)| q);
+        let value = |name: &str| {
+            query
+                .split('&')
+                .find_map(|pair| pair.strip_prefix(&format!("{name}=")))
+        };
+        let pixel = |name: &str| value(name).and_then(|v| v.parse::<u32>().ok());
+        let (Some(x), Some(y)) = (pixel("x"), pixel("y")) else {
+            return text(
+                400,
+                "expected ?x=X&y=Y, pixel coordinates as -inspect counts them",
+            );
+        };
+        let as_text = value("format") == Some("text");
+        let camera = self.camera();
+        match super::view::ray_tree(&self.options, camera.as_deref(), (x, y), as_text) {
+            Ok(body) if as_text => typed(200, body.into_bytes(), "text/plain; charset=utf-8"),
+            Ok(body) => typed(200, body.into_bytes(), "application/json"),
+            Err(error) => text(400, &error.to_string()),
+        }
     }
 
     /// Refuses a request whose Host is not a loopback name (a page elsewhere that renamed

@@ -4,6 +4,7 @@
 //   { "canvas": "OUT.png" }                 the canvas's pixels, as a PNG file
 //   { "drag": [button, [x0, y0], [x1, y1], steps] }   a drag on the canvas (button 0, 1, 2)
 //   { "key": "q" }                          a key press
+//   { "move": [x, y] }                      the mouse to that point of the canvas
 //   { "wait_frame_after": N }               until more than N frames were drawn
 //   { "wait_text": [selector, text] }       until the element's text contains text
 //   { "wait_ms": N }
@@ -55,6 +56,10 @@ try {
       // Let the camera's report reach raycast.
       await page.waitForTimeout(300);
       report.steps.push({ drag: step.drag });
+    } else if (step.move) {
+      const [x, y] = step.move;
+      await page.mouse.move(box.x + x, box.y + y);
+      report.steps.push({ move: step.move });
     } else if (step.key) {
       quitting ||= step.key === "q";
       await page.keyboard.press(step.key);

@@ -118,6 +118,33 @@ function programFor(lights, highlights) {
   return made;
 }
 
+// The ray tree's lines: flat colours, no lighting (the staff's RayTree::paint).
+const lineProgram = (() => {
+  const program = gl.createProgram();
+  gl.attachShader(program, compile(gl.VERTEX_SHADER, `#version 300 es
+in vec3 position;
+uniform mat4 viewProjection;
+void main() { gl_Position = viewProjection * vec4(position, 1.0); }`));
+  gl.attachShader(program, compile(gl.FRAGMENT_SHADER, `#version 300 es
+precision highp float;
+uniform vec4 colour;
+out vec4 fragment;
+void main() { fragment = colour; }`));
+  gl.linkProgram(program);
+  const vertexArray = gl.createVertexArray();
+  const lines = gl.createBuffer();
+  gl.bindVertexArray(vertexArray);
+  gl.bindBuffer(gl.ARRAY_BUFFER, lines);
+  const at = gl.getAttribLocation(program, "position");
+  gl.enableVertexAttribArray(at);
+  gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 12, 0);
+  return {
+    program, vertexArray, lines,
+    viewProjection: gl.getUniformLocation(program, "viewProjection"),
+    colour: gl.getUniformLocation(program, "colour"),
+  };
+})();
+
 // ---- Vectors and matrices (column-major, as OpenGL's) ----
 const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
 const add = (a, b) => [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
@@ -305,6 +332,7 @@ function draw() {
   }
   gl.depthFunc(gl.LESS);
   gl.disable(gl.BLEND);
+  paintRayTree(width, height);
   frames += 1;
   document.body.dataset.frame = String(frames);
   const now = performance.now();
@@ -325,23 +353,148 @@ setInterval(() => {
   document.getElementById("fps").textContent = String(frameTimes.length);
 }, 500);
 
+// ---- The ray tree ('t'), drawn as the staff's RayTree::paint of assignment 5 ----
+// Each kind of segment: its colour, and the segments as [from, to] pairs.
+const TREE_COLOURS = {
+  camera: [0.7, 0.7, 0.7],
+  shadow: [0.1, 0.9, 0.1],
+  reflected: [0.9, 0.1, 0.1],
+  refracted: [0.1, 0.1, 0.9],
+};
+// Where a ray that hits nothing is drawn to, as the staff's Segment clamps it.
+const MISS_LENGTH = 100;
+let treeSegments = null;
+
+// The segments of an -inspect tree: each ray from its start to its hit (or MISS_LENGTH along
+// it), and each shadow ray sent from the hit toward its light.
+function segmentsOf(tree) {
+  const out = { camera: [], shadow: [], reflected: [], refracted: [] };
+  const visit = (node) => {
+    if (!node.ray) return;
+    const from = node.ray.origin, d = node.ray.direction;
+    const t = node.hit ? node.hit.t : MISS_LENGTH / Math.hypot(d[0], d[1], d[2]);
+    (out[node.kind] || out.reflected).push([from, add(from, scale(d, t))]);
+    if (!node.hit) return;
+    for (const light of node.lights || []) {
+      if (light.shadow_ray !== "blocked" && light.shadow_ray !== "clear") continue;
+      const reach = light.distance === "infinite" ? MISS_LENGTH : Math.min(light.distance, MISS_LENGTH);
+      out.shadow.push([node.hit.point, add(node.hit.point, scale(light.to_light, reach))]);
+    }
+    for (const child of node.children || []) visit(child);
+  };
+  visit(tree);
+  return out;
+}
+
+function paintRayTree(width, height) {
+  if (!treeSegments) return;
+  const l = lineProgram;
+  gl.useProgram(l.program);
+  gl.bindVertexArray(l.vertexArray);
+  gl.uniformMatrix4fv(l.viewProjection, false, new Float32Array(matrices(width, height)));
+  gl.bindBuffer(gl.ARRAY_BUFFER, l.lines);
+  const draw = (alpha) => {
+    for (const [kind, colour] of Object.entries(TREE_COLOURS)) {
+      const segments = treeSegments[kind];
+      if (segments.length === 0) continue;
+      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(segments.flat(2)), gl.DYNAMIC_DRAW);
+      gl.uniform4f(l.colour, colour[0], colour[1], colour[2], alpha);
+      gl.drawArrays(gl.LINES, 0, segments.length * 2);
+    }
+  };
+  // Seen through the scene, faintly; then solid where nothing hides it.
+  gl.disable(gl.DEPTH_TEST);
+  gl.enable(gl.BLEND);
+  gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+  draw(0.3);
+  gl.disable(gl.BLEND);
+  gl.enable(gl.DEPTH_TEST);
+  draw(1.0);
+}
+
+// The pixel under the mouse as the staff's keyboard() maps it: j = height - row (not
+// height - 1 - row), so the tree is that of the pixel a row above the mouse; the top row
+// traces itself.
+function pixelUnderMouse() {
+  const width = canvas.width, height = canvas.height;
+  const [x, row] = mouseAt || [width / 2, height / 2];
+  const i = Math.min(width - 1, Math.max(0, Math.floor(x)));
+  const j = Math.min(height - 1, Math.max(0, height - Math.floor(row)));
+  return [i, j];
+}
+
+async function traceRay([i, j]) {
+  await reportCamera();
+  const status = document.getElementById("render-status");
+  const answer = await fetch(withToken(`/api/raytree?x=${i}&y=${j}`));
+  if (!answer.ok) {
+    status.textContent = await answer.text();
+    return;
+  }
+  const tree = await answer.json();
+  treeSegments = segmentsOf(tree.tree);
+  const text = await (await fetch(withToken(`/api/raytree?x=${i}&y=${j}&format=text`))).text();
+  document.getElementById("inspect").textContent = text;
+  status.textContent = `ray tree of pixel (${i}, ${j})`;
+  document.body.dataset.tree = `${i},${j}`;
+  redraw();
+}
+
+async function renderView() {
+  await reportCamera();
+  const status = document.getElementById("render-status");
+  status.textContent = "rendering…";
+  const answer = await fetch(withToken("/api/render"), { method: "POST" });
+  if (!answer.ok) {
+    status.textContent = await answer.text();
+    return;
+  }
+  const image = document.getElementById("rendered");
+  const url = URL.createObjectURL(await answer.blob());
+  await new Promise((done) => { image.onload = done; image.src = url; });
+  image.classList.add("shown");
+  renders += 1;
+  document.body.dataset.render = String(renders);
+  status.textContent = `rendered in ${answer.headers.get("X-Render-Seconds")} s, the line's images written`;
+}
+let renders = 0;
+
+document.getElementById("rendered").addEventListener("click", (e) => {
+  const image = e.target;
+  const i = Math.floor((e.offsetX * image.naturalWidth) / image.clientWidth);
+  const row = Math.floor((e.offsetY * image.naturalHeight) / image.clientHeight);
+  traceRay([i, image.naturalHeight - 1 - row]);
+});
+
 // ---- The camera's report to raycast (GET /api/camera) ----
 let reportTimer = null;
+let reported = "";
 function cameraMoved() {
   document.getElementById("camera").textContent = cameraText();
   redraw();
   clearTimeout(reportTimer);
-  reportTimer = setTimeout(() => {
-    fetch(withToken("/api/camera"), { method: "POST", body: cameraText() }).catch(() => {});
-  }, 50);
+  reportTimer = setTimeout(() => reportCamera().catch(() => {}), 50);
+}
+
+// Tells raycast the camera ('r' and 't' trace the view the page shows): nothing at the file's
+// camera, which raycast then takes exactly from the file.
+async function reportCamera() {
+  const atFile = JSON.stringify(camera) === JSON.stringify(cameraFrom(fileCamera));
+  const text = atFile ? "" : cameraText();
+  if (text === reported) return;
+  await fetch(withToken("/api/camera"), { method: "POST", body: text });
+  reported = text;
 }
 
 // ---- Mouse and keys, as the staff's glCanvas ----
 let dragging = -1, lastX = 0, lastY = 0;
+let mouseAt = null;
+canvas.addEventListener("mousemove", (e) => { mouseAt = [e.offsetX, e.offsetY]; });
 canvas.addEventListener("contextmenu", (e) => e.preventDefault());
 canvas.addEventListener("mousedown", (e) => {
   const bounds = canvas.getBoundingClientRect();
-  dragging = e.button;
+  // Shift-drag trucks, for a mouse (or a touchpad) without a middle button.
+  dragging = e.button === 0 && e.shiftKey ? 1 : e.button;
   lastX = e.clientX - bounds.left;
   lastY = e.clientY - bounds.top;
   e.preventDefault();
@@ -365,15 +518,28 @@ canvas.addEventListener("wheel", (e) => {
   dolly(-e.deltaY * 0.005);
   cameraMoved();
 }, { passive: false });
-window.addEventListener("keydown", (e) => {
-  if (e.key === "q" || e.key === "Q") {
+const KEYS = {
+  q: () => {
     fetch(withToken("/api/quit"), { method: "POST" }).catch(() => {});
     document.getElementById("status").textContent = "raycast was asked to quit";
-  } else if ((e.key === "v" || e.key === "V") && fileCamera) {
+  },
+  v: () => {
+    if (!fileCamera) return;
     camera = cameraFrom(fileCamera);
     cameraMoved();
-  }
+  },
+  r: () => renderView(),
+  t: () => traceRay(pixelUnderMouse()),
+};
+// Keys with modifiers stay the browser's.
+window.addEventListener("keydown", (e) => {
+  if (e.ctrlKey || e.metaKey || e.altKey) return;
+  const key = KEYS[e.key.toLowerCase()];
+  if (key && camera) key();
 });
+for (const name of Object.keys(KEYS)) {
+  document.getElementById(`key-${name}`).addEventListener("click", () => { if (camera) KEYS[name](); });
+}
 
 // ---- The scene, and its changes ----
 async function load() {

@@ -1,0 +1,134 @@
+//! The view the page shows, traced by raycast itself: 'r' renders it as the command line would
+//! (every option of the line, the camera where the mouse left it) and writes the line's images;
+//! 't' traces one pixel's ray tree, as `-inspect X Y -json` prints it.
+
+use std::path::Path;
+
+use crate::error::Error;
+use crate::image_io::{self, ImageFormat, PendingOutputs};
+use crate::job::{Options, is_stdio, render_pictures, write_pictures};
+use crate::parse::description::{CameraSpec, Projection};
+use crate::parse::parse_scene;
+use crate::render::Exact;
+use crate::scene::Scene;
+
+/// A camera in the scene file's syntax (as `GET /api/camera` gives it), read as the scene
+/// parser reads one.
+pub fn camera_of(text: &str) -> Result<CameraSpec, Error> {
+    Ok(parse_scene(Path::new("the page's camera"), text)?.camera)
+}
+
+/// `camera` in the scene file's syntax, its numbers as Rust writes them (each reads back as
+/// the same f32).
+pub fn camera_text(camera: &CameraSpec) -> String {
+    let triple = |v: glam::Vec3| format!("{} {} {}", v.x, v.y, v.z);
+    let (kind, last) = match camera.projection {
+        Projection::Orthographic { size } => ("OrthographicCamera", format!("size {size}")),
+        Projection::Perspective { angle } => ("PerspectiveCamera", format!("angle {angle}")),
+    };
+    format!(
+        "{kind} {{\n    center {}\n    direction {}\n    up {}\n    {last}\n}}\n",
+        triple(camera.center),
+        triple(camera.direction),
+        triple(camera.up)
+    )
+}
+
+/// The line's scene as the page sees it: with `camera` (the scene file's syntax) in place of
+/// the file's, and the line's grid.
+pub fn scene_at(options: &Options, camera: Option<&str>) -> Result<Scene, Error> {
+    let mut description = crate::parse::read_scene(&options.input)?;
+    if let Some(camera) = camera {
+        description.camera = camera_of(camera)?;
+    }
+    let mut scene = Scene::from_description(&description)?;
+    if let Some([nx, ny, nz]) = options.grid {
+        scene
+            .world
+            .use_grid(glam::UVec3::new(nx, ny, nz))
+            .map_err(|e| Error::Refused(format!("{}: {e}", options.input.display())))?;
+    }
+    Ok(scene)
+}
+
+/// What 'r' made: the first picture of the line as PNG (for the page), and how long it took.
+pub struct Rendered {
+    /// The line's first picture (the image, or else the normals or the depth), as PNG.
+    pub png: Vec<u8>,
+    /// Seconds from reading the scene to the files in place.
+    pub seconds: f64,
+}
+
+/// 'r': renders the line with `camera` and writes its images as the command line would.
+pub fn render_view(options: &Options, camera: Option<&str>) -> Result<Rendered, Error> {
+    let start = std::time::Instant::now();
+    let outputs = options.outputs();
+    let files: Vec<&Path> = outputs
+        .iter()
+        .map(|&(_, p)| p)
+        .filter(|p| !is_stdio(p))
+        .collect();
+    let pending = PendingOutputs::reserve(&files)?;
+    let scene = scene_at(options, camera)?;
+    let pictures = render_pictures(options, &scene, Exact).pictures;
+    let png = pictures
+        .first()
+        .map(|p| image_io::encode(p, ImageFormat::Png))
+        .unwrap_or_default();
+    write_pictures(options, pictures, pending)?;
+    Ok(Rendered {
+        png,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// 't': pixel (x, y) of the view with `camera` (counted as `-inspect` counts them, from the
+/// lower left), as `-inspect X Y -json` prints it, or as its text when `text`.
+pub fn ray_tree(
+    options: &Options,
+    camera: Option<&str>,
+    (x, y): (u32, u32),
+    text: bool,
+) -> Result<String, Error> {
+    if x >= options.width || y >= options.height {
+        return Err(Error::Refused(format!(
+            "pixel ({x}, {y}) is outside the {}x{} image",
+            options.width, options.height
+        )));
+    }
+    let scene = scene_at(options, camera)?;
+    let account = crate::inspect::inspect(
+        &scene,
+        options.trace,
+        (options.width, options.height),
+        (x, y),
+    );
+    // Word for word what the command line prints: trimmed, one newline.
+    let body = if text {
+        crate::inspect::to_text(&account)
+    } else {
+        serde_json::to_string_pretty(&account).unwrap_or_default()
+    };
+    Ok(format!("{}\n", body.trim_end()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_camera_written_reads_back_the_same() {
+        let text = "PerspectiveCamera { center -0.367659 0.288879 0.266634 \
+                    direction 0.717496 -0.394623 -0.573997 up 0 1 0.1 angle 30.5 }";
+        let camera = camera_of(text).unwrap();
+        assert_eq!(camera_of(&camera_text(&camera)).unwrap(), camera);
+        let orthographic =
+            camera_of("OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2.5 }")
+                .unwrap();
+        assert_eq!(
+            camera_text(&orthographic),
+            "OrthographicCamera {\n    center 0 0 10\n    direction 0 0 -1\n    up 0 1 0\n    size 2.5\n}\n"
+        );
+        assert!(camera_of("PerspectiveCamera { center 0 0 }").is_err());
+    }
+}
