@@ -619,3 +619,100 @@ fn a_suite_without_references_is_graded_against_raycasts_own_renders() {
         "{out}"
     );
 }
+
+#[test]
+fn a_renderer_that_cannot_run_is_one_error_before_any_line() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = small_suite(dir.path(), &conformance, 3);
+    let suite = suite.to_str().unwrap();
+    let refused = |renderer: &str| {
+        let output = raycast(&["check", suite, "--renderer", renderer]);
+        assert_eq!(output.status.code(), Some(2), "{renderer}");
+        assert!(output.stdout.is_empty(), "nothing ran for {renderer}");
+        String::from_utf8_lossy(&output.stderr).trim().to_string()
+    };
+    let missing = dir.path().join("missing.sh");
+    assert_eq!(
+        refused(missing.to_str().unwrap()),
+        format!(
+            "raycast: check: --renderer: '{}' cannot be run: No such file or directory (os error 2)",
+            missing.display()
+        )
+    );
+    assert_eq!(
+        refused("no-such-tracer-anywhere --fast"),
+        "raycast: check: --renderer: 'no-such-tracer-anywhere' is not a program on PATH (give \
+         its path, such as ./no-such-tracer-anywhere)"
+    );
+    let plain = dir.path().join("plain.py");
+    std::fs::write(&plain, "print('hi')\n").unwrap();
+    assert_eq!(
+        refused(plain.to_str().unwrap()),
+        format!(
+            "raycast: check: --renderer: '{0}' is not executable (chmod +x it, or name its \
+             interpreter: --renderer \"python3 {0}\")",
+            plain.display()
+        )
+    );
+    // A command that does not split: a usage error, said first.
+    assert_eq!(
+        refused("'unbalanced").lines().next().unwrap(),
+        "raycast: --renderer: unbalanced quotes or a trailing backslash in ''unbalanced'"
+    );
+}
+
+#[test]
+fn renderer_words_split_as_a_shell_splits_them_and_preview_options_are_left_out() {
+    let Some(later) = common::later_dir("check's suite of preview lines") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // A renderer in a folder with a space, given with an argument of its own, that dies as a
+    // student's tracer does where there is no display when asked for the OpenGL preview.
+    let folder = dir.path().join("my tracer");
+    std::fs::create_dir_all(&folder).unwrap();
+    let renderer = script(
+        &folder,
+        "render.sh",
+        &format!(
+            "[ \"$1\" = 'with space' ] || exit 3; shift
+             for a in \"$@\"; do case $a in -gui|-tessellation|-gouraud) echo 'cannot open display' >&2; exit 1;; esac; done
+             exec {} \"$@\"",
+            env!("CARGO_BIN_EXE_raycast")
+        ),
+    );
+    let suite = dir.path().join("suite");
+    std::fs::create_dir_all(&suite).unwrap();
+    std::fs::write(
+        suite.join("COMMANDS.txt"),
+        "raytracer -input scene3_08_sphere.txt -size 40 40 -output a.tga -gui -tessellation 10 5 -gouraud\n\
+         raytracer -input scene3_01_cube_orthographic.txt -size 40 40 -output b.tga\n",
+    )
+    .unwrap();
+    std::os::unix::fs::symlink(later.join("scenes"), suite.join("scenes")).unwrap();
+    let suite = suite.to_str().unwrap();
+    let command = format!("'{renderer}' with\\ space");
+    let output = raycast(&["check", suite, "--renderer", &command]);
+    assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
+    assert_eq!(
+        String::from_utf8_lossy(&output.stderr),
+        "raycast: check: -gui, -tessellation and -gouraud were left out of 1 line: they only \
+         drive the course's OpenGL preview, and the image is the same (--keep-preview-options \
+         passes them on)\n"
+    );
+    let output = raycast(&[
+        "check",
+        suite,
+        "--renderer",
+        &command,
+        "--keep-preview-options",
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    let out = stdout(&output);
+    assert!(out.contains("ERROR  a: crash"), "{out}");
+    assert!(out.contains("cannot open display"), "{out}");
+    assert!(output.stderr.is_empty());
+}

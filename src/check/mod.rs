@@ -45,6 +45,8 @@ pub struct CheckOptions {
     pub jobs: usize,
     /// How long one command line may run.
     pub timeout: Duration,
+    /// Pass `-gui`, `-tessellation` and `-gouraud` on to the renderer (dropped by default).
+    pub keep_preview_options: bool,
 }
 
 impl CheckOptions {
@@ -57,6 +59,7 @@ impl CheckOptions {
             rule: Rule::COURSE,
             jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
             timeout: Duration::from_secs(60),
+            keep_preview_options: false,
         }
     }
 }
@@ -153,6 +156,7 @@ const MAX_IMAGE_BYTES: u64 = 256 << 20;
 /// `progress` is called once a line has run. The error is a usage or suite problem.
 pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec<Graded>, String> {
     let suite = Suite::read(&options.suite)?;
+    run::check_program(&options.renderer)?;
     let scratch = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
     let scenes = scratch.path().join("scenes");
     run::copy_scenes(&suite.scenes, &scenes)?;
@@ -164,6 +168,9 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
         suite
             .lines
             .par_iter()
+            // One line a task: lines differ in time a hundredfold, and a worker that runs out
+            // takes the next line, not half of another's.
+            .with_max_len(1)
             .enumerate()
             .map(|(number, line)| {
                 let folder = scratch.path().join(format!("line{number}"));
@@ -176,6 +183,19 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
     let mut graded: Vec<Graded> = graded.into_iter().flatten().collect();
     unique_names(&mut graded);
     Ok(graded)
+}
+
+/// How many lines of the options' suite name a preview option.
+pub fn preview_lines(options: &CheckOptions) -> usize {
+    Suite::read(&options.suite)
+        .map(|suite| {
+            suite
+                .lines
+                .iter()
+                .filter(|l| l.has_preview_options())
+                .count()
+        })
+        .unwrap_or(0)
 }
 
 /// Several lines may write an image of the same name (the course's A3 lines write output3_08
@@ -218,6 +238,9 @@ fn grade_line(
         let mut args = line.args.clone();
         for (at, name) in &line.outputs {
             args[*at] = out.join(file_name(name)).to_string_lossy().into_owned();
+        }
+        if !options.keep_preview_options {
+            args = suite::without_preview_options(&args);
         }
         (run::run(program, &args, &work, options.timeout), out)
     };

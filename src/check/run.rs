@@ -178,6 +178,50 @@ fn run_to_end(
 
 /// A renderer named by a relative path (`./raytracer`) runs from the work folder, so it is made
 /// absolute first; a bare name is looked up on the PATH as usual.
+/// Whether the renderer's program can run at all: found (on `PATH` for a bare name), a file,
+/// executable. Asked once before any line, so that a wrong path is one clear error, not a
+/// crash on every line.
+pub fn check_program(program: &[String]) -> Result<(), String> {
+    use std::os::unix::fs::PermissionsExt;
+    let Some(executable) = program.first() else {
+        return Err("--renderer is empty: which program should be graded?".into());
+    };
+    let path = if executable.contains('/') {
+        resolve(executable)
+    } else {
+        let on_path = std::env::var_os("PATH")
+            .map(|p| {
+                std::env::split_paths(&p)
+                    .map(|d| d.join(executable))
+                    .collect::<Vec<_>>()
+            })
+            .unwrap_or_default();
+        match on_path.into_iter().find(|p| p.is_file()) {
+            Some(found) => found,
+            None => {
+                return Err(format!(
+                    "--renderer: '{executable}' is not a program on PATH (give its path, such \
+                     as ./{executable})"
+                ));
+            }
+        }
+    };
+    let metadata = std::fs::metadata(&path)
+        .map_err(|e| format!("--renderer: '{}' cannot be run: {e}", path.display()))?;
+    if !metadata.is_file() {
+        return Err(format!("--renderer: '{}' is not a file", path.display()));
+    }
+    if metadata.permissions().mode() & 0o111 == 0 {
+        return Err(format!(
+            "--renderer: '{}' is not executable (chmod +x it, or name its interpreter: \
+             --renderer \"python3 {}\")",
+            path.display(),
+            executable
+        ));
+    }
+    Ok(())
+}
+
 fn resolve(executable: &str) -> PathBuf {
     let path = Path::new(executable);
     if path.components().count() > 1 && path.is_relative() {

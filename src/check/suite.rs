@@ -15,6 +15,36 @@ pub struct Line {
     pub outputs: Vec<(usize, String)>,
 }
 
+/// The options that only drive the course's OpenGL preview, with how many values each takes:
+/// a student's renderer opens a window for them, and dies where there is no display.
+pub const PREVIEW_OPTIONS: &[(&str, usize)] = &[("-gui", 0), ("-tessellation", 2), ("-gouraud", 0)];
+
+impl Line {
+    /// Whether the line names any of [`PREVIEW_OPTIONS`].
+    pub fn has_preview_options(&self) -> bool {
+        self.args
+            .iter()
+            .any(|a| PREVIEW_OPTIONS.iter().any(|(o, _)| a == o))
+    }
+}
+
+/// `args` without the [`PREVIEW_OPTIONS`] and their values (the image is the same without them).
+pub fn without_preview_options(args: &[String]) -> Vec<String> {
+    let mut kept = Vec::with_capacity(args.len());
+    let mut words = args.iter();
+    while let Some(word) = words.next() {
+        match PREVIEW_OPTIONS.iter().find(|(o, _)| word == o) {
+            Some(&(_, values)) => {
+                for _ in 0..values {
+                    words.next();
+                }
+            }
+            None => kept.push(word.clone()),
+        }
+    }
+    kept
+}
+
 /// What kind of picture an option writes, which decides the advice a guess gives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum PictureKind {

@@ -13,13 +13,18 @@ use crate::image_io::{self, ImageFormat};
 pub const CHECK_USAGE: &str = "\
 usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
                      [--max-bad FRACTION] [--jobs N] [--timeout SECONDS]
+                     [--keep-preview-options]
        raycast diff IMAGE REFERENCE [--out DIFF.png] [--tolerance LEVELS] [--max-bad FRACTION]
 
 check runs every line of SUITE/COMMANDS.txt ('raytracer ARGS') as 'CMD ARGS' in a scratch
-copy of SUITE/scenes, and compares each image with SUITE/reference/NAME.png (or, where the suite
-has no reference/ folder, with raycast's own render of the same line). It names the likely
-cause of each mismatch, and writes DIR/summary.json and DIR/index.html with --report.
-CMD is the renderer's command, one argument: --renderer \"python3 my_tracer.py\".
+copy of SUITE/scenes, and compares each image with its reference, SUITE/reference/NAME.png or
+SUITE/reference/*/NAME.png (or, where the suite has none, with raycast's own render of the same
+line). It names the likely cause of each mismatch, and writes DIR/summary.json and
+DIR/index.html with --report. CMD is the renderer's command, one argument split into words as a
+POSIX shell splits them (quotes and backslashes; no expansion): --renderer \"python3 'my
+tracer.py'\". -gui, -tessellation and -gouraud, which only drive the course's OpenGL preview,
+are dropped from the lines (--keep-preview-options passes them on). Lines run --jobs at a time
+(default: one a core), each handed out as a worker comes free.
 An image passes when at most FRACTION of its pixels (default 0.001) are off by more than
 LEVELS (default 2). Exit status: 0 all pass, 1 some fail, 2 a usage or suite error.";
 
@@ -81,7 +86,9 @@ fn parse_check_args(args: Vec<OsString>) -> Result<Option<CheckOptions>, String>
         match text.as_str() {
             "--renderer" => {
                 let command = value(&mut args, "--renderer", "the renderer's command")?;
-                options.renderer = command.split_whitespace().map(String::from).collect();
+                options.renderer = shlex::split(&command).ok_or_else(|| {
+                    format!("--renderer: unbalanced quotes or a trailing backslash in '{command}'")
+                })?;
             }
             "--report" => options.report = Some(value(&mut args, "--report", "a folder")?.into()),
             "--tolerance" | "--max-bad" => {
@@ -107,6 +114,7 @@ fn parse_check_args(args: Vec<OsString>) -> Result<Option<CheckOptions>, String>
                 }
                 options.timeout = Duration::from_secs_f64(s);
             }
+            "--keep-preview-options" => options.keep_preview_options = true,
             "-help" | "--help" | "-h" => return Ok(None),
             _ if text.starts_with('-') => {
                 return Err(format!("check: unknown option '{text}'"));
@@ -154,6 +162,18 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     };
     if let Some(bar) = bar {
         bar.finish_and_clear();
+    }
+    let previewing = check::preview_lines(&options);
+    if previewing > 0 && !options.keep_preview_options {
+        say(
+            std::io::stderr(),
+            &format!(
+                "raycast: check: -gui, -tessellation and -gouraud were left out of {previewing} \
+                 line{}: they only drive the course's OpenGL preview, and the image is the same \
+                 (--keep-preview-options passes them on)",
+                if previewing == 1 { "" } else { "s" }
+            ),
+        );
     }
     let groups = check::renderer_verdict(&mut graded);
     let mut out = std::io::stdout().lock();
