@@ -20,7 +20,7 @@ pub struct Line {
 pub const PREVIEW_OPTIONS: &[(&str, usize)] = &[("-gui", 0), ("-tessellation", 2), ("-gouraud", 0)];
 
 impl Line {
-    /// Whether the line names any of [`PREVIEW_OPTIONS`].
+    /// Whether the line names any of the preview options (`-gui`, `-tessellation`, `-gouraud`).
     pub fn has_preview_options(&self) -> bool {
         self.args
             .iter()
@@ -28,7 +28,7 @@ impl Line {
     }
 }
 
-/// `args` without the [`PREVIEW_OPTIONS`] and their values (the image is the same without them).
+/// `args` without the preview options and their values (the image is the same without them).
 pub fn without_preview_options(args: &[String]) -> Vec<String> {
     let mut kept = Vec::with_capacity(args.len());
     let mut words = args.iter();
