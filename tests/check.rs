@@ -716,3 +716,75 @@ fn renderer_words_split_as_a_shell_splits_them_and_preview_options_are_left_out(
     assert!(out.contains("cannot open display"), "{out}");
     assert!(output.stderr.is_empty());
 }
+
+#[test]
+fn jobs_take_lines_one_at_a_time() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = dir.path().join("suite");
+    std::fs::create_dir_all(&suite).unwrap();
+    // Twenty slow lines, then twenty quick ones. Two workers that each took a fixed half would run
+    // the slow lines one after another; handed out one at a time, they run two at once.
+    let lines: Vec<String> = (0..40)
+        .map(|k| {
+            let name = if k < 20 {
+                format!("slow{k}")
+            } else {
+                format!("quick{k}")
+            };
+            format!("raytracer -input scene2_06_plane.txt -size 8 8 -output {name}.tga")
+        })
+        .collect();
+    std::fs::write(suite.join("COMMANDS.txt"), lines.join("\n") + "\n").unwrap();
+    std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
+    let log = dir.path().join("log.txt");
+    let renderer = script(
+        dir.path(),
+        "timed.sh",
+        &format!(
+            "name=$(basename \"$7\" .tga)
+             echo \"start $name $(date +%s%N)\" >> '{log}'
+             case $name in slow*) sleep 0.2;; esac
+             echo \"end $name $(date +%s%N)\" >> '{log}'
+             exec {raycast} \"$@\"",
+            log = log.display(),
+            raycast = env!("CARGO_BIN_EXE_raycast")
+        ),
+    );
+    let output = raycast(&[
+        "check",
+        suite.to_str().unwrap(),
+        "--renderer",
+        &renderer,
+        "--jobs",
+        "2",
+    ]);
+    assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
+    let text = std::fs::read_to_string(&log).unwrap();
+    let time = |event: &str, name: &str| -> u128 {
+        text.lines()
+            .find_map(|l| {
+                let w: Vec<&str> = l.split_whitespace().collect();
+                (w.len() == 3 && w[0] == event && w[1] == name).then(|| w[2].parse().unwrap())
+            })
+            .unwrap_or_else(|| panic!("no {event} of {name} in the log:\n{text}"))
+    };
+    let slow: Vec<(u128, u128)> = (0..20)
+        .map(|k| {
+            (
+                time("start", &format!("slow{k}")),
+                time("end", &format!("slow{k}")),
+            )
+        })
+        .collect();
+    let overlapping = (0..20)
+        .flat_map(|a| (a + 1..20).map(move |b| (a, b)))
+        .filter(|&(a, b)| slow[a].0 < slow[b].1 && slow[b].0 < slow[a].1)
+        .count();
+    assert!(
+        overlapping >= 2,
+        "slow lines ran two at once {overlapping} times:\n{text}"
+    );
+}
