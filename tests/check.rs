@@ -788,3 +788,53 @@ fn jobs_take_lines_one_at_a_time() {
         "slow lines ran two at once {overlapping} times:\n{text}"
     );
 }
+
+#[test]
+fn the_report_shows_raycasts_ray_tree_where_a_picture_differs_most() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let line = "raytracer -input scene2_04_perspective.txt -size 200 200 -output output2_04.tga";
+    let suite = one_line_suite(dir.path(), &conformance, line);
+    let renderer = script(
+        dir.path(),
+        "flipped.sh",
+        &format!(
+            "exec {} \"$@\" -fault flip_horizontal",
+            env!("CARGO_BIN_EXE_raycast")
+        ),
+    );
+    let report = dir.path().join("report");
+    let output = raycast(&[
+        "check",
+        suite.to_str().unwrap(),
+        "--renderer",
+        &renderer,
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1), "{}", stdout(&output));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
+            .unwrap();
+    let worst = &summary["images"][0]["worst_pixel"];
+    let (x, y) = (worst["x"].as_u64().unwrap(), worst["y"].as_u64().unwrap());
+    // What `raycast -inspect X Y` prints for the line, word for word.
+    let mut args: Vec<String> = line.split_whitespace().skip(1).map(String::from).collect();
+    args.extend(["-inspect".into(), x.to_string(), y.to_string()]);
+    let at = args.iter().position(|a| a == "-output").unwrap();
+    args[at + 1] = dir.path().join("own.tga").to_str().unwrap().into();
+    let inspect = Command::new(env!("CARGO_BIN_EXE_raycast"))
+        .args(&args)
+        .current_dir(conformance.join("scenes"))
+        .output()
+        .unwrap();
+    assert_eq!(
+        worst["ray_tree"].as_str().unwrap(),
+        stdout(&inspect).trim_end()
+    );
+    assert!(worst["difference"].as_u64().unwrap() > 2);
+    let page = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(page.contains(&format!("what raycast traced at pixel ({x}, {y})")));
+}

@@ -114,6 +114,56 @@ pub struct Graded {
     pub against_raycast: bool,
     /// What kind of picture it is (the option that names it).
     pub picture: PictureKind,
+    /// For a failing picture: raycast's account (`-inspect`) of the pixel where it differs
+    /// most from the reference.
+    pub worst_pixel: Option<WorstPixel>,
+}
+
+/// The pixel where a failing picture differs most from its reference, and what raycast's
+/// tracer did there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WorstPixel {
+    /// Counted as `-inspect` counts them: x from the left, y from the bottom.
+    pub x: u32,
+    /// From the bottom.
+    pub y: u32,
+    /// The largest difference of a channel there, in levels.
+    pub difference: u8,
+    /// `-inspect X Y` of the line, as raycast prints it.
+    pub ray_tree: String,
+}
+
+/// The pixel where `actual` differs most from `reference` (the largest difference of a channel;
+/// among equals, the one nearest the image's centre), as `-inspect` counts pixels, and the
+/// difference; `None` when the sizes differ or nothing differs.
+pub fn worst_pixel(actual: &Image, reference: &Image) -> Option<(u32, u32, u8)> {
+    if (actual.width, actual.height) != (reference.width, reference.height) {
+        return None;
+    }
+    let (w, h) = (actual.width, actual.height);
+    let centre_distance = |k: usize| {
+        let (x, row) = ((k as u32 % w) as f64 + 0.5, (k as u32 / w) as f64 + 0.5);
+        (x - f64::from(w) / 2.0).powi(2) + (row - f64::from(h) / 2.0).powi(2)
+    };
+    let (k, difference) = actual
+        .pixels
+        .iter()
+        .zip(&reference.pixels)
+        .map(|(a, r)| {
+            a.iter()
+                .zip(r)
+                .map(|(p, q)| p.abs_diff(*q))
+                .max()
+                .unwrap_or(0)
+        })
+        .enumerate()
+        .filter(|&(_, d)| d > 0)
+        .min_by(|&(i, d), &(j, e)| {
+            e.cmp(&d)
+                .then(centre_distance(i).total_cmp(&centre_distance(j)))
+        })?;
+    let (x, row) = (k as u32 % w, k as u32 / w);
+    Some((x, h - 1 - row, difference))
 }
 
 /// What the rule says of one picture against its reference.
@@ -282,6 +332,22 @@ fn grade_line(
         })
         .collect();
     explain_by_simulation(options, suite, line, &mut graded);
+    for g in graded.iter_mut().filter(|g| g.status == Status::Fail) {
+        let (Some(actual), Some(reference)) = (&g.actual, &g.reference) else {
+            continue;
+        };
+        let Some((x, y, difference)) = worst_pixel(actual, reference) else {
+            continue;
+        };
+        if let Ok(ray_tree) = simulate::ray_tree(line, &suite.scenes, (x, y)) {
+            g.worst_pixel = Some(WorstPixel {
+                x,
+                y,
+                difference,
+                ray_tree,
+            });
+        }
+    }
     graded
 }
 
@@ -346,6 +412,7 @@ fn grade(
         seconds: ran.seconds,
         against_raycast: false,
         picture: line.picture_kind(index),
+        worst_pixel: None,
     };
     let reference = match reference {
         Ok(image) => image,
@@ -510,7 +577,8 @@ pub fn verdict(graded: &Graded) -> String {
 /// `summary.json`'s contents: raycast's version and the rule, the counts, the renderer's
 /// verdict (`{fault, lines}`, biggest group first), and for each image its status, the share
 /// of pixels off, its causes (`diagnoses`, the one the verdict names first), what to look at,
-/// the renderer's last words on stderr and its time for the line.
+/// the renderer's last words on stderr and its time for the line, and for a failing picture
+/// the pixel where it differs most with raycast's account of it (`worst_pixel`).
 pub fn summary_json(graded: &[Graded], groups: &[Group], rule: Rule) -> serde_json::Value {
     let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
     serde_json::json!({
@@ -529,6 +597,9 @@ pub fn summary_json(graded: &[Graded], groups: &[Group], rule: Rule) -> serde_js
             "reference": if g.against_raycast { "raycast" } else { "suite" },
             "stderr": last_lines(&g.stderr, 20),
             "seconds": g.seconds,
+            "worst_pixel": g.worst_pixel.as_ref().map(|w| serde_json::json!({
+                "x": w.x, "y": w.y, "difference": w.difference, "ray_tree": w.ray_tree,
+            })),
         })).collect::<Vec<_>>(),
     })
 }
@@ -537,4 +608,35 @@ pub fn summary_json(graded: &[Graded], groups: &[Group], rule: Rule) -> serde_js
 pub(crate) fn last_lines(text: &str, n: usize) -> String {
     let lines: Vec<&str> = text.lines().collect();
     lines[lines.len().saturating_sub(n)..].join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(width: u32, height: u32, pixels: Vec<[u8; 3]>) -> Image {
+        Image {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    #[test]
+    fn the_worst_pixel_is_the_largest_difference_nearest_the_centre() {
+        let reference = image(4, 3, vec![[0; 3]; 12]);
+        let mut actual = reference.clone();
+        assert_eq!(worst_pixel(&actual, &reference), None);
+        // Two pixels 9 levels off: (0, 0) in the top-left corner and (2, 1) in the middle row;
+        // the middle one wins. Rows are stored top first; -inspect counts y from the bottom.
+        actual.pixels[0] = [0, 9, 0];
+        actual.pixels[4 + 2] = [9, 0, 0];
+        actual.pixels[11] = [0, 0, 5];
+        assert_eq!(worst_pixel(&actual, &reference), Some((2, 1, 9)));
+        // A larger difference anywhere beats them: (3, 0) bottom-right, stored last.
+        actual.pixels[11] = [0, 0, 200];
+        assert_eq!(worst_pixel(&actual, &reference), Some((3, 0, 200)));
+        // Sizes that differ have no pixel to compare.
+        assert_eq!(worst_pixel(&image(2, 2, vec![[0; 3]; 4]), &reference), None);
+    }
 }

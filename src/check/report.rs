@@ -154,7 +154,7 @@ fn block(
          <h2><span class=\"badge\">{status}</span> {name} <small>{off}</small></h2>\
          <p class=\"codes\">{codes}</p><p class=\"why\">{why}</p>\
          <pre class=\"command\">{command}</pre>{stderr}\
-         <div class=\"pictures\">{a}{r}{d}{wipe}</div></section>",
+         <div class=\"pictures\">{a}{r}{d}{wipe}</div>{tree}</section>",
         name = escape(&g.name),
         codes = escape(&codes.join(", ")),
         why = escape(&g.explanation),
@@ -171,6 +171,19 @@ fn block(
         a = picture(&actual, "yours"),
         r = picture(&reference, "reference"),
         d = picture(&diff, "difference"),
+        tree = match &g.worst_pixel {
+            Some(w) => format!(
+                "<details class=\"ray-tree\"><summary>what raycast traced at pixel ({x}, {y}), \
+                 where yours differs most ({d} levels; x from the left, y from the bottom, as \
+                 <code>raycast ... -inspect {x} {y}</code> counts)</summary>\
+                 <pre>{tree}</pre></details>",
+                x = w.x,
+                y = w.y,
+                d = w.difference,
+                tree = escape(&w.ray_tree)
+            ),
+            None => String::new(),
+        },
     );
     html
 }

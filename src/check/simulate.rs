@@ -158,6 +158,23 @@ pub fn course_pictures(line: &Line, scenes: &Path) -> Result<Vec<Image>, String>
         .collect())
 }
 
+/// Raycast's account (`-inspect X Y`, as text) of pixel (x, y) of the line (x from the left, y
+/// from the bottom).
+pub fn ray_tree(line: &Line, scenes: &Path, (x, y): (u32, u32)) -> Result<String, String> {
+    let prepared = prepare(line, scenes)?;
+    let options = &prepared.line.options;
+    if x >= options.width || y >= options.height {
+        return Err(format!("pixel ({x}, {y}) is outside the image"));
+    }
+    let account = crate::inspect::inspect(
+        &prepared.line.scene,
+        options.trace,
+        (options.width, options.height),
+        (x, y),
+    );
+    Ok(crate::inspect::to_text(&account).trim_end().to_string())
+}
+
 #[derive(Clone)]
 /// One render tried: the plant, the faults in it and their parameters, and the share of pixels
 /// off against each failing picture.
