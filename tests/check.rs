@@ -838,3 +838,117 @@ fn the_report_shows_raycasts_ray_tree_where_a_picture_differs_most() {
     let page = std::fs::read_to_string(report.join("index.html")).unwrap();
     assert!(page.contains(&format!("what raycast traced at pixel ({x}, {y})")));
 }
+
+/// A suite of one line of the course's assignment 2 with a writable copy of its reference.
+fn suite_with_own_reference(dir: &Path, conformance: &Path) -> PathBuf {
+    let suite = dir.join("own");
+    std::fs::create_dir_all(suite.join("reference")).unwrap();
+    std::fs::write(
+        suite.join("COMMANDS.txt"),
+        "raytracer -input scene2_01_diffuse.txt -size 200 200 -output output2_01.tga\n",
+    )
+    .unwrap();
+    std::fs::copy(
+        conformance.join("reference/output2_01.png"),
+        suite.join("reference/output2_01.png"),
+    )
+    .unwrap();
+    std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
+    suite
+}
+
+/// `raycast check SUITE --renderer R --timeout 10`, which must end within 20 s.
+fn check_within(suite: &Path, renderer: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_raycast"))
+        .args(["check", suite.to_str().unwrap(), "--renderer", renderer])
+        .args(["--timeout", "10"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > std::time::Duration::from_secs(20) {
+            let _ = child.kill();
+            panic!("check still running after 20 s with {renderer}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn a_hostile_renderer_cannot_forge_its_grade_or_hang_the_check() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite_with_own_reference(dir.path(), &conformance);
+    let reference = suite.join("reference/output2_01.png");
+    // Its output a link to the reference: not read through the link.
+    let linker = script(
+        dir.path(),
+        "linker.sh",
+        &format!("ln -s '{}' \"$7\"", reference.display()),
+    );
+    let output = check_within(&suite, &linker);
+    let out = stdout(&output);
+    assert_eq!(output.status.code(), Some(1), "{out}");
+    assert!(
+        out.contains("ERROR  output2_01: missing_output: The image is a symbolic link"),
+        "{out}"
+    );
+    // Its output a FIFO: refused at once, not waited on.
+    let fifo = script(dir.path(), "fifo.sh", "mkfifo \"$7\"");
+    let output = check_within(&suite, &fifo);
+    let out = stdout(&output);
+    assert!(out.contains("The image is not a plain file"), "{out}");
+    // It blackens the suite's reference, then writes black: the reference was read before it
+    // ran, so black fails.
+    let black_scene = dir.path().join("black.txt");
+    std::fs::write(
+        &black_scene,
+        "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 1 }
+         Background { color 0 0 0 ambientLight 0 0 0 }
+         Group { numObjects 0 }",
+    )
+    .unwrap();
+    let blackener = script(
+        dir.path(),
+        "blackener.sh",
+        &format!(
+            "{raycast} -input '{black}' -size 200 200 -output '{reference}'
+             exec {raycast} -input '{black}' -size 200 200 -output \"$7\"",
+            raycast = env!("CARGO_BIN_EXE_raycast"),
+            black = black_scene.display(),
+            reference = reference.display()
+        ),
+    );
+    let output = check_within(&suite, &blackener);
+    let out = stdout(&output);
+    assert!(out.contains("FAIL   output2_01"), "{out}");
+    // (Guarding the suite for the next student is the suite's hash's work, not yet done.)
+    std::fs::copy(conformance.join("reference/output2_01.png"), &reference).unwrap();
+    // It leaves a child holding stderr open and exits: check ends on time, and the child with
+    // it.
+    let marker = dir.path().join("still-running");
+    let lingerer = script(
+        dir.path(),
+        "lingerer.sh",
+        &format!(
+            "(sleep 3; touch '{}') &
+             exec {} \"$@\"",
+            marker.display(),
+            env!("CARGO_BIN_EXE_raycast")
+        ),
+    );
+    let start = std::time::Instant::now();
+    let output = check_within(&suite, &lingerer);
+    assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
+    assert!(start.elapsed() < std::time::Duration::from_secs(3));
+    std::thread::sleep(std::time::Duration::from_millis(3500));
+    assert!(
+        !marker.exists(),
+        "the renderer's child ran on after the check"
+    );
+}

@@ -214,17 +214,28 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
         .num_threads(options.jobs.max(1))
         .build()
         .map_err(|e| format!("cannot start {} threads: {e}", options.jobs))?;
+    // Every reference read, and raycast's own made, before any of the renderer's code runs:
+    // nothing it does to the suite's files can change what it is graded against.
+    let references: Vec<References> = pool.install(|| {
+        suite
+            .lines
+            .par_iter()
+            .with_max_len(1)
+            .map(|line| references_of(&suite, line))
+            .collect()
+    });
     let graded: Vec<Vec<Graded>> = pool.install(|| {
         suite
             .lines
             .par_iter()
+            .zip(references)
             // One line a task: lines differ in time a hundredfold, and a worker that runs out
             // takes the next line, not half of another's.
             .with_max_len(1)
             .enumerate()
-            .map(|(number, line)| {
+            .map(|(number, (line, references))| {
                 let folder = scratch.path().join(format!("line{number}"));
-                let graded = grade_line(options, &suite, line, &scenes, &folder);
+                let graded = grade_line(options, &suite, line, references, &scenes, &folder);
                 progress();
                 graded
             })
@@ -263,12 +274,44 @@ fn unique_names(graded: &mut [Graded]) {
     }
 }
 
-/// Runs one line and grades its images, each against its reference, or where the suite has
-/// none, against raycast's own render of the line.
+/// A line's references, one for each image it writes: the suite's, or raycast's own render of
+/// the line (`true`) where the suite has none.
+type References = Vec<(Result<Image, String>, bool)>;
+
+/// Reads the references of `line`'s images, rendering the line with raycast for those the suite
+/// lacks (once for all of them).
+fn references_of(suite: &Suite, line: &Line) -> References {
+    let own = std::sync::OnceLock::new();
+    line.outputs
+        .iter()
+        .enumerate()
+        .map(
+            |(k, (_, name))| match suite.reference(&suite::image_name(name)) {
+                Some(path) => (read_image(&path), false),
+                None => {
+                    let pictures =
+                        own.get_or_init(|| simulate::course_pictures(line, &suite.scenes));
+                    let picture = match pictures {
+                        Ok(pictures) => pictures
+                            .get(k)
+                            .cloned()
+                            .ok_or_else(|| "raycast made no such picture".to_string()),
+                        Err(why) => Err(format!("raycast itself could not render it: {why}")),
+                    };
+                    (picture, true)
+                }
+            },
+        )
+        .collect()
+}
+
+/// Runs one line and grades its images, each against its reference (read before any renderer
+/// ran).
 fn grade_line(
     options: &CheckOptions,
     suite: &Suite,
     line: &Line,
+    references: References,
     scenes: &Path,
     folder: &Path,
 ) -> Vec<Graded> {
@@ -295,29 +338,13 @@ fn grade_line(
         (run::run(program, &args, &work, options.timeout), out)
     };
     let (ran, out) = produce("renderer", &options.renderer);
-    // raycast's own render of the line, made once and only if an image has no reference.
-    let own = std::sync::OnceLock::new();
     let mut graded: Vec<Graded> = line
         .outputs
         .iter()
+        .zip(references)
         .enumerate()
-        .map(|(k, (_, name))| {
+        .map(|(k, ((_, name), (reference, own_render)))| {
             let image_name = suite::image_name(name);
-            let (reference, own_render) = match suite.reference(&image_name) {
-                Some(path) => (read_image(&path), false),
-                None => {
-                    let pictures =
-                        own.get_or_init(|| simulate::course_pictures(line, &suite.scenes));
-                    let picture = match pictures {
-                        Ok(pictures) => pictures
-                            .get(k)
-                            .cloned()
-                            .ok_or_else(|| "raycast made no such picture".to_string()),
-                        Err(why) => Err(format!("raycast itself could not render it: {why}")),
-                    };
-                    (picture, true)
-                }
-            };
             let mut graded = grade(
                 options,
                 line,
@@ -430,7 +457,7 @@ fn grade(
             )
         };
     }
-    let actual = match read_image(path) {
+    let actual = match read_output(path) {
         Ok(image) => image,
         Err(why) => {
             let explanation = format!(
@@ -510,25 +537,41 @@ fn failed_run(ran: &Ran) -> Option<String> {
 /// Reads an image a renderer wrote, whatever it is: refused when missing, too big, or not a
 /// picture in a format raycast reads (TGA, PPM, PNG).
 pub fn read_image(path: &Path) -> Result<Image, String> {
-    let size = std::fs::metadata(path)
-        .map_err(|_| format!("There is no image '{}'", path.display()))?
+    read_picture(path, true)
+}
+
+/// [`read_image`] of what a renderer wrote: refused if it is a symbolic link (which a renderer
+/// could point at the reference).
+pub fn read_output(path: &Path) -> Result<Image, String> {
+    read_picture(path, false)
+}
+
+fn read_picture(path: &Path, follow_links: bool) -> Result<Image, String> {
+    let file = open_plain(path, follow_links)?;
+    let size = file
+        .metadata()
+        .map_err(|e| format!("The image cannot be read: {e}"))?
         .len();
     if size > MAX_IMAGE_BYTES {
         return Err(format!(
             "The image is {size} bytes, far too big to be one of the course's"
         ));
     }
-    let mut reader =
-        image::ImageReader::open(path).map_err(|e| format!("The image cannot be opened: {e}"))?;
+    let mut reader = image::ImageReader::new(std::io::BufReader::new(file));
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(crate::image_io::MAX_SIDE);
     limits.max_image_height = Some(crate::image_io::MAX_SIDE);
     limits.max_alloc = Some(1 << 30);
     reader.limits(limits);
     // TGA has no signature: the guess falls back on the extension.
-    let reader = reader
+    let mut reader = reader
         .with_guessed_format()
         .map_err(|e| format!("The image cannot be read: {e}"))?;
+    if reader.format().is_none() {
+        if let Ok(format) = image::ImageFormat::from_path(path) {
+            reader.set_format(format);
+        }
+    }
     let decoded = reader
         .decode()
         .map_err(|e| format!("The file is not a readable image: {e}"))?
@@ -538,6 +581,39 @@ pub fn read_image(path: &Path) -> Result<Image, String> {
         height: decoded.height(),
         pixels: decoded.pixels().map(|p| p.0).collect(),
     })
+}
+
+/// Opens `path` for reading only if it is a plain file, without blocking on a FIFO (which
+/// would hang the check); unless `follow_links`, not through a symbolic link either.
+fn open_plain(path: &Path, follow_links: bool) -> Result<std::fs::File, String> {
+    let mut open = std::fs::OpenOptions::new();
+    open.read(true);
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        let mut flags = rustix::fs::OFlags::NONBLOCK;
+        if !follow_links {
+            flags |= rustix::fs::OFlags::NOFOLLOW;
+        }
+        open.custom_flags(flags.bits() as i32);
+    }
+    let kind = std::fs::symlink_metadata(path).map(|m| m.file_type());
+    if !follow_links && kind.as_ref().is_ok_and(|k| k.is_symlink()) {
+        return Err("The image is a symbolic link: raycast reads only plain files".into());
+    }
+    let file = open.open(path).map_err(|e| match kind {
+        Ok(_) => format!("The image cannot be opened: {e}"),
+        Err(_) => format!("There is no image '{}'", path.display()),
+    })?;
+    let is_file = file.metadata().map(|m| m.is_file()).unwrap_or(false);
+    if !is_file {
+        return Err(
+            "The image is not a plain file (a FIFO, a folder or a device): raycast reads only \
+             plain files"
+                .into(),
+        );
+    }
+    Ok(file)
 }
 
 /// The one-line verdict of an image for the terminal.

@@ -114,31 +114,37 @@ fn run_to_end(
             );
         }
     };
-    // Read stderr as it comes, so a chatty renderer never blocks on a full pipe.
-    let stderr = child.stderr.take().map(|mut pipe| {
+    // Read stderr as it comes, so a chatty renderer never blocks on a full pipe; kept where
+    // the wait below can take what there is when the deadline comes, even if something the
+    // renderer started still holds the pipe open.
+    let tail = std::sync::Arc::new(std::sync::Mutex::new(Vec::<u8>::new()));
+    let (ended, pipe_closed) = std::sync::mpsc::channel::<()>();
+    if let Some(mut pipe) = child.stderr.take() {
+        let tail = tail.clone();
         std::thread::spawn(move || {
             use std::io::Read;
-            let mut tail: Vec<u8> = Vec::new();
             let mut chunk = [0u8; 8192];
             while let Ok(n) = pipe.read(&mut chunk) {
                 if n == 0 {
                     break;
                 }
+                let Ok(mut tail) = tail.lock() else { break };
                 tail.extend_from_slice(&chunk[..n]);
                 if tail.len() > 2 * STDERR_TAIL {
-                    tail.drain(..tail.len() - STDERR_TAIL);
+                    let drop = tail.len() - STDERR_TAIL;
+                    tail.drain(..drop);
                 }
             }
-            let keep = tail.len().saturating_sub(STDERR_TAIL);
-            String::from_utf8_lossy(&tail[keep..]).into_owned()
-        })
-    });
-    let start = Instant::now();
-    let read_stderr = |stderr: Option<std::thread::JoinHandle<String>>| {
-        stderr
-            .and_then(|reader| reader.join().ok())
-            .unwrap_or_default()
+            let _ = ended.send(());
+        });
+    }
+    let said = || {
+        let tail = tail.lock().map(|t| t.clone()).unwrap_or_default();
+        let keep = tail.len().saturating_sub(STDERR_TAIL);
+        String::from_utf8_lossy(&tail[keep..]).into_owned()
     };
+    let start = Instant::now();
+    let group = child.id();
     let status = loop {
         match child.try_wait() {
             Ok(Some(status)) => break Some(status),
@@ -147,23 +153,17 @@ fn run_to_end(
             Err(e) => return (Ending::NotStarted(e.to_string()), String::new()),
         }
     };
+    // Whatever the renderer left running in its group ends with it, on time or not.
+    kill_group(group);
     let Some(status) = status else {
-        // The whole group: the renderer and anything it started. `--` before the group's
-        // negative id, which some `kill`s would otherwise read as an option (and one reading
-        // of it, -1, is every process the user may signal).
-        let group = child.id();
-        if group > 1 {
-            let _ = Command::new("kill")
-                .args(["-s", "KILL", "--", &format!("-{group}")])
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .status();
-        }
         let _ = child.kill();
         let _ = child.wait();
         return (Ending::TimedOut(limit), String::new());
     };
-    let stderr = read_stderr(stderr);
+    // One deadline for everything: stderr is read until its end or the line's time is up.
+    let left = limit.saturating_sub(start.elapsed());
+    let _ = pipe_closed.recv_timeout(left.max(Duration::from_millis(50)));
+    let stderr = said();
     if status.success() {
         (Ending::Success, stderr)
     } else {
@@ -173,6 +173,19 @@ fn run_to_end(
             },
             stderr,
         )
+    }
+}
+
+/// Kills process group `group`: the renderer and anything it started that stayed in its
+/// group. `--` before the group's negative id, which some `kill`s would otherwise read as an
+/// option (and one reading of it, -1, is every process the user may signal).
+fn kill_group(group: u32) {
+    if group > 1 {
+        let _ = Command::new("kill")
+            .args(["-s", "KILL", "--", &format!("-{group}")])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status();
     }
 }
 
