@@ -567,10 +567,10 @@ fn read_picture(path: &Path, follow_links: bool) -> Result<Image, String> {
     let mut reader = reader
         .with_guessed_format()
         .map_err(|e| format!("The image cannot be read: {e}"))?;
-    if reader.format().is_none() {
-        if let Ok(format) = image::ImageFormat::from_path(path) {
-            reader.set_format(format);
-        }
+    if reader.format().is_none()
+        && let Ok(format) = image::ImageFormat::from_path(path)
+    {
+        reader.set_format(format);
     }
     let decoded = reader
         .decode()
