@@ -926,8 +926,16 @@ fn a_hostile_renderer_cannot_forge_its_grade_or_hang_the_check() {
     );
     let output = check_within(&suite, &blackener);
     let out = stdout(&output);
-    assert!(out.contains("FAIL   output2_01"), "{out}");
-    // (Guarding the suite for the next student is the suite's hash's work, not yet done.)
+    assert_eq!(output.status.code(), Some(1), "{out}");
+    // And the suite changed under it: the run's grades are void, the file named.
+    assert!(
+        out.contains(
+            "ERROR  output2_01: suite_tampered: The suite's files changed while the renderer \
+             ran, so no grade of this run counts (a renderer must only read the scenes and \
+             write its pictures). Changed: reference/output2_01.png."
+        ),
+        "{out}"
+    );
     std::fs::copy(conformance.join("reference/output2_01.png"), &reference).unwrap();
     // It leaves a child holding stderr open and exits: check ends on time, and the child with
     // it.

@@ -5,6 +5,7 @@
 pub mod diagnose;
 pub mod faults;
 mod finding;
+mod guard;
 mod report;
 mod rule;
 mod run;
@@ -207,6 +208,7 @@ const MAX_IMAGE_BYTES: u64 = 256 << 20;
 pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec<Graded>, String> {
     let suite = Suite::read(&options.suite)?;
     run::check_program(&options.renderer)?;
+    let fingerprint = guard::Fingerprint::of(&options.suite)?;
     let scratch = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
     let scenes = scratch.path().join("scenes");
     run::copy_scenes(&suite.scenes, &scenes)?;
@@ -243,7 +245,41 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
     });
     let mut graded: Vec<Graded> = graded.into_iter().flatten().collect();
     unique_names(&mut graded);
+    let changed = guard::Fingerprint::of(&options.suite)
+        .map(|after| fingerprint.changed(&after))
+        .unwrap_or_else(|why| vec![PathBuf::from(why)]);
+    if !changed.is_empty() {
+        void(&mut graded, &changed);
+    }
     Ok(graded)
+}
+
+/// A renderer changed the suite's files while it ran: every grade of the run is void, each
+/// picture an error that names the files.
+fn void(graded: &mut [Graded], changed: &[PathBuf]) {
+    let files: Vec<String> = changed
+        .iter()
+        .take(10)
+        .map(|p| p.display().to_string())
+        .collect();
+    let more = changed.len().saturating_sub(files.len());
+    let explanation = format!(
+        "{} Changed: {}{}.",
+        Diagnosis::SUITE_TAMPERED.explanation(),
+        files.join(", "),
+        if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        }
+    );
+    for g in graded.iter_mut() {
+        g.status = Status::Error;
+        g.bad_fraction = None;
+        g.findings = vec![Finding::Diagnosis(Diagnosis::SUITE_TAMPERED)];
+        g.explanation = explanation.clone();
+        g.worst_pixel = None;
+    }
 }
 
 /// How many lines of the options' suite name a preview option.

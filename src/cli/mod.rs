@@ -16,8 +16,7 @@ use crate::job::{Command, Options, parse_args, usage};
 
 use crate::check::faults::{LineScene, plant_for};
 use crate::error::Error;
-use crate::image_io::PendingOutputs;
-use crate::job::{is_stdio, render_pictures, same_file, write_pictures};
+use crate::job::{is_stdio, render_pictures, reserve_outputs, same_file, write_pictures};
 use crate::scene::{LoadStats, Loaded, Scene};
 
 /// Runs the program on its arguments (without the program name); returns the exit status:
@@ -117,13 +116,8 @@ fn execute(options: &Options) -> Result<(), Error> {
 
 fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
     let outputs = options.outputs();
-    let files: Vec<&Path> = outputs
-        .iter()
-        .map(|&(_, p)| p)
-        .filter(|p| !is_stdio(p))
-        .collect();
     // Before any work: a folder that is missing or unwritable fails the run now.
-    let pending = PendingOutputs::reserve(&files)?;
+    let pending = reserve_outputs(options)?;
     let Loaded {
         mut scene,
         stats: mut load,

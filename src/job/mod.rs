@@ -77,6 +77,18 @@ pub fn render_pictures<V: Variant>(options: &Options, scene: &Scene, variant: V)
     }
 }
 
+/// Reserves the line's output files before any work (a folder that is missing or unwritable
+/// fails the run now, not after the render); standard output needs none.
+pub fn reserve_outputs(options: &Options) -> Result<PendingOutputs, Error> {
+    let outputs = options.outputs();
+    let files: Vec<&std::path::Path> = outputs
+        .iter()
+        .map(|&(_, p)| p)
+        .filter(|p| !is_stdio(p))
+        .collect();
+    PendingOutputs::reserve(&files)
+}
+
 /// Encodes each picture in its file's format and puts the files in place together; the one
 /// named `-` goes to standard output.
 pub fn write_pictures(

@@ -5,8 +5,8 @@
 use std::path::Path;
 
 use crate::error::Error;
-use crate::image_io::{self, ImageFormat, PendingOutputs};
-use crate::job::{Options, is_stdio, render_pictures, write_pictures};
+use crate::image_io::{self, ImageFormat};
+use crate::job::{Options, render_pictures, reserve_outputs, write_pictures};
 use crate::parse::description::{CameraSpec, Projection};
 use crate::parse::parse_scene;
 use crate::render::Exact;
@@ -62,13 +62,7 @@ pub struct Rendered {
 /// 'r': renders the line with `camera` and writes its images as the command line would.
 pub fn render_view(options: &Options, camera: Option<&str>) -> Result<Rendered, Error> {
     let start = std::time::Instant::now();
-    let outputs = options.outputs();
-    let files: Vec<&Path> = outputs
-        .iter()
-        .map(|&(_, p)| p)
-        .filter(|p| !is_stdio(p))
-        .collect();
-    let pending = PendingOutputs::reserve(&files)?;
+    let pending = reserve_outputs(options)?;
     let scene = scene_at(options, camera)?;
     let pictures = render_pictures(options, &scene, Exact).pictures;
     let png = pictures

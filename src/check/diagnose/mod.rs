@@ -64,7 +64,13 @@ impl Diagnosis {
     /// Whether it is a fact of the run (a crash, no picture, the wrong size) rather than a
     /// guess from the pixels.
     pub fn is_fact(self) -> bool {
-        [Diagnosis::CRASH, Diagnosis::MISSING_OUTPUT, Diagnosis::SIZE].contains(&self)
+        [
+            Diagnosis::CRASH,
+            Diagnosis::MISSING_OUTPUT,
+            Diagnosis::SIZE,
+            Diagnosis::SUITE_TAMPERED,
+        ]
+        .contains(&self)
     }
 
     /// Every diagnosis `check` can name: those its caller decides, then those of the lists.
@@ -73,17 +79,22 @@ impl Diagnosis {
         let local = LOCAL.iter().map(|&(d, _)| d);
         let outline = OUTLINE.iter().map(|&(d, _)| d);
         let mut seen = Vec::new();
-        [Diagnosis::CRASH, Diagnosis::MISSING_OUTPUT, Diagnosis::SIZE]
-            .into_iter()
-            .chain(found)
-            .chain(local)
-            .chain(outline)
-            .chain([Diagnosis::UNKNOWN])
-            .filter(move |d| {
-                let new = !seen.contains(d);
-                seen.push(*d);
-                new
-            })
+        [
+            Diagnosis::CRASH,
+            Diagnosis::MISSING_OUTPUT,
+            Diagnosis::SIZE,
+            Diagnosis::SUITE_TAMPERED,
+        ]
+        .into_iter()
+        .chain(found)
+        .chain(local)
+        .chain(outline)
+        .chain([Diagnosis::UNKNOWN])
+        .filter(move |d| {
+            let new = !seen.contains(d);
+            seen.push(*d);
+            new
+        })
     }
 }
 
@@ -103,6 +114,14 @@ impl Diagnosis {
         8,
         "The renderer finished but wrote no picture where -output asked: check that the \
         output file name is taken from the command line and the file is written.",
+    );
+
+    /// The suite's files changed while the renderer ran: the grade is void.
+    pub const SUITE_TAMPERED: Diagnosis = Diagnosis::new(
+        "suite_tampered",
+        8,
+        "The suite's files changed while the renderer ran, so no grade of this run counts \
+        (a renderer must only read the scenes and write its pictures).",
     );
 
     /// The picture's width or height differs from the reference's.
@@ -220,7 +239,7 @@ mod tests {
     #[test]
     fn codes_are_distinct_snake_case_with_explanations() {
         let codes: Vec<&str> = Diagnosis::all().map(|d| d.code()).collect();
-        assert_eq!(codes.len(), 19);
+        assert_eq!(codes.len(), 20);
         for (i, code) in codes.iter().enumerate() {
             assert!(
                 code.chars().all(|c| c.is_ascii_lowercase() || c == '_'),

@@ -105,6 +105,16 @@ impl Candidate {
             parameter: Some((name, value)),
         }
     }
+
+    /// One render for each form a fault takes, its `form` parameter numbering them from 0 in
+    /// the order the fault's sentence lists them.
+    pub fn forms(forms: impl IntoIterator<Item = Planted>) -> Vec<Candidate> {
+        forms
+            .into_iter()
+            .enumerate()
+            .map(|(form, planted)| Candidate::with(planted, "form", form as f64))
+            .collect()
+    }
 }
 
 /// A fault as planted in a render: which seam it changes, and how.

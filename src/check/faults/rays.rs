@@ -202,21 +202,14 @@ pub(super) const TOTAL_INTERNAL_REFLECTION: Fault = Fault {
         if !(bounces(line) && has_material(line, true)) {
             return Vec::new();
         }
-        [
-            CriticalAngle::Grazing,
-            CriticalAngle::Absolute,
-            CriticalAngle::Straight,
-        ]
-        .into_iter()
-        .enumerate()
-        .map(|(form, way)| {
-            Candidate::with(
-                Planted::Ray(RayFault::PastCriticalAngle(way)),
-                "form",
-                form as f64,
-            )
-        })
-        .collect()
+        Candidate::forms(
+            [
+                CriticalAngle::Grazing,
+                CriticalAngle::Absolute,
+                CriticalAngle::Straight,
+            ]
+            .map(|way| Planted::Ray(RayFault::PastCriticalAngle(way))),
+        )
     },
 };
 

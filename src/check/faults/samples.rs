@@ -138,14 +138,13 @@ pub(super) const FILTER_WEIGHTS: Fault = Fault {
             return Vec::new();
         }
         let per_pixel = line.options.sampling.sampler.samples();
-        [
-            SampleFault::DividedByCount,
-            SampleFault::DividedByPixelSamples(per_pixel),
-        ]
-        .into_iter()
-        .enumerate()
-        .map(|(form, fault)| Candidate::with(Planted::Sample(fault), "form", form as f64))
-        .collect()
+        Candidate::forms(
+            [
+                SampleFault::DividedByCount,
+                SampleFault::DividedByPixelSamples(per_pixel),
+            ]
+            .map(Planted::Sample),
+        )
     },
 };
 

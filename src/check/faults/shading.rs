@@ -306,21 +306,14 @@ pub(super) const HALF_VECTOR: Fault = Fault {
         if !highlights_show(line) {
             return Vec::new();
         }
-        [
-            Highlight::HalfFromRay,
-            Highlight::HalfNotUnit,
-            Highlight::Mirror,
-        ]
-        .into_iter()
-        .enumerate()
-        .map(|(form, h)| {
-            Candidate::with(
-                Planted::Shading(ShadingFault::Highlight(h)),
-                "form",
-                form as f64,
-            )
-        })
-        .collect()
+        Candidate::forms(
+            [
+                Highlight::HalfFromRay,
+                Highlight::HalfNotUnit,
+                Highlight::Mirror,
+            ]
+            .map(|h| Planted::Shading(ShadingFault::Highlight(h))),
+        )
     },
 };
 
@@ -344,18 +337,15 @@ pub(super) const ATTENUATION: Fault = Fault {
                 LightSpec::Directional { .. } => None,
             })
             .collect();
-        Attenuation::ALL
-            .into_iter()
-            .enumerate()
-            .filter(|(_, way)| terms.iter().any(|t| way.differs(*t)))
-            .map(|(form, way)| {
-                Candidate::with(
-                    Planted::Shading(ShadingFault::Attenuation(way)),
-                    "form",
-                    form as f64,
-                )
-            })
-            .collect()
+        // Numbered over all the forms, then only those that can change this line kept.
+        Candidate::forms(
+            Attenuation::ALL.map(|way| Planted::Shading(ShadingFault::Attenuation(way))),
+        )
+        .into_iter()
+        .zip(Attenuation::ALL)
+        .filter(|(_, way)| terms.iter().any(|t| way.differs(*t)))
+        .map(|(candidate, _)| candidate)
+        .collect()
     },
 };
 

@@ -86,11 +86,9 @@ pub(super) const TEXTURE_TRANSFORM: Fault = Fault {
         if textures(line).all(|t| t.to_texture == DMat4::IDENTITY) {
             return Vec::new();
         }
-        [TextureFault::MatrixIgnored, TextureFault::MatrixInverted]
-            .into_iter()
-            .enumerate()
-            .map(|(form, fault)| Candidate::with(Planted::Texture(fault), "form", form as f64))
-            .collect()
+        Candidate::forms(
+            [TextureFault::MatrixIgnored, TextureFault::MatrixInverted].map(Planted::Texture),
+        )
     },
 };
 
