@@ -938,3 +938,116 @@ fn the_keys_render_and_trace_in_the_page() {
     assert!(changed.len() > 20, "{} pixels changed", changed.len());
     assert_eq!(steps[9]["value"], 200);
 }
+
+/// The options of a course line run in `scenes`.
+fn options_of(scenes: &Path, line: &[String]) -> raycast::job::Options {
+    let args: Vec<std::ffi::OsString> = line.iter().map(Into::into).collect();
+    match raycast::job::parse_args(args).unwrap() {
+        raycast::job::Command::Render(options) => {
+            let mut options = *options;
+            options.input = scenes.join(&options.input);
+            options
+        }
+        _ => panic!("not a render"),
+    }
+}
+
+#[test]
+fn the_grid_cells_a_tree_walks_are_the_renders_own() {
+    let Some(scenes) = scenes() else { return };
+    let out = tempfile::tempdir().unwrap();
+    let lines: Vec<Vec<String>> = course_lines_of("scene5_")
+        .into_iter()
+        .filter(|l| l.iter().any(|a| a == "-grid") && l.iter().any(|a| a == "-output"))
+        .collect();
+    assert!(lines.len() >= 8, "{}", lines.len());
+    for line in lines {
+        let line = with_value(&line, "-output", out.path().join("o.tga").to_str().unwrap());
+        let mut options = options_of(&scenes, &line);
+        // The camera ray alone, walked through the grid as the render's search walks it, its
+        // cells counted by the render's own tally.
+        options.trace.visualize_grid = false;
+        options.trace.shadows = false;
+        options.trace.bounces = 0;
+        let scene = raycast::preview::scene_at(&options, None).unwrap();
+        let grid = raycast::preview::grid(&options).unwrap();
+        let occupied = scene.world.grid().unwrap().occupancy().0;
+        assert_eq!(grid["occupied"].as_array().unwrap().len(), occupied);
+        let settings = raycast::trace::TraceSettings {
+            tally: true,
+            ..options.trace
+        };
+        let tracer = raycast::trace::Tracer::new(&scene, settings);
+        for k in 0..20u32 {
+            let pixel = ((k * 37 + 11) % 200, (k * 53 + 29) % 200);
+            let walk = raycast::preview::grid_walk(&options, None, pixel).unwrap();
+            let cells = walk["rays"][0]["cells"].as_array().unwrap().len() as u64;
+            let (u, v) = raycast::camera::pixel_to_screen(pixel.0, pixel.1, 200, 200);
+            let ray = scene.camera.ray(u, v);
+            let mut scratch = raycast::trace::Scratch::default();
+            tracer.camera_ray(&ray, false, &mut scratch);
+            assert_eq!(cells, scratch.counts.tallies.cells, "{line:?} {pixel:?}");
+        }
+    }
+}
+
+#[test]
+fn g_cycles_through_the_grids_views() {
+    let Some(scenes) = scenes() else { return };
+    if !browser() {
+        return;
+    }
+    let out = tempfile::tempdir().unwrap();
+    let line = course_lines_of("scene5_02_spheres").remove(0);
+    let line = with_value(&line, "-output", out.path().join("o.tga").to_str().unwrap());
+    let mut args = line.clone();
+    args.push("-gui".into());
+    let preview = Preview::start(&scenes, &strs(&args));
+    let pictures: Vec<PathBuf> = (0..4)
+        .map(|k| out.path().join(format!("g{k}.png")))
+        .collect();
+    let report = drive(
+        &preview.url,
+        json!([
+            // -visualize_grid: the preview starts on the occupied cells.
+            { "eval": "document.body.dataset.grid" },
+            { "canvas": pictures[0] },
+            { "move": [100, 100] },
+            { "key": "t" },
+            { "wait_eval": "document.body.dataset.tree !== undefined && !pending" },
+            { "key": "g" },
+            { "wait_eval": "document.body.dataset.grid === 'cells the ray tree walked' && !pending" },
+            { "canvas": pictures[1] },
+            { "key": "g" },
+            { "wait_eval": "document.body.dataset.grid === 'faces the ray tree entered' && !pending" },
+            { "canvas": pictures[2] },
+            { "key": "g" },
+            { "wait_eval": "document.body.dataset.grid === 'scene' && !pending" },
+            { "canvas": pictures[3] },
+        ]),
+    );
+    assert_eq!(report["steps"][0]["value"], "occupied cells");
+    let pictures: Vec<image::RgbImage> = pictures.iter().map(|p| rgb(p)).collect();
+    for a in 0..4 {
+        for b in a + 1..4 {
+            assert_ne!(pictures[a], pictures[b], "views {a} and {b} are the same");
+        }
+    }
+    // Without -grid, 'g' says so.
+    let plain = course_lines_of("scene4_01").remove(0);
+    let mut args = with_value(
+        &plain,
+        "-output",
+        out.path().join("p.tga").to_str().unwrap(),
+    );
+    args.push("-gui".into());
+    let preview = Preview::start(&scenes, &strs(&args));
+    let report = drive(
+        &preview.url,
+        json!([
+            { "key": "g" },
+            { "wait_text": ["#render-status", "no grid"] },
+        ]),
+    );
+    assert!(report["steps"].as_array().unwrap().len() == 2);
+}

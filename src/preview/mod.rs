@@ -22,7 +22,9 @@ pub use drawing::{
     DEFAULT_TESSELLATION, Drawing, MAX_LIGHTS, PLANE_HALF_SIDE, Tessellation, camera_json, draw,
 };
 pub use server::{PreviewServer, Shown, is_loopback_host};
-pub use view::{Rendered, camera_of, camera_text, ray_tree, render_view, scene_at};
+pub use view::{
+    Rendered, camera_of, camera_text, grid, grid_walk, ray_tree, render_view, scene_at,
+};
 
 use crate::error::Error;
 use crate::job::Options;
@@ -57,6 +59,7 @@ fn drawn(options: &Options, description: &SceneDescription) -> Result<(String, V
     meta["height"] = options.height.into();
     meta["specular_fix"] = (options.trace.specular == crate::scene::SpecularFalloff::Fade).into();
     meta["gouraud"] = options.preview.gouraud.into();
+    meta["visualize_grid"] = (options.trace.visualize_grid && options.grid.is_some()).into();
     meta["tessellation"] = serde_json::json!(tessellation(options).steps);
     Ok((meta.to_string(), vertices))
 }

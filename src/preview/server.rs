@@ -197,6 +197,11 @@ impl PreviewServer {
                 return;
             }
             (Method::Get, "/api/raytree") => self.ray_tree(&url),
+            (Method::Get, "/api/grid") => match super::view::grid(&self.options) {
+                Ok(grid) => typed(200, grid.to_string().into_bytes(), "application/json"),
+                Err(error) => text(500, &error.to_string()),
+            },
+            (Method::Get, "/api/gridwalk") => self.grid_walk(&url),
             (Method::Post, "/api/quit") => {
                 self.quit.store(true, Ordering::SeqCst);
                 text(204, "")
@@ -208,9 +213,8 @@ impl PreviewServer {
                 return;
             }
             (_, "/" | "/preview.js" | "/api/scene" | "/api/geometry" | "/api/camera")
-            | (_, "/api/quit" | "/api/events" | "/api/render" | "/api/raytree") => {
-                text(405, "method not allowed")
-            }
+            | (_, "/api/quit" | "/api/events" | "/api/render" | "/api/raytree")
+            | (_, "/api/grid" | "/api/gridwalk") => text(405, "method not allowed"),
             _ => text(404, "not found"),
         };
         respond(request, response);
@@ -260,6 +264,24 @@ impl PreviewServer {
         match super::view::ray_tree(&self.options, camera.as_deref(), (x, y), as_text) {
             Ok(body) if as_text => typed(200, body.into_bytes(), "text/plain; charset=utf-8"),
             Ok(body) => typed(200, body.into_bytes(), "application/json"),
+            Err(error) => text(400, &error.to_string()),
+        }
+    }
+
+    /// 'g' after 't': `GET /api/gridwalk?x=X&y=Y`, the grid cells the pixel's tree walks.
+    fn grid_walk(&self, url: &str) -> Answer {
+        let Some(pixel) = pixel_of(url) else {
+            return text(
+                400,
+                "expected ?x=X&y=Y, pixel coordinates as -inspect counts them",
+            );
+        };
+        if pixel.0 >= self.options.width || pixel.1 >= self.options.height {
+            return text(400, "the pixel is outside the image");
+        }
+        let camera = self.camera();
+        match super::view::grid_walk(&self.options, camera.as_deref(), pixel) {
+            Ok(walk) => typed(200, walk.to_string().into_bytes(), "application/json"),
             Err(error) => text(400, &error.to_string()),
         }
     }
@@ -356,6 +378,21 @@ fn announce(streams: &Mutex<Vec<Sender<String>>>, event: &str, data: &str) {
     if let Ok(mut streams) = streams.lock() {
         streams.retain(|s| s.send(message.clone()).is_ok());
     }
+}
+
+/// The value of `name` in the URL's query.
+fn query_value<'u>(url: &'u str, name: &str) -> Option<&'u str> {
+    let query = url.split_once('?').map_or("", |(_, q)| q);
+    query.split('&').find_map(|pair| {
+        pair.strip_prefix(name)
+            .and_then(|rest| rest.strip_prefix('='))
+    })
+}
+
+/// The pixel a request names: `?x=X&y=Y`.
+fn pixel_of(url: &str) -> Option<(u32, u32)> {
+    let number = |name: &str| query_value(url, name).and_then(|v| v.parse::<u32>().ok());
+    Some((number("x")?, number("y")?))
 }
 
 /// Whether `host` (a Host header: name and port) names this machine's loopback.

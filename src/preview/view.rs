@@ -4,13 +4,19 @@
 
 use std::path::Path;
 
+use std::ops::ControlFlow;
+
+use serde_json::{Value, json};
+
 use crate::error::Error;
+use crate::geometry::Ray;
 use crate::image_io::{self, ImageFormat};
 use crate::job::{Options, render_pictures, reserve_outputs, write_pictures};
 use crate::parse::description::{CameraSpec, Projection};
 use crate::parse::parse_scene;
 use crate::render::Exact;
 use crate::scene::Scene;
+use crate::trace::{SECONDARY_T_MIN, grid_palette, shadow_range};
 
 /// A camera in the scene file's syntax (as `GET /api/camera` gives it), read as the scene
 /// parser reads one.
@@ -104,6 +110,122 @@ pub fn ray_tree(
         serde_json::to_string_pretty(&account).unwrap_or_default()
     };
     Ok(format!("{}\n", body.trim_end()))
+}
+
+/// 'g': the line's grid (`-grid`): its box, its cells, and each occupied cell with how many
+/// primitives it lists and its colour (as `-visualize_grid` colours it); `null` without a grid.
+pub fn grid(options: &Options) -> Result<Value, Error> {
+    let scene = scene_at(options, None)?;
+    let Some(grid) = scene.world.grid() else {
+        return Ok(Value::Null);
+    };
+    let n = grid.cells();
+    let mut occupied = Vec::new();
+    for k in 0..n.z {
+        for j in 0..n.y {
+            for i in 0..n.x {
+                let count = grid.count(glam::UVec3::new(i, j, k));
+                if count > 0 {
+                    let colour = grid_palette(count as usize);
+                    occupied.push(json!([i, j, k, count, [colour.x, colour.y, colour.z]]));
+                }
+            }
+        }
+    }
+    let bounds = grid.bounds();
+    Ok(json!({
+        "min": [bounds.min.x, bounds.min.y, bounds.min.z],
+        "max": [bounds.max.x, bounds.max.y, bounds.max.z],
+        "cells": [n.x, n.y, n.z],
+        "occupied": occupied,
+    }))
+}
+
+/// The cells the rays of pixel (x, y)'s ray tree walk through the grid, as the course's grid
+/// search walks them (the 3D-DDA, up to the cell where the ray's hit lies): the camera ray
+/// first, then each ray it spawns, shadow rays included, each cell with the axis and sign of the
+/// face it was entered by.
+pub fn grid_walk(
+    options: &Options,
+    camera: Option<&str>,
+    pixel: (u32, u32),
+) -> Result<Value, Error> {
+    let scene = scene_at(options, camera)?;
+    let Some(grid) = scene.world.grid() else {
+        return Ok(Value::Null);
+    };
+    let account = crate::inspect::inspect(
+        &scene,
+        options.trace,
+        (options.width, options.height),
+        pixel,
+    );
+    let mut rays = Vec::new();
+    let walk = |kind: &str, ray: Ray, t_min: f32, t_max: f32, rays: &mut Vec<Value>| {
+        let mut cells = Vec::new();
+        grid.walk(&ray, t_min, t_max, |cell| {
+            cells.push(json!([
+                cell.index.x,
+                cell.index.y,
+                cell.index.z,
+                cell.entered_axis,
+                cell.entered_sign
+            ]));
+            if cell.t_exit >= t_max {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        rays.push(json!({ "kind": kind, "cells": cells }));
+    };
+    let vec3 = |v: &Value| {
+        let f = |k: usize| v[k].as_f64().unwrap_or(0.0) as f32;
+        glam::Vec3A::new(f(0), f(1), f(2))
+    };
+    let mut pending = vec![(account["tree"].clone(), true)];
+    while let Some((node, camera_ray)) = pending.pop() {
+        if node["ray"].is_null() {
+            continue;
+        }
+        let ray = Ray::new(
+            vec3(&node["ray"]["origin"]),
+            vec3(&node["ray"]["direction"]),
+        );
+        let t_min = if camera_ray {
+            scene.camera.t_min()
+        } else {
+            SECONDARY_T_MIN
+        };
+        let t_hit = node["hit"]["t"]
+            .as_f64()
+            .map_or(f32::INFINITY, |t| t as f32);
+        let kind = node["kind"].as_str().unwrap_or("ray").to_string();
+        walk(&kind, ray, t_min, t_hit, &mut rays);
+        if let Some(lights) = node["lights"].as_array() {
+            let point = vec3(&node["hit"]["point"]);
+            for light in lights {
+                if !matches!(light["shadow_ray"].as_str(), Some("blocked" | "clear")) {
+                    continue;
+                }
+                let distance = light["distance"]
+                    .as_f64()
+                    .map_or(f32::INFINITY, |d| d as f32);
+                let (near, far) = shadow_range(distance);
+                let shadow = Ray::new(point, vec3(&light["to_light"]));
+                // A blocked shadow ray's walk ends at the blocker's cell.
+                let blocker = scene.world.intersect(&shadow, near).map(|h| h.t);
+                let end = blocker.filter(|&t| t <= far).unwrap_or(far);
+                walk("shadow", shadow, near, end, &mut rays);
+            }
+        }
+        if let Some(children) = node["children"].as_array() {
+            for child in children.iter().rev() {
+                pending.push((child.clone(), false));
+            }
+        }
+    }
+    Ok(json!({ "pixel": [pixel.0, pixel.1], "rays": rays }))
 }
 
 #[cfg(test)]

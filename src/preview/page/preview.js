@@ -319,7 +319,8 @@ function draw() {
   gl.disable(gl.CULL_FACE);
   gl.disable(gl.BLEND);
   gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-  const passes = scene.specular_fix ? [0, 1, 2] : [0];
+  const passes = gridMode > 0 && grid ? [] : scene.specular_fix ? [0, 1, 2] : [0];
+  if (passes.length === 0) paintGrid(width, height);
   for (const pass of passes) {
     if (pass === 1) {
       gl.depthFunc(gl.EQUAL);
@@ -436,6 +437,8 @@ async function traceRay([i, j]) {
   const text = await (await fetch(withToken(`/api/raytree?x=${i}&y=${j}&format=text`))).text();
   document.getElementById("inspect").textContent = text;
   status.textContent = `ray tree of pixel (${i}, ${j})`;
+  lastTraced = [i, j];
+  gridWalk = grid ? await (await fetch(withToken(`/api/gridwalk?x=${i}&y=${j}`))).json() : null;
   document.body.dataset.tree = `${i},${j}`;
   redraw();
 }
@@ -465,6 +468,158 @@ document.getElementById("rendered").addEventListener("click", (e) => {
   const row = Math.floor((e.offsetY * image.naturalHeight) / image.clientHeight);
   traceRay([i, image.naturalHeight - 1 - row]);
 });
+
+// ---- The grid ('g', with -grid): its occupied cells, the cells the last tree walked, the
+// faces those were entered by; the grid's box in white lines ----
+const GRID_MODES = ["scene", "occupied cells", "cells the ray tree walked", "faces the ray tree entered"];
+// The handout's gradient (and -visualize_grid's colours by count): white to red.
+const GRADIENT = [[1, 1, 1], [0.75, 0.35, 1], [0.3, 0.35, 1], [0.2, 0.85, 0.95],
+  [0.3, 0.9, 0.3], [1, 0.95, 0.25], [1, 0.6, 0.15], [1, 0.15, 0.1]];
+let gridMode = 0;
+let lastTraced = null;
+let grid = null;
+let gridWalk = null;
+const solid = (() => {
+  const program = gl.createProgram();
+  gl.attachShader(program, compile(gl.VERTEX_SHADER, `#version 300 es
+in vec3 position;
+in vec3 colour;
+uniform mat4 viewProjection;
+out vec3 shade;
+void main() { shade = colour; gl_Position = viewProjection * vec4(position, 1.0); }`));
+  gl.attachShader(program, compile(gl.FRAGMENT_SHADER, `#version 300 es
+precision highp float;
+in vec3 shade;
+out vec4 fragment;
+void main() { fragment = vec4(shade, 1.0); }`));
+  gl.linkProgram(program);
+  const vertexArray = gl.createVertexArray();
+  const buffer = gl.createBuffer();
+  gl.bindVertexArray(vertexArray);
+  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+  for (const [name, offset] of [["position", 0], ["colour", 12]]) {
+    const at = gl.getAttribLocation(program, name);
+    gl.enableVertexAttribArray(at);
+    gl.vertexAttribPointer(at, 3, gl.FLOAT, false, 24, offset);
+  }
+  return { program, vertexArray, buffer, viewProjection: gl.getUniformLocation(program, "viewProjection") };
+})();
+
+// A face lit as -visualize_grid lights its cubes: ambient plus each light's N.L, no shadows.
+function litFace(colour, normal) {
+  let light = scene.ambient.slice();
+  for (const l of scene.lights) {
+    const toLight = l.position[3] === 0 ? l.position.slice(0, 3) : normalize(l.position.slice(0, 3));
+    const nl = Math.max(0, dot(normal, toLight));
+    light = add(light, scale(l.colour, nl));
+  }
+  return colour.map((c, k) => Math.min(1, c * light[k]));
+}
+
+// The corners of cell (i, j, k).
+function cellBox([i, j, k]) {
+  const size = [0, 1, 2].map((a) => (grid.max[a] - grid.min[a]) / grid.cells[a]);
+  const low = [0, 1, 2].map((a) => grid.min[a] + [i, j, k][a] * size[a]);
+  return [low, add(low, size)];
+}
+
+// The face of a box on `axis` at its low (sign -1) or high (sign 1) side, as two triangles.
+function boxFace([low, high], axis, sign, colour, out) {
+  const u = (axis + 1) % 3, v = (axis + 2) % 3;
+  const at = (a, b) => {
+    const p = [0, 0, 0];
+    p[axis] = sign < 0 ? low[axis] : high[axis];
+    p[u] = a ? high[u] : low[u];
+    p[v] = b ? high[v] : low[v];
+    return p;
+  };
+  const normal = [0, 0, 0];
+  normal[axis] = sign;
+  const c = litFace(colour, normal);
+  for (const corner of [at(0, 0), at(1, 0), at(1, 1), at(0, 0), at(1, 1), at(0, 1)]) out.push(...corner, ...c);
+}
+
+function gridTriangles() {
+  const out = [];
+  if (gridMode === 1) {
+    for (const [i, j, k, , colour] of grid.occupied) {
+      const box = cellBox([i, j, k]);
+      for (let axis = 0; axis < 3; axis++) for (const sign of [-1, 1]) boxFace(box, axis, sign, colour, out);
+    }
+  } else if (gridWalk && gridMode >= 2) {
+    const counts = new Map(grid.occupied.map(([i, j, k, count]) => [`${i},${j},${k}`, count]));
+    for (const ray of gridWalk.rays) {
+      ray.cells.forEach(([i, j, k, axis, sign], n) => {
+        const box = cellBox([i, j, k]);
+        if (gridMode === 2) {
+          const count = counts.get(`${i},${j},${k}`) || 0;
+          const colour = count > 0 ? GRADIENT[Math.min(count, 8) - 1] : [0.5, 0.5, 0.5];
+          for (let a = 0; a < 3; a++) for (const s of [-1, 1]) boxFace(box, a, s, colour, out);
+        } else {
+          // The face it came in by, coloured by its order along the ray.
+          const colour = GRADIENT[Math.min(7, Math.floor((n * 8) / Math.max(1, ray.cells.length)))];
+          boxFace(box, axis, sign, colour, out);
+        }
+      });
+    }
+  }
+  return out;
+}
+
+function paintGrid(width, height) {
+  const viewProjection = new Float32Array(matrices(width, height));
+  const triangles = gridTriangles();
+  if (triangles.length > 0) {
+    gl.useProgram(solid.program);
+    gl.bindVertexArray(solid.vertexArray);
+    gl.bindBuffer(gl.ARRAY_BUFFER, solid.buffer);
+    gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(triangles), gl.DYNAMIC_DRAW);
+    gl.uniformMatrix4fv(solid.viewProjection, false, viewProjection);
+    gl.drawArrays(gl.TRIANGLES, 0, triangles.length / 6);
+  }
+  // The grid's box, in white lines.
+  const [a, b] = [grid.min, grid.max];
+  const corner = (x, y, z) => [x ? b[0] : a[0], y ? b[1] : a[1], z ? b[2] : a[2]];
+  const edges = [];
+  for (let e = 0; e < 12; e++) {
+    const axis = Math.floor(e / 4), s = e % 4;
+    const p = [0, 0, 0], q = [0, 0, 0];
+    const others = [0, 1, 2].filter((x) => x !== axis);
+    p[others[0]] = q[others[0]] = s & 1;
+    p[others[1]] = q[others[1]] = (s >> 1) & 1;
+    q[axis] = 1;
+    edges.push([corner(...p), corner(...q)]);
+  }
+  const l = lineProgram;
+  gl.useProgram(l.program);
+  gl.bindVertexArray(l.vertexArray);
+  gl.uniformMatrix4fv(l.viewProjection, false, viewProjection);
+  gl.bindBuffer(gl.ARRAY_BUFFER, l.lines);
+  gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(edges.flat(2)), gl.DYNAMIC_DRAW);
+  gl.uniform4f(l.colour, 1, 1, 1, 1);
+  gl.drawArrays(gl.LINES, 0, 24);
+}
+
+async function cycleGrid() {
+  const status = document.getElementById("render-status");
+  if (grid === null) {
+    grid = await (await fetch(withToken("/api/grid"))).json();
+    if (grid === null) {
+      grid = undefined;
+    }
+  }
+  if (!grid) {
+    status.textContent = "this line has no grid: 'g' needs -grid NX NY NZ";
+    return;
+  }
+  if (!gridWalk && lastTraced) {
+    gridWalk = await (await fetch(withToken(`/api/gridwalk?x=${lastTraced[0]}&y=${lastTraced[1]}`))).json();
+  }
+  gridMode = (gridMode + 1) % GRID_MODES.length;
+  document.body.dataset.grid = GRID_MODES[gridMode];
+  status.textContent = `showing: ${GRID_MODES[gridMode]}`;
+  redraw();
+}
 
 // ---- The camera's report to raycast (GET /api/camera) ----
 let reportTimer = null;
@@ -530,6 +685,7 @@ const KEYS = {
   },
   r: () => renderView(),
   t: () => traceRay(pixelUnderMouse()),
+  g: () => cycleGrid(),
 };
 // Keys with modifiers stay the browser's.
 window.addEventListener("keydown", (e) => {
@@ -564,6 +720,8 @@ async function load() {
   fileCamera = scene.camera;
   // A new camera in the file takes over; otherwise the view stays where the mouse left it.
   if (first || fileChanged) camera = cameraFrom(fileCamera);
+  // With -visualize_grid the preview starts on the grid's occupied cells.
+  if (first && scene.visualize_grid) await cycleGrid();
   cameraMoved();
 }
 
