@@ -145,6 +145,7 @@ fn trace(bencher: Bencher, name: &str, threads: usize) {
         depth: None,
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
+        counter: None,
         sampling: Default::default(),
         keep_film: false,
     };

@@ -55,6 +55,36 @@ pub struct RenderSettings {
     /// Show a progress bar on stderr if the render outlasts about a second (and stderr is a
     /// terminal).
     pub progress: bool,
+    /// Where someone else watches the render's progress (the preview's page), if anyone.
+    pub counter: Option<&'static RenderCounter>,
+}
+
+/// A render's progress for a watcher on another thread: the parts done, of the total.
+#[derive(Debug, Default)]
+pub struct RenderCounter {
+    /// Parts (bands or rows) done.
+    pub done: std::sync::atomic::AtomicU64,
+    /// Parts in all; 0 until a render starts.
+    pub total: std::sync::atomic::AtomicU64,
+}
+
+/// The same counter, not counters that happen to read the same: settings are equal when they
+/// report to the same watcher.
+impl PartialEq for RenderCounter {
+    fn eq(&self, other: &RenderCounter) -> bool {
+        std::ptr::eq(self, other)
+    }
+}
+
+impl RenderCounter {
+    /// The share done, 0 to 1 (0 before any render).
+    pub fn fraction(&self) -> f64 {
+        let total = self.total.load(Ordering::Relaxed);
+        if total == 0 {
+            return 0.0;
+        }
+        self.done.load(Ordering::Relaxed) as f64 / total as f64
+    }
 }
 
 impl RenderSettings {
@@ -71,6 +101,7 @@ impl RenderSettings {
             sampling: Sampling::default(),
             keep_film: false,
             progress: false,
+            counter: None,
         }
     }
 }
@@ -134,7 +165,7 @@ fn render_centres<V: Variant>(scene: &Scene, settings: &RenderSettings, variant:
         })
         .collect();
     let background = variant.to_rgb(scene.background);
-    let progress = Progress::new(settings.progress, band_count);
+    let progress = Progress::new(settings.progress, settings.counter, band_count);
     let tracer = Tracer::with_variant(scene, settings.trace, variant);
     let traced = bands
         .into_par_iter()
@@ -282,7 +313,7 @@ fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V)
         entries: vec![FilmSample::default(); row_len * height as usize],
     };
     let tracer = Tracer::with_variant(scene, settings.trace, variant);
-    let progress = Progress::new(settings.progress, height as usize);
+    let progress = Progress::new(settings.progress, settings.counter, height as usize);
     let rays = film
         .entries
         .par_chunks_mut(row_len)
@@ -335,15 +366,21 @@ fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V)
     }
 }
 
-/// A progress bar that appears only once the render has taken a second.
+/// A progress bar that appears only once the render has taken a second, and the counter of
+/// whoever else watches.
 struct Progress {
     bar: Option<indicatif::ProgressBar>,
     start: Instant,
     shown: AtomicBool,
+    counter: Option<&'static RenderCounter>,
 }
 
 impl Progress {
-    fn new(enabled: bool, bands: usize) -> Progress {
+    fn new(enabled: bool, counter: Option<&'static RenderCounter>, bands: usize) -> Progress {
+        if let Some(counter) = counter {
+            counter.done.store(0, Ordering::Relaxed);
+            counter.total.store(bands as u64, Ordering::Relaxed);
+        }
         let bar = enabled.then(|| {
             let bar = indicatif::ProgressBar::with_draw_target(
                 Some(bands as u64),
@@ -360,10 +397,14 @@ impl Progress {
             bar,
             start: Instant::now(),
             shown: AtomicBool::new(false),
+            counter,
         }
     }
 
     fn advance(&self) {
+        if let Some(counter) = self.counter {
+            counter.done.fetch_add(1, Ordering::Relaxed);
+        }
         let Some(bar) = &self.bar else { return };
         bar.inc(1);
         if self.start.elapsed() > Duration::from_secs(1)
@@ -377,5 +418,36 @@ impl Progress {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::parse::parse_scene;
+
+    #[test]
+    fn a_watcher_sees_the_render_through() {
+        let description = parse_scene(
+            Path::new("t.txt"),
+            "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+             Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
+             Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }",
+        )
+        .unwrap();
+        let scene = Scene::from_description(&description).unwrap();
+        let counter: &'static RenderCounter = Box::leak(Box::default());
+        assert_eq!(counter.fraction(), 0.0);
+        let settings = RenderSettings {
+            counter: Some(counter),
+            ..RenderSettings::new(64, 48)
+        };
+        render_with(&scene, &settings, Exact);
+        let total = counter.total.load(Ordering::Relaxed);
+        assert!(total > 1, "{total} parts");
+        assert_eq!(counter.done.load(Ordering::Relaxed), total);
+        assert_eq!(counter.fraction(), 1.0);
     }
 }

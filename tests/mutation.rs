@@ -467,6 +467,7 @@ fn render(scene: &Scene, shade_back: bool) -> Result<(), TestCaseError> {
             ..Default::default()
         },
         progress: false,
+        counter: None,
         sampling: Default::default(),
         keep_film: false,
     };

@@ -770,6 +770,38 @@ fn r_renders_the_view_as_the_command_line_does() {
         let shown = image::load_from_memory(&png).unwrap().to_rgb8();
         assert_eq!(shown, rgb(&batch), "the page gets the same picture");
     }
+    // With -stats, 'r' gives the course's block as the command line prints it.
+    let line = with_value(
+        &lines[3],
+        "-output",
+        out.path().join("s.tga").to_str().unwrap(),
+    );
+    let mut args = line.clone();
+    args.push("-stats".into());
+    let printed = Command::new(RAYCAST)
+        .current_dir(&scenes)
+        .args(strs(&args))
+        .output()
+        .unwrap();
+    args.push("-gui".into());
+    let preview = Preview::start(&scenes, &strs(&args));
+    let mut stream = TcpStream::connect(preview.authority()).unwrap();
+    write!(
+        stream,
+        "POST /api/render?token={} HTTP/1.0\r\nHost: {}\r\n\r\n",
+        preview.token(),
+        preview.authority()
+    )
+    .unwrap();
+    let mut answer = Vec::new();
+    stream.read_to_end(&mut answer).unwrap();
+    let answer = String::from_utf8_lossy(&answer);
+    let stats = answer
+        .lines()
+        .find_map(|l| l.strip_prefix("X-Render-Stats: "))
+        .expect("the stats header");
+    let stats: String = serde_json::from_str(stats).unwrap();
+    assert_eq!(stats, String::from_utf8(printed.stdout).unwrap());
 }
 
 /// `raycast ARGS -inspect X Y [-json]` in `dir`: what it prints.
@@ -890,6 +922,32 @@ fn the_ray_tree_endpoint_answers_as_inspect_does() {
     assert_eq!(status, 400);
 }
 
+/// A point of the first shadow ray of the tree drawn, on the canvas and clear of the hit point
+/// where the tree's other rays meet it.
+const SHADOW_POINT: &str = "(() => {
+    const line = treeLines.find((l) => l.light !== null);
+    const [a, b] = line.segment;
+    const m = matrices(canvas.width, canvas.height);
+    const screen = (p) => {
+        const c = [0, 1, 2, 3].map((r) => m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r]);
+        return [((c[0] / c[3] + 1) / 2) * canvas.width, ((1 - c[1] / c[3]) / 2) * canvas.height];
+    };
+    const start = screen(a);
+    for (const f of [0.01, 0.02, 0.05, 0.1, 0.2, 0.3]) {
+        const p = screen([0, 1, 2].map((k) => a[k] + f * (b[k] - a[k])));
+        const inside = p[0] > 2 && p[1] > 2 && p[0] < canvas.width - 2 && p[1] < canvas.height - 2;
+        if (inside && Math.hypot(p[0] - start[0], p[1] - start[1]) > 12) return p;
+    }
+    return start;
+})()";
+
+fn steps_value(report: &Value, k: usize) -> String {
+    report["steps"][k]["value"]
+        .as_str()
+        .unwrap_or_default()
+        .to_string()
+}
+
 #[test]
 fn the_keys_render_and_trace_in_the_page() {
     let Some(scenes) = scenes() else { return };
@@ -917,7 +975,15 @@ fn the_keys_render_and_trace_in_the_page() {
             { "key": "r" },
             { "wait_eval": "document.body.dataset.render === '1'" },
             { "eval": "document.getElementById('rendered').naturalWidth" },
+            // A click on a shadow ray's segment highlights its light's line in the account.
+            { "click_eval": SHADOW_POINT },
+            { "eval": "document.body.dataset.highlighted" },
         ]),
+    );
+    let highlighted = steps_value(&report, 11);
+    assert!(
+        highlighted.starts_with("light ") && highlighted.contains("shadow ray"),
+        "{highlighted}"
     );
     let steps = report["steps"].as_array().unwrap();
     // The staff's mapping: the mouse's row 100 of 200 is pixel row 200 - 100 = 100.

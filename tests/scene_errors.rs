@@ -1027,6 +1027,7 @@ fn render_scene(scene: &Scene, size: u32) -> raycast::Rendered {
         depth: Some((0.0, 20.0)),
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
+        counter: None,
         sampling: Default::default(),
         keep_film: false,
     };
@@ -1179,6 +1180,7 @@ fn surfaces_too_small_for_f32_still_face_the_ray() {
         depth: None,
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
+        counter: None,
         sampling: Default::default(),
         keep_film: false,
     };

@@ -1190,6 +1190,7 @@ fn check_case(index: usize, case: &Case, folder: &Path, failures: &mut Vec<Strin
             ..Default::default()
         },
         progress: false,
+        counter: None,
         sampling: Default::default(),
         keep_film: false,
     };

@@ -4,7 +4,6 @@
 
 mod check;
 mod completions;
-mod stats;
 
 use std::ffi::OsString;
 use std::io::{IsTerminal, Read, Write};
@@ -16,7 +15,7 @@ use crate::job::{Command, Options, parse_args, usage};
 
 use crate::check::faults::{LineScene, plant_for};
 use crate::error::Error;
-use crate::job::{is_stdio, render_pictures, reserve_outputs, same_file, write_pictures};
+use crate::job::{is_stdio, render_pictures, reserve_outputs, same_file, stats, write_pictures};
 use crate::scene::{LoadStats, Loaded, Scene};
 
 /// Runs the program on its arguments (without the program name); returns the exit status:

@@ -4,6 +4,7 @@
 //! renderer and as a student's buggy one (a [`Variant`]).
 
 mod options;
+pub mod stats;
 
 pub(crate) use options::same_file;
 pub use options::{
@@ -32,6 +33,16 @@ pub struct Pictures {
 /// Renders what the options ask for as `variant` renders, and makes the sampling's own
 /// pictures.
 pub fn render_pictures<V: Variant>(options: &Options, scene: &Scene, variant: V) -> Pictures {
+    render_pictures_counted(options, scene, variant, None)
+}
+
+/// [`render_pictures`], its progress kept in `counter` for a watcher on another thread.
+pub fn render_pictures_counted<V: Variant>(
+    options: &Options,
+    scene: &Scene,
+    variant: V,
+    counter: Option<&'static crate::render::RenderCounter>,
+) -> Pictures {
     let settings = RenderSettings {
         width: options.width,
         height: options.height,
@@ -43,6 +54,7 @@ pub fn render_pictures<V: Variant>(options: &Options, scene: &Scene, variant: V)
         sampling: options.sampling,
         keep_film: options.render_samples.is_some(),
         progress: std::io::stderr().is_terminal(),
+        counter,
     };
     // Only the filter picture asked for: nothing to trace.
     let traced = options.output.is_some()

@@ -16,6 +16,7 @@ use std::time::Duration;
 use tiny_http::{Header, Method, Request, Response, Server};
 
 use crate::job::Options;
+use crate::render::RenderCounter;
 
 /// The page and its script, built into the binary.
 const INDEX_HTML: &str = include_str!("page/index.html");
@@ -44,6 +45,8 @@ pub struct PreviewServer {
     server: Arc<Server>,
     /// The command line: what 'r' renders and 't' traces.
     options: Options,
+    /// The progress of 'r''s render, which the pages are told of while it runs.
+    progress: &'static RenderCounter,
     token: String,
     /// The cookie the page keeps the token in: named for the port, as cookies are shared by
     /// every port of a host.
@@ -67,6 +70,8 @@ impl PreviewServer {
         Ok(PreviewServer {
             server: Arc::new(server),
             options: options.clone(),
+            // One a server, for as long as the process runs.
+            progress: Box::leak(Box::default()),
             token,
             cookie: format!("raycast_token_{port}"),
             shown: Arc::new(Mutex::new(shown)),
@@ -231,12 +236,32 @@ impl PreviewServer {
     fn render(&self, request: Request) {
         let options = self.options.clone();
         let camera = self.camera();
+        let (progress, announcer) = (self.progress, self.announcer());
         std::thread::spawn(move || {
-            let answer = match super::view::render_view(&options, camera.as_deref()) {
-                Ok(rendered) => typed(200, rendered.png, "image/png").with_header(header(
-                    "X-Render-Seconds",
-                    &format!("{:.3}", rendered.seconds),
-                )),
+            // The pages hear how far the render is, five times a second, until it is done.
+            let rendering = Arc::new(AtomicBool::new(true));
+            let watching = rendering.clone();
+            let reporter = std::thread::spawn(move || {
+                while watching.load(Ordering::SeqCst) {
+                    std::thread::sleep(Duration::from_millis(200));
+                    let percent = (100.0 * progress.fraction()).floor();
+                    announcer.announce("progress", &format!("{percent}"));
+                }
+            });
+            let result = super::view::render_view(&options, camera.as_deref(), Some(progress));
+            rendering.store(false, Ordering::SeqCst);
+            let _ = reporter.join();
+            let answer = match result {
+                Ok(rendered) => {
+                    let stats = serde_json::to_string(&rendered.stats).unwrap_or_default();
+                    typed(200, rendered.png, "image/png")
+                        .with_header(header(
+                            "X-Render-Seconds",
+                            &format!("{:.3}", rendered.seconds),
+                        ))
+                        // JSON: one line, the block's newlines escaped.
+                        .with_header(header("X-Render-Stats", &stats))
+                }
                 Err(error) => text(500, &error.to_string()),
             };
             respond(request, answer);

@@ -11,10 +11,11 @@ use serde_json::{Value, json};
 use crate::error::Error;
 use crate::geometry::Ray;
 use crate::image_io::{self, ImageFormat};
-use crate::job::{Options, render_pictures, reserve_outputs, write_pictures};
+use crate::job::stats::print_course_statistics;
+use crate::job::{Options, render_pictures_counted, reserve_outputs, write_pictures};
 use crate::parse::description::{CameraSpec, Projection};
 use crate::parse::parse_scene;
-use crate::render::Exact;
+use crate::render::{Exact, RenderCounter};
 use crate::scene::Scene;
 use crate::trace::{SECONDARY_T_MIN, grid_palette, shadow_range};
 
@@ -57,20 +58,41 @@ pub fn scene_at(options: &Options, camera: Option<&str>) -> Result<Scene, Error>
     Ok(scene)
 }
 
-/// What 'r' made: the first picture of the line as PNG (for the page), and how long it took.
+/// What 'r' made: the first picture of the line as PNG (for the page), how long it took, and
+/// the course's statistics when the line asks for them.
 pub struct Rendered {
     /// The line's first picture (the image, or else the normals or the depth), as PNG.
     pub png: Vec<u8>,
     /// Seconds from reading the scene to the files in place.
     pub seconds: f64,
+    /// The course's `-stats` block, as the command line prints it, with `-stats`.
+    pub stats: Option<String>,
 }
 
-/// 'r': renders the line with `camera` and writes its images as the command line would.
-pub fn render_view(options: &Options, camera: Option<&str>) -> Result<Rendered, Error> {
+/// 'r': renders the line with `camera` and writes its images as the command line would; the
+/// render's progress goes to `counter`.
+pub fn render_view(
+    options: &Options,
+    camera: Option<&str>,
+    counter: Option<&'static RenderCounter>,
+) -> Result<Rendered, Error> {
     let start = std::time::Instant::now();
     let pending = reserve_outputs(options)?;
     let scene = scene_at(options, camera)?;
-    let pictures = render_pictures(options, &scene, Exact).pictures;
+    let render_start = std::time::Instant::now();
+    let rendered = render_pictures_counted(options, &scene, Exact, counter);
+    let stats = options.stats.then(|| {
+        let mut text = Vec::new();
+        print_course_statistics(
+            &mut text,
+            options,
+            &scene,
+            &rendered.rays,
+            render_start.elapsed(),
+        );
+        String::from_utf8_lossy(&text).into_owned()
+    });
+    let pictures = rendered.pictures;
     let png = pictures
         .first()
         .map(|p| image_io::encode(p, ImageFormat::Png))
@@ -79,6 +101,7 @@ pub fn render_view(options: &Options, camera: Option<&str>) -> Result<Rendered, 
     Ok(Rendered {
         png,
         seconds: start.elapsed().as_secs_f64(),
+        stats,
     })
 }
 

@@ -5,6 +5,7 @@
 //   { "drag": [button, [x0, y0], [x1, y1], steps] }   a drag on the canvas (button 0, 1, 2)
 //   { "key": "q" }                          a key press
 //   { "move": [x, y] }                      the mouse to that point of the canvas
+//   { "click_eval": "expression" }          a click at the [x, y] of the canvas it gives
 //   { "wait_frame_after": N }               until more than N frames were drawn
 //   { "wait_text": [selector, text] }       until the element's text contains text
 //   { "wait_ms": N }
@@ -56,6 +57,11 @@ try {
       // Let the camera's report reach raycast.
       await page.waitForTimeout(300);
       report.steps.push({ drag: step.drag });
+    } else if (step.click_eval) {
+      // A click where the page's expression says (canvas pixels).
+      const [x, y] = await page.evaluate(step.click_eval);
+      await page.mouse.click(box.x + x, box.y + y);
+      report.steps.push({ click: [x, y] });
     } else if (step.move) {
       const [x, y] = step.move;
       await page.mouse.move(box.x + x, box.y + y);

@@ -366,25 +366,97 @@ const TREE_COLOURS = {
 const MISS_LENGTH = 100;
 let treeSegments = null;
 
+// Every segment drawn, for clicks: its ends, and where the account tells of it (the node's
+// number in the account's order, and the light for a shadow ray).
+let treeLines = [];
+
 // The segments of an -inspect tree: each ray from its start to its hit (or MISS_LENGTH along
 // it), and each shadow ray sent from the hit toward its light.
 function segmentsOf(tree) {
   const out = { camera: [], shadow: [], reflected: [], refracted: [] };
+  treeLines = [];
+  let nodes = 0;
   const visit = (node) => {
+    const number = nodes++;
     if (!node.ray) return;
     const from = node.ray.origin, d = node.ray.direction;
     const t = node.hit ? node.hit.t : MISS_LENGTH / Math.hypot(d[0], d[1], d[2]);
-    (out[node.kind] || out.reflected).push([from, add(from, scale(d, t))]);
-    if (!node.hit) return;
-    for (const light of node.lights || []) {
-      if (light.shadow_ray !== "blocked" && light.shadow_ray !== "clear") continue;
-      const reach = light.distance === "infinite" ? MISS_LENGTH : Math.min(light.distance, MISS_LENGTH);
-      out.shadow.push([node.hit.point, add(node.hit.point, scale(light.to_light, reach))]);
+    const segment = [from, add(from, scale(d, t))];
+    (out[node.kind] || out.reflected).push(segment);
+    treeLines.push({ segment, node: number, light: null });
+    if (node.hit) {
+      for (const light of node.lights || []) {
+        if (light.shadow_ray !== "blocked" && light.shadow_ray !== "clear") continue;
+        const reach = light.distance === "infinite" ? MISS_LENGTH : Math.min(light.distance, MISS_LENGTH);
+        const shadow = [node.hit.point, add(node.hit.point, scale(light.to_light, reach))];
+        out.shadow.push(shadow);
+        treeLines.push({ segment: shadow, node: number, light: light.light });
+      }
     }
     for (const child of node.children || []) visit(child);
   };
   visit(tree);
   return out;
+}
+
+// The account's line for a segment: its node's header (the n-th "... ray, weight" line), or
+// within that node the line of its light.
+function accountLine(lines, { node, light }) {
+  const headers = [];
+  lines.forEach((line, k) => { if (/^\s*\w+ ray, weight/.test(line)) headers.push(k); });
+  const header = headers[node];
+  if (header === undefined) return -1;
+  if (light === null) return header;
+  const pad = lines[header].match(/^\s*/)[0].length + 2;
+  for (let k = header + 1; k < lines.length && !headers.includes(k); k++) {
+    if (lines[k].startsWith(`${" ".repeat(pad)}light ${light} `)) return k;
+  }
+  return header;
+}
+
+function showAccount(text, highlighted) {
+  const pre = document.getElementById("inspect");
+  pre.replaceChildren();
+  text.split("\n").forEach((line, k) => {
+    const span = document.createElement("span");
+    span.textContent = `${line}\n`;
+    if (k === highlighted) span.className = "highlighted";
+    pre.appendChild(span);
+  });
+  const marked = pre.querySelector(".highlighted");
+  if (marked) marked.scrollIntoView({ block: "nearest" });
+}
+
+// A click on the canvas near a segment of the tree highlights its line in the account.
+function pickSegment(x, y) {
+  if (treeLines.length === 0) return;
+  const m = matrices(canvas.width, canvas.height);
+  const clip = (p) => [0, 1, 2, 3].map((r) => m[r] * p[0] + m[4 + r] * p[1] + m[8 + r] * p[2] + m[12 + r]);
+  const toScreen = (c) => [((c[0] / c[3] + 1) / 2) * canvas.width, ((1 - c[1] / c[3]) / 2) * canvas.height];
+  // A segment that reaches behind the eye is cut where it passes the eye's plane.
+  const NEAR_W = 1e-3;
+  let best = null;
+  for (const line of treeLines) {
+    let [ca, cb] = line.segment.map(clip);
+    if (ca[3] <= NEAR_W && cb[3] <= NEAR_W) continue;
+    const cut = (from, to) => {
+      const t = (from[3] - NEAR_W) / (from[3] - to[3]);
+      return from.map((v, k) => v + t * (to[k] - v));
+    };
+    if (ca[3] <= NEAR_W) ca = cut(cb, ca);
+    if (cb[3] <= NEAR_W) cb = cut(ca, cb);
+    const [a, b] = [toScreen(ca), toScreen(cb)];
+    const [dx, dy] = [b[0] - a[0], b[1] - a[1]];
+    const along = Math.max(0, Math.min(1, ((x - a[0]) * dx + (y - a[1]) * dy) / (dx * dx + dy * dy || 1)));
+    const distance = Math.hypot(a[0] + along * dx - x, a[1] + along * dy - y);
+    if (distance <= 5 && (!best || distance < best.distance)) best = { line, distance };
+  }
+  if (!best) return;
+  const text = document.getElementById("inspect").textContent;
+  const lines = text.split("\n");
+  const k = accountLine(lines, best.line);
+  showAccount(text.replace(/\n$/, ""), k);
+  document.body.dataset.highlighted = k >= 0 ? lines[k].trim() : "";
 }
 
 function paintRayTree(width, height) {
@@ -435,7 +507,7 @@ async function traceRay([i, j]) {
   const tree = await answer.json();
   treeSegments = segmentsOf(tree.tree);
   const text = await (await fetch(withToken(`/api/raytree?x=${i}&y=${j}&format=text`))).text();
-  document.getElementById("inspect").textContent = text;
+  showAccount(text.replace(/\n$/, ""), -1);
   status.textContent = `ray tree of pixel (${i}, ${j})`;
   lastTraced = [i, j];
   gridWalk = grid ? await (await fetch(withToken(`/api/gridwalk?x=${i}&y=${j}`))).json() : null;
@@ -459,6 +531,8 @@ async function renderView() {
   renders += 1;
   document.body.dataset.render = String(renders);
   status.textContent = `rendered in ${answer.headers.get("X-Render-Seconds")} s, the line's images written`;
+  const stats = JSON.parse(answer.headers.get("X-Render-Stats") || "null");
+  document.getElementById("stats").textContent = stats || "";
 }
 let renders = 0;
 
@@ -646,7 +720,16 @@ let dragging = -1, lastX = 0, lastY = 0;
 let mouseAt = null;
 canvas.addEventListener("mousemove", (e) => { mouseAt = [e.offsetX, e.offsetY]; });
 canvas.addEventListener("contextmenu", (e) => e.preventDefault());
+let pressedAt = null;
+canvas.addEventListener("mouseup", (e) => {
+  // A click without a drag: a segment of the ray tree under it?
+  if (pressedAt && Math.hypot(e.offsetX - pressedAt[0], e.offsetY - pressedAt[1]) < 3) {
+    pickSegment(e.offsetX, e.offsetY);
+  }
+  pressedAt = null;
+});
 canvas.addEventListener("mousedown", (e) => {
+  pressedAt = [e.offsetX, e.offsetY];
   const bounds = canvas.getBoundingClientRect();
   // Shift-drag trucks, for a mouse (or a touchpad) without a middle button.
   dragging = e.button === 0 && e.shiftKey ? 1 : e.button;
@@ -735,6 +818,10 @@ function reload() {
 function listen() {
   const status = document.getElementById("status");
   const events = new EventSource(withToken("/api/events"));
+  events.addEventListener("progress", (e) => {
+    const status = document.getElementById("render-status");
+    if (status.textContent.startsWith("rendering")) status.textContent = `rendering… ${e.data}%`;
+  });
   events.addEventListener("scene", () => {
     status.textContent = "connected";
     status.classList.remove("lost");

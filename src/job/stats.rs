@@ -3,23 +3,32 @@
 use std::io::Write;
 use std::time::Duration;
 
-use super::{Options, say};
+use super::Options;
 use crate::scene::{LoadStats, Scene};
 use crate::trace::RayCounts;
 
 /// How long each phase of a run took, and on how many threads.
-pub(super) struct PhaseTimes {
+pub struct PhaseTimes {
+    /// Reading the scene and building its trees.
     pub load: LoadStats,
+    /// The render.
     pub render: Duration,
+    /// Encoding and writing the images.
     pub write: Duration,
+    /// The threads the render ran on.
     pub threads: usize,
+}
+
+/// Writes a line, ignoring a reader that has gone (as `raycast ... -stats | head -1`).
+fn say(mut to: impl Write, text: &str) {
+    let _ = writeln!(to, "{text}");
 }
 
 /// The course's `RayTracingStats::PrintStatistics`, line for line: the render's time in whole
 /// seconds (at least 1), the image, the scene's box and the grid, then the rays cast (camera,
 /// mirror and glass rays are the course's "non-shadow" rays), the primitives tested and the grid
 /// cells entered, and their rates.
-pub(super) fn print_course_statistics(
+pub fn print_course_statistics(
     to: impl Write,
     options: &Options,
     scene: &Scene,
@@ -81,7 +90,7 @@ RAY TRACING STATISTICS
 
 /// raycast's own figures, on stderr: each phase's time, the rays, what the scene holds and the
 /// memory its geometry and trees take.
-pub(super) fn print_phase_times(to: impl Write, times: &PhaseTimes, rays: &RayCounts) {
+pub fn print_phase_times(to: impl Write, times: &PhaseTimes, rays: &RayCounts) {
     let PhaseTimes {
         load,
         render,
