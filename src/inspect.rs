@@ -13,8 +13,8 @@ use crate::geometry::{Ray, intersect_plane, intersect_sphere, intersect_triangle
 use crate::scene::{Highlight, Light, Scene, Surface};
 use crate::shade::to_rgb;
 use crate::trace::{
-    SECONDARY_T_MIN, Scratch, TraceSettings, Tracer, crossing_ratio, reflect, refract,
-    shadow_range, spawned, worth_tracing,
+    Scratch, TraceSettings, Tracer, crossing_ratio, reflect, refract, shadow_range, spawned,
+    start_t, worth_tracing,
 };
 
 /// What one pixel's camera ray met and made.
@@ -222,7 +222,9 @@ fn light_terms(
         } else if shaded == Vec3A::ZERO {
             "not sent: the light adds nothing here"
         } else {
-            let (near, far) = shadow_range(light.distance);
+            // As the tracer sends it: clear of the surface, to just short of the light.
+            let near = start_t(point, ray.origin, light.to_light, normal);
+            let (_, far) = shadow_range(light.distance);
             if scene
                 .world
                 .occluded(&Ray::new(point, light.to_light), near, far)
@@ -285,7 +287,7 @@ fn children(
         let branch = Branch {
             kind,
             ray: Ray::new(point, new_direction),
-            t_min: SECONDARY_T_MIN,
+            t_min: start_t(point, parent.ray.origin, new_direction, normal),
             bounces_left: parent.bounces_left - 1,
             weight,
             throughput,

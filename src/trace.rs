@@ -76,16 +76,19 @@ pub trait TraceSeam: Copy + Send + Sync {
         shade(normal, falloff, Highlight::Course)
     }
 
-    /// The t range in which a hit blocks a shadow ray toward a light `distance` away.
+    /// The t range in which a hit blocks a shadow ray toward a light `distance` away from its
+    /// (offset) origin.
     #[inline(always)]
     fn shadow_range(&self, distance: f32) -> (f32, f32) {
         shadow_range(distance)
     }
 
-    /// Mirror and glass rays ignore hits nearer than this.
+    /// The least t of a shadow, mirror or glass ray leaving `point` (found by a ray from
+    /// `from`) along `direction`, the surface's normal there being `normal`: far enough that
+    /// it does not find the surface it leaves.
     #[inline(always)]
-    fn secondary_t_min(&self) -> f32 {
-        SECONDARY_T_MIN
+    fn start_t(&self, point: Vec3A, from: Vec3A, direction: Vec3A, normal: Vec3A) -> f32 {
+        start_t(point, from, direction, normal)
     }
 
     /// How many times a camera ray may be reflected or refracted, given `-bounces`.
@@ -133,11 +136,9 @@ pub enum BackFace {
     Ambient,
 }
 
-/// Mirror and glass rays ignore hits nearer than this, in world units, so that they do not
-/// find the surface they start from.
-pub const SECONDARY_T_MIN: f32 = 1e-4;
-/// A shadow ray is blocked by a hit with `SHADOW_EPSILON < t < distance to the light`.
-pub const SHADOW_EPSILON: f32 = 1e-4;
+/// How far a shadow, mirror or glass ray must clear the surface it leaves, relative to the
+/// largest coordinate of the hit point and of the ray that found it (see [`start_t`]).
+pub const RELATIVE_OFFSET: f32 = 1.0 / 65536.0;
 /// A mirror or glass ray whose colour counts for less than this in every channel of the pixel
 /// is not traced: it could not move the pixel by a 256th of a level unless what it saw were
 /// brighter than white. The course's weight cut-off stops far earlier in its scenes; this one
@@ -209,6 +210,8 @@ pub struct Scratch {
 #[derive(Debug, Clone, Copy)]
 struct Pending {
     ray: Ray,
+    /// The least t of a hit: past the surface the ray leaves.
+    t_min: f32,
     branch: Branch,
 }
 
@@ -401,7 +404,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 break;
             }
             scratch.counts.secondary += 1;
-            let hit = self.intersect(&next.ray, self.variant.secondary_t_min(), scratch);
+            let hit = self.intersect(&next.ray, next.t_min, scratch);
             colour +=
                 next.branch.throughput * self.visit(&next.ray, next.branch, hit.as_ref(), scratch);
         }
@@ -463,7 +466,10 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 }
                 scratch.counts.shadow += 1;
                 let shadow = Ray::new(point, light.to_light);
-                let (near, far) = self.variant.shadow_range(light.distance);
+                let (_, far) = self.variant.shadow_range(light.distance);
+                let near = self
+                    .variant
+                    .start_t(point, ray.origin, light.to_light, normal);
                 if self.occluded(&shadow, near, far, scratch) {
                     continue;
                 }
@@ -478,6 +484,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 if worth_tracing(cutoff, weight, throughput) {
                     scratch.pending.push(Pending {
                         ray: Ray::new(point, direction),
+                        t_min: self.variant.start_t(point, ray.origin, direction, normal),
                         branch: Branch {
                             bounces_left: branch.bounces_left - 1,
                             weight,
@@ -542,11 +549,26 @@ pub fn crossing_ratio(index: f32, inside: bool) -> f32 {
     if inside { index } else { 1.0 / index }
 }
 
-/// The t range in which a hit blocks a shadow ray: `SHADOW_EPSILON < t < distance`, both ends
-/// open.
+/// The t range in which a hit blocks a shadow ray toward a light `distance` away: its least t
+/// comes from [`start_t`]; it ends just short of the light.
 #[inline]
 pub fn shadow_range(distance: f32) -> (f32, f32) {
-    (SHADOW_EPSILON.next_up(), distance.next_down())
+    (0.0, distance.next_down())
+}
+
+/// The least t of a ray leaving `point` along unit `direction` (the point found by a ray from
+/// `from`, on a surface of unit normal `normal`): the ray must clear the surface by
+/// [`RELATIVE_OFFSET`] of the largest coordinate of `point` and `from`. A computed hit point
+/// (`from + t·direction`) is off its surface by a rounding error of a few ulps of those
+/// coordinates, whatever the scene's scale; a fixed t (the course's 1e-4) is far too large for
+/// a scene a thousandth of a unit across (shadows lost in its details) and too small for one ten
+/// thousand units across (acne). The ray keeps its line (a start moved along the normal would
+/// shift it sideways, which glass of index 1 shows); at grazing angles the t is capped where the
+/// ray would have to run 64 times the clearance along the surface.
+#[inline]
+pub fn start_t(point: Vec3A, from: Vec3A, direction: Vec3A, normal: Vec3A) -> f32 {
+    let clearance = point.abs().max(from.abs()).max_element() * RELATIVE_OFFSET;
+    clearance / direction.dot(normal).abs().max(1.0 / 64.0)
 }
 
 /// The mirror direction of unit `direction` about unit `normal` (either side).
@@ -631,11 +653,41 @@ mod tests {
     }
 
     #[test]
-    fn shadow_range_is_open_at_both_ends() {
+    fn shadow_range_stops_short_of_the_light() {
         let (near, far) = shadow_range(5.0);
-        assert!(near > 1e-4 && near < 1.0001e-4);
+        assert_eq!(near, 0.0);
         assert!(far < 5.0 && far > 4.9999);
         assert_eq!(shadow_range(f32::INFINITY).1, f32::MAX);
+    }
+
+    #[test]
+    fn rays_clear_their_surface_by_a_share_of_its_size() {
+        // 2^-16 of the largest coordinate, straight off the surface: 1000 → 1000/65536.
+        let t = start_t(
+            Vec3A::new(1000.0, -3.0, 2.0),
+            Vec3A::ZERO,
+            Vec3A::Y,
+            Vec3A::Y,
+        );
+        assert_eq!(t, 1000.0 / 65536.0);
+        // Scaled down a million times, the clearance is too.
+        let small = start_t(
+            Vec3A::new(1e-3, -3e-6, 2e-6),
+            Vec3A::ZERO,
+            Vec3A::Y,
+            Vec3A::Y,
+        );
+        assert_eq!(small, 1e-3 / 65536.0);
+        // Found by a ray from farther away, the point's error is that far's: so is the step;
+        // at 60° from the normal the ray runs twice as far to clear it.
+        let leaning = Vec3A::new(3f32.sqrt() / 2.0, 0.5, 0.0);
+        let far = start_t(Vec3A::ZERO, Vec3A::new(0.0, 0.0, -8.0), leaning, Vec3A::Y);
+        assert!((far - 2.0 * 8.0 / 65536.0).abs() < 1e-9, "{far}");
+        // Along the surface, capped at 64 clearances.
+        assert_eq!(
+            start_t(Vec3A::X, Vec3A::ZERO, Vec3A::X, Vec3A::Y),
+            64.0 / 65536.0
+        );
     }
 
     fn scene(text: &str) -> Scene {
@@ -788,18 +840,17 @@ mod tests {
              Group { numObjects 1 MaterialIndex 0 Plane { normal 0 0 1 offset 0 } }",
         );
         let world = &blocked.world;
+        // From a point on the floor found by a camera ray from 10 above, toward the light:
+        // the floor does not block, nor does it from a hair below it.
+        let near = start_t(Vec3A::ZERO, Vec3A::new(0.0, 0.0, 10.0), Vec3A::Z, Vec3A::Z);
+        let (_, far) = shadow_range(2.0);
         let up = Ray::new(Vec3A::ZERO, Vec3A::Z);
-        // From a point on the floor, toward the light: the floor itself at t = 0 is within the
-        // epsilon and does not block.
-        let (near, far) = shadow_range(2.0);
         assert!(!world.occluded(&up, near, far));
-        // A ray starting 0.5e-4 above the plane sees it at t = -0.5e-4 (behind), and one
-        // starting below it sees it at t = 0.5e-4, inside the epsilon: neither blocks. At
-        // 2e-4 below, it is past the epsilon and blocks.
-        for (start, blocks) in [(0.5e-4, false), (-0.5e-4, false), (-2e-4, true)] {
-            let ray = Ray::new(Vec3A::new(0.0, 0.0, start), Vec3A::Z);
-            assert_eq!(world.occluded(&ray, near, far), blocks, "start {start}");
-        }
+        let under = Ray::new(Vec3A::new(0.0, 0.0, -1e-6), Vec3A::Z);
+        assert!(!world.occluded(&under, near, far));
+        // Below the clearance (10/65536), it does.
+        let deeper = Ray::new(Vec3A::new(0.0, 0.0, -2e-4), Vec3A::Z);
+        assert!(world.occluded(&deeper, near, far));
         // A surface beyond the light does not block: the light at distance 2 from a point 3
         // below the plane... the plane is at t = 3, past the light.
         let below = Ray::new(Vec3A::new(0.0, 0.0, -3.0), Vec3A::Z);

@@ -17,7 +17,7 @@ use crate::parse::description::{CameraSpec, Projection};
 use crate::parse::parse_scene;
 use crate::render::{Exact, RenderCounter};
 use crate::scene::Scene;
-use crate::trace::{SECONDARY_T_MIN, grid_palette, shadow_range};
+use crate::trace::{grid_palette, shadow_range, start_t};
 
 /// A camera in the scene file's syntax (as `GET /api/camera` gives it), read as the scene
 /// parser reads one.
@@ -206,8 +206,10 @@ pub fn grid_walk(
         let f = |k: usize| v[k].as_f64().unwrap_or(0.0) as f32;
         glam::Vec3A::new(f(0), f(1), f(2))
     };
-    let mut pending = vec![(account["tree"].clone(), true)];
-    while let Some((node, camera_ray)) = pending.pop() {
+    // Each ray with its least t: the camera's, or for a mirror or glass ray the tracer's
+    // clearance of the surface it leaves.
+    let mut pending = vec![(account["tree"].clone(), scene.camera.t_min())];
+    while let Some((node, t_min)) = pending.pop() {
         if node["ray"].is_null() {
             continue;
         }
@@ -215,18 +217,19 @@ pub fn grid_walk(
             vec3(&node["ray"]["origin"]),
             vec3(&node["ray"]["direction"]),
         );
-        let t_min = if camera_ray {
-            scene.camera.t_min()
-        } else {
-            SECONDARY_T_MIN
-        };
         let t_hit = node["hit"]["t"]
             .as_f64()
             .map_or(f32::INFINITY, |t| t as f32);
         let kind = node["kind"].as_str().unwrap_or("ray").to_string();
         walk(&kind, ray, t_min, t_hit, &mut rays);
+        let point = vec3(&node["hit"]["point"]);
+        let facing = vec3(&node["hit"]["world_normal"]);
+        let normal = if node["hit"]["back_face"] == true {
+            -facing
+        } else {
+            facing
+        };
         if let Some(lights) = node["lights"].as_array() {
-            let point = vec3(&node["hit"]["point"]);
             for light in lights {
                 if !matches!(light["shadow_ray"].as_str(), Some("blocked" | "clear")) {
                     continue;
@@ -234,8 +237,10 @@ pub fn grid_walk(
                 let distance = light["distance"]
                     .as_f64()
                     .map_or(f32::INFINITY, |d| d as f32);
-                let (near, far) = shadow_range(distance);
-                let shadow = Ray::new(point, vec3(&light["to_light"]));
+                let to_light = vec3(&light["to_light"]);
+                let near = start_t(point, ray.origin, to_light, normal);
+                let (_, far) = shadow_range(distance);
+                let shadow = Ray::new(point, to_light);
                 // A blocked shadow ray's walk ends at the blocker's cell.
                 let blocker = scene.world.intersect(&shadow, near).map(|h| h.t);
                 let end = blocker.filter(|&t| t <= far).unwrap_or(far);
@@ -244,7 +249,9 @@ pub fn grid_walk(
         }
         if let Some(children) = node["children"].as_array() {
             for child in children.iter().rev() {
-                pending.push((child.clone(), false));
+                let direction = vec3(&child["ray"]["direction"]);
+                let t_min = start_t(point, ray.origin, direction, normal);
+                pending.push((child.clone(), t_min));
             }
         }
     }

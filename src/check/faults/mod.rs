@@ -408,10 +408,10 @@ impl TraceSeam for Plant {
             .unwrap_or_else(|| crate::trace::shadow_range(distance))
     }
 
-    fn secondary_t_min(&self) -> f32 {
+    fn start_t(&self, point: Vec3A, from: Vec3A, direction: Vec3A, normal: Vec3A) -> f32 {
         self.rays()
-            .find_map(|r| r.secondary_t_min())
-            .unwrap_or(crate::trace::SECONDARY_T_MIN)
+            .find_map(|r| r.start_t())
+            .unwrap_or_else(|| crate::trace::start_t(point, from, direction, normal))
     }
 
     fn bounces(&self, bounces: u32) -> u32 {

@@ -38,13 +38,13 @@ pub enum CriticalAngle {
 impl RayFault {
     pub(super) fn shadow_range(&self, distance: f32) -> Option<(f32, f32)> {
         match self {
-            RayFault::NoOffset => Some((0.0, distance.next_down())),
             RayFault::PastLight => Some((crate::trace::shadow_range(distance).0, f32::MAX)),
             _ => None,
         }
     }
 
-    pub(super) fn secondary_t_min(&self) -> Option<f32> {
+    /// The least t of a ray leaving a surface: 0, for no offset.
+    pub(super) fn start_t(&self) -> Option<f32> {
         match self {
             RayFault::NoOffset => Some(0.0),
             _ => None,
@@ -127,8 +127,9 @@ pub(super) const SHADOW_ACNE: Fault = Fault {
     assignment: 4,
     sentence: "My shadow, mirror and glass rays start exactly on the surface, which then shadows \
                and reflects itself in speckles.",
-    look_for: "Where a shadow or secondary ray is made: ignore hits nearer than a small epsilon \
-               (the course's 1e-4), or start the ray a little off the surface.",
+    look_for: "Where a shadow or secondary ray is made: start it a little off the surface (by \
+               a distance that grows with the point's coordinates), or ignore hits nearer than \
+               a small epsilon (the course's 1e-4).",
     candidates: |line: &LineScene| {
         if line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0) {
             only(RayFault::NoOffset)
