@@ -13,8 +13,8 @@ use crate::geometry::{Ray, intersect_plane, intersect_sphere, intersect_triangle
 use crate::scene::{Highlight, Light, Scene, Surface};
 use crate::shade::to_rgb;
 use crate::trace::{
-    Scratch, TraceSettings, Tracer, crossing_ratio, reflect, refract, shadow_range, spawned,
-    start_t, worth_tracing,
+    Scratch, TraceSettings, Tracer, clearance, crossing_ratio, reflect, refract, shadow_end,
+    spawned, start_t, worth_tracing,
 };
 
 /// What one pixel's camera ray met and made.
@@ -223,8 +223,8 @@ fn light_terms(
             "not sent: the light adds nothing here"
         } else {
             // As the tracer sends it: clear of the surface, to just short of the light.
-            let near = start_t(point, ray.origin, light.to_light, normal);
-            let (_, far) = shadow_range(light.distance);
+            let near = start_t(clearance(point, ray.origin), light.to_light, normal);
+            let far = shadow_end(light.distance);
             if scene
                 .world
                 .occluded(&Ray::new(point, light.to_light), near, far)
@@ -287,7 +287,7 @@ fn children(
         let branch = Branch {
             kind,
             ray: Ray::new(point, new_direction),
-            t_min: start_t(point, parent.ray.origin, new_direction, normal),
+            t_min: start_t(clearance(point, parent.ray.origin), new_direction, normal),
             bounces_left: parent.bounces_left - 1,
             weight,
             throughput,

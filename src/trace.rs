@@ -76,19 +76,18 @@ pub trait TraceSeam: Copy + Send + Sync {
         shade(normal, falloff, Highlight::Course)
     }
 
-    /// The t range in which a hit blocks a shadow ray toward a light `distance` away from its
-    /// (offset) origin.
+    /// The t past which a hit no longer blocks a shadow ray toward a light `distance` away.
     #[inline(always)]
-    fn shadow_range(&self, distance: f32) -> (f32, f32) {
-        shadow_range(distance)
+    fn shadow_end(&self, distance: f32) -> f32 {
+        shadow_end(distance)
     }
 
-    /// The least t of a shadow, mirror or glass ray leaving `point` (found by a ray from
-    /// `from`) along `direction`, the surface's normal there being `normal`: far enough that
-    /// it does not find the surface it leaves.
+    /// The least t of a shadow, mirror or glass ray leaving a surface of unit `normal` along
+    /// `direction`, given the hit's [`clearance`]: far enough that it does not find the surface
+    /// it leaves.
     #[inline(always)]
-    fn start_t(&self, point: Vec3A, from: Vec3A, direction: Vec3A, normal: Vec3A) -> f32 {
-        start_t(point, from, direction, normal)
+    fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
+        start_t(clearance, direction, normal)
     }
 
     /// How many times a camera ray may be reflected or refracted, given `-bounces`.
@@ -137,7 +136,7 @@ pub enum BackFace {
 }
 
 /// How far a shadow, mirror or glass ray must clear the surface it leaves, relative to the
-/// largest coordinate of the hit point and of the ray that found it (see [`start_t`]).
+/// largest coordinate of the hit point and of the ray that found it (see [`clearance`]).
 pub const RELATIVE_OFFSET: f32 = 1.0 / 65536.0;
 /// A mirror or glass ray whose colour counts for less than this in every channel of the pixel
 /// is not traced: it could not move the pixel by a 256th of a level unless what it saw were
@@ -436,6 +435,8 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         }
         let normal = if inside { -hit.normal } else { hit.normal };
         let surface = self.variant.surface(scene, hit.material, point);
+        // How far the rays this hit sends must clear its surface: once for all of them.
+        let clearance = clearance(point, ray.origin);
         let mut colour = self
             .variant
             .ambient(scene.ambient * surface.diffuse(), scene.lights.len());
@@ -466,10 +467,8 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 }
                 scratch.counts.shadow += 1;
                 let shadow = Ray::new(point, light.to_light);
-                let (_, far) = self.variant.shadow_range(light.distance);
-                let near = self
-                    .variant
-                    .start_t(point, ray.origin, light.to_light, normal);
+                let near = self.variant.start_t(clearance, light.to_light, normal);
+                let far = self.variant.shadow_end(light.distance);
                 if self.occluded(&shadow, near, far, scratch) {
                     continue;
                 }
@@ -484,7 +483,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 if worth_tracing(cutoff, weight, throughput) {
                     scratch.pending.push(Pending {
                         ray: Ray::new(point, direction),
-                        t_min: self.variant.start_t(point, ray.origin, direction, normal),
+                        t_min: self.variant.start_t(clearance, direction, normal),
                         branch: Branch {
                             bounces_left: branch.bounces_left - 1,
                             weight,
@@ -549,25 +548,30 @@ pub fn crossing_ratio(index: f32, inside: bool) -> f32 {
     if inside { index } else { 1.0 / index }
 }
 
-/// The t range in which a hit blocks a shadow ray toward a light `distance` away: its least t
-/// comes from [`start_t`]; it ends just short of the light.
+/// Where a shadow ray toward a light `distance` away stops: just short of the light (its least
+/// t comes from [`start_t`]).
 #[inline]
-pub fn shadow_range(distance: f32) -> (f32, f32) {
-    (0.0, distance.next_down())
+pub fn shadow_end(distance: f32) -> f32 {
+    distance.next_down()
 }
 
-/// The least t of a ray leaving `point` along unit `direction` (the point found by a ray from
-/// `from`, on a surface of unit normal `normal`): the ray must clear the surface by
-/// [`RELATIVE_OFFSET`] of the largest coordinate of `point` and `from`. A computed hit point
-/// (`from + t·direction`) is off its surface by a rounding error of a few ulps of those
+/// How far the rays leaving hit point `point` (found by a ray from `from`) must clear its
+/// surface: [`RELATIVE_OFFSET`] of the largest coordinate of `point` and `from`. A computed hit
+/// point (`from + t·direction`) is off its surface by a rounding error of a few ulps of those
 /// coordinates, whatever the scene's scale; a fixed t (the course's 1e-4) is far too large for
 /// a scene a thousandth of a unit across (shadows lost in its details) and too small for one ten
-/// thousand units across (acne). The ray keeps its line (a start moved along the normal would
-/// shift it sideways, which glass of index 1 shows); at grazing angles the t is capped where the
-/// ray would have to run 64 times the clearance along the surface.
+/// thousand units across (acne).
 #[inline]
-pub fn start_t(point: Vec3A, from: Vec3A, direction: Vec3A, normal: Vec3A) -> f32 {
-    let clearance = point.abs().max(from.abs()).max_element() * RELATIVE_OFFSET;
+pub fn clearance(point: Vec3A, from: Vec3A) -> f32 {
+    point.abs().max(from.abs()).max_element() * RELATIVE_OFFSET
+}
+
+/// The least t of a ray leaving a surface of unit `normal` along unit `direction` that must
+/// clear it by `clearance`. The ray keeps its line (a start moved along the normal would shift
+/// it sideways, which glass of index 1 shows); at grazing angles the t is capped where the ray
+/// would have to run 64 times the clearance along the surface.
+#[inline]
+pub fn start_t(clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
     clearance / direction.dot(normal).abs().max(1.0 / 64.0)
 }
 
@@ -583,13 +587,25 @@ pub fn reflect(direction: Vec3A, normal: Vec3A) -> Vec3A {
 /// T = [η (N·I) − √(1 − η² (1 − (N·I)²))] N − η I.
 #[inline]
 pub fn refract(direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+    let k = refraction_radicand(direction, normal, ratio);
+    (k >= 0.0).then(|| refracted(direction, normal, ratio, k.sqrt()))
+}
+
+/// What [`refract`] takes the square root of: 1 − η² (1 − (N·I)²), negative past the critical
+/// angle.
+#[inline]
+pub fn refraction_radicand(direction: Vec3A, normal: Vec3A, ratio: f32) -> f32 {
+    let cos_in = -normal.dot(direction);
+    1.0 - ratio * ratio * (1.0 - cos_in * cos_in)
+}
+
+/// The course's refracted direction, [η (N·I) − root] N − η I, with `root` in place of the
+/// square root of the [`refraction_radicand`].
+#[inline]
+pub fn refracted(direction: Vec3A, normal: Vec3A, ratio: f32, root: f32) -> Vec3A {
     let incoming = -direction;
     let cos_in = normal.dot(incoming);
-    let k = 1.0 - ratio * ratio * (1.0 - cos_in * cos_in);
-    if k < 0.0 {
-        return None;
-    }
-    Some(((ratio * cos_in - k.sqrt()) * normal - ratio * incoming).normalize())
+    ((ratio * cos_in - root) * normal - ratio * incoming).normalize()
 }
 
 #[cfg(test)]
@@ -654,26 +670,23 @@ mod tests {
 
     #[test]
     fn shadow_range_stops_short_of_the_light() {
-        let (near, far) = shadow_range(5.0);
-        assert_eq!(near, 0.0);
+        let far = shadow_end(5.0);
         assert!(far < 5.0 && far > 4.9999);
-        assert_eq!(shadow_range(f32::INFINITY).1, f32::MAX);
+        assert_eq!(shadow_end(f32::INFINITY), f32::MAX);
     }
 
     #[test]
     fn rays_clear_their_surface_by_a_share_of_its_size() {
         // 2^-16 of the largest coordinate, straight off the surface: 1000 → 1000/65536.
         let t = start_t(
-            Vec3A::new(1000.0, -3.0, 2.0),
-            Vec3A::ZERO,
+            clearance(Vec3A::new(1000.0, -3.0, 2.0), Vec3A::ZERO),
             Vec3A::Y,
             Vec3A::Y,
         );
         assert_eq!(t, 1000.0 / 65536.0);
         // Scaled down a million times, the clearance is too.
         let small = start_t(
-            Vec3A::new(1e-3, -3e-6, 2e-6),
-            Vec3A::ZERO,
+            clearance(Vec3A::new(1e-3, -3e-6, 2e-6), Vec3A::ZERO),
             Vec3A::Y,
             Vec3A::Y,
         );
@@ -681,11 +694,15 @@ mod tests {
         // Found by a ray from farther away, the point's error is that far's: so is the step;
         // at 60° from the normal the ray runs twice as far to clear it.
         let leaning = Vec3A::new(3f32.sqrt() / 2.0, 0.5, 0.0);
-        let far = start_t(Vec3A::ZERO, Vec3A::new(0.0, 0.0, -8.0), leaning, Vec3A::Y);
+        let far = start_t(
+            clearance(Vec3A::ZERO, Vec3A::new(0.0, 0.0, -8.0)),
+            leaning,
+            Vec3A::Y,
+        );
         assert!((far - 2.0 * 8.0 / 65536.0).abs() < 1e-9, "{far}");
         // Along the surface, capped at 64 clearances.
         assert_eq!(
-            start_t(Vec3A::X, Vec3A::ZERO, Vec3A::X, Vec3A::Y),
+            start_t(clearance(Vec3A::X, Vec3A::ZERO), Vec3A::X, Vec3A::Y),
             64.0 / 65536.0
         );
     }
@@ -842,8 +859,12 @@ mod tests {
         let world = &blocked.world;
         // From a point on the floor found by a camera ray from 10 above, toward the light:
         // the floor does not block, nor does it from a hair below it.
-        let near = start_t(Vec3A::ZERO, Vec3A::new(0.0, 0.0, 10.0), Vec3A::Z, Vec3A::Z);
-        let (_, far) = shadow_range(2.0);
+        let near = start_t(
+            clearance(Vec3A::ZERO, Vec3A::new(0.0, 0.0, 10.0)),
+            Vec3A::Z,
+            Vec3A::Z,
+        );
+        let far = shadow_end(2.0);
         let up = Ray::new(Vec3A::ZERO, Vec3A::Z);
         assert!(!world.occluded(&up, near, far));
         let under = Ray::new(Vec3A::new(0.0, 0.0, -1e-6), Vec3A::Z);
@@ -854,12 +875,12 @@ mod tests {
         // A surface beyond the light does not block: the light at distance 2 from a point 3
         // below the plane... the plane is at t = 3, past the light.
         let below = Ray::new(Vec3A::new(0.0, 0.0, -3.0), Vec3A::Z);
-        let (near, far) = shadow_range(2.0);
+        let (near, far) = (0.0, shadow_end(2.0));
         assert!(!world.occluded(&below, near, far));
-        let (near, far) = shadow_range(3.5);
+        let (near, far) = (0.0, shadow_end(3.5));
         assert!(world.occluded(&below, near, far));
         // Exactly at the light's distance: open end, no block.
-        let (near, far) = shadow_range(3.0);
+        let (near, far) = (0.0, shadow_end(3.0));
         assert!(!world.occluded(&below, near, far));
     }
 }

@@ -17,7 +17,7 @@ use crate::parse::description::{CameraSpec, Projection};
 use crate::parse::parse_scene;
 use crate::render::{Exact, RenderCounter};
 use crate::scene::Scene;
-use crate::trace::{grid_palette, shadow_range, start_t};
+use crate::trace::{clearance, grid_palette, shadow_end, start_t};
 
 /// A camera in the scene file's syntax (as `GET /api/camera` gives it), read as the scene
 /// parser reads one.
@@ -229,6 +229,7 @@ pub fn grid_walk(
         } else {
             facing
         };
+        let clearance = clearance(point, ray.origin);
         if let Some(lights) = node["lights"].as_array() {
             for light in lights {
                 if !matches!(light["shadow_ray"].as_str(), Some("blocked" | "clear")) {
@@ -238,8 +239,8 @@ pub fn grid_walk(
                     .as_f64()
                     .map_or(f32::INFINITY, |d| d as f32);
                 let to_light = vec3(&light["to_light"]);
-                let near = start_t(point, ray.origin, to_light, normal);
-                let (_, far) = shadow_range(distance);
+                let near = start_t(clearance, to_light, normal);
+                let far = shadow_end(distance);
                 let shadow = Ray::new(point, to_light);
                 // A blocked shadow ray's walk ends at the blocker's cell.
                 let blocker = scene.world.intersect(&shadow, near).map(|h| h.t);
@@ -250,7 +251,7 @@ pub fn grid_walk(
         if let Some(children) = node["children"].as_array() {
             for child in children.iter().rev() {
                 let direction = vec3(&child["ray"]["direction"]);
-                let t_min = start_t(point, ray.origin, direction, normal);
+                let t_min = start_t(clearance, direction, normal);
                 pending.push((child.clone(), t_min));
             }
         }

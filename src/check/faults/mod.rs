@@ -402,16 +402,16 @@ impl TraceSeam for Plant {
         }
     }
 
-    fn shadow_range(&self, distance: f32) -> (f32, f32) {
+    fn shadow_end(&self, distance: f32) -> f32 {
         self.rays()
-            .find_map(|r| r.shadow_range(distance))
-            .unwrap_or_else(|| crate::trace::shadow_range(distance))
+            .find_map(|r| r.shadow_end())
+            .unwrap_or_else(|| crate::trace::shadow_end(distance))
     }
 
-    fn start_t(&self, point: Vec3A, from: Vec3A, direction: Vec3A, normal: Vec3A) -> f32 {
+    fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
         self.rays()
             .find_map(|r| r.start_t())
-            .unwrap_or_else(|| crate::trace::start_t(point, from, direction, normal))
+            .unwrap_or_else(|| crate::trace::start_t(clearance, direction, normal))
     }
 
     fn bounces(&self, bounces: u32) -> u32 {

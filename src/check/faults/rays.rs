@@ -36,9 +36,9 @@ pub enum CriticalAngle {
 }
 
 impl RayFault {
-    pub(super) fn shadow_range(&self, distance: f32) -> Option<(f32, f32)> {
+    pub(super) fn shadow_end(&self) -> Option<f32> {
         match self {
-            RayFault::PastLight => Some((crate::trace::shadow_range(distance).0, f32::MAX)),
+            RayFault::PastLight => Some(f32::MAX),
             _ => None,
         }
     }
@@ -76,9 +76,7 @@ impl RayFault {
         let RayFault::PastCriticalAngle(way) = *self else {
             return None;
         };
-        let incoming = -direction;
-        let cos_in = normal.dot(incoming);
-        let k = 1.0 - ratio * ratio * (1.0 - cos_in * cos_in);
+        let k = crate::trace::refraction_radicand(direction, normal, ratio);
         if k >= 0.0 {
             return None;
         }
@@ -87,7 +85,7 @@ impl RayFault {
             CriticalAngle::Absolute => (-k).sqrt(),
             CriticalAngle::Straight => return Some(direction),
         };
-        Some(((ratio * cos_in - root) * normal - ratio * incoming).normalize())
+        Some(crate::trace::refracted(direction, normal, ratio, root))
     }
 
     pub(super) fn crossing_ratio(&self, index: f32, inside: bool) -> Option<f32> {
