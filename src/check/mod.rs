@@ -2,10 +2,12 @@
 //! lines and reference images, and names the likely cause of each mismatch; `raycast diff`: the
 //! same comparison for two image files.
 
+mod cage;
 pub mod diagnose;
 pub mod faults;
 mod finding;
 mod guard;
+mod output;
 mod report;
 mod rule;
 mod run;
@@ -14,15 +16,17 @@ mod suite;
 mod verdict;
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use rayon::prelude::*;
 
+pub use cage::{Confinement, Ending, Limits, Ran, SUPERVISE, supervise};
 pub use diagnose::Diagnosis;
 pub use finding::Finding;
+pub use output::{MAX_IMAGE_BYTES, read_image};
 pub use report::write_report;
 pub use rule::{Comparison, Rule, compare};
-pub use run::{Ending, Ran};
 pub use simulate::FaultMatch;
 pub use suite::{Line, PictureKind, Suite};
 pub use verdict::{
@@ -48,6 +52,11 @@ pub struct CheckOptions {
     pub timeout: Duration,
     /// Pass `-gui`, `-tessellation` and `-gouraud` on to the renderer (dropped by default).
     pub keep_preview_options: bool,
+    /// The renderer's resource limits.
+    pub limits: Limits,
+    /// What the renderer may read besides the system's files and its own program's folder
+    /// (`--allow-read`).
+    pub readable: Vec<PathBuf>,
 }
 
 impl CheckOptions {
@@ -61,6 +70,8 @@ impl CheckOptions {
             jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
             timeout: Duration::from_secs(60),
             keep_preview_options: false,
+            limits: Limits::default(),
+            readable: Vec::new(),
         }
     }
 }
@@ -200,18 +211,57 @@ pub fn judge(actual: &Image, reference: &Image, rule: Rule) -> Judgement {
     }
 }
 
-/// The largest image file `check` reads: anything bigger is not a picture of the course.
-const MAX_IMAGE_BYTES: u64 = 256 << 20;
+/// A run of `check`: every picture graded, and the cage the renderer ran in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Checked {
+    /// Every picture of the suite, in its order.
+    pub graded: Vec<Graded>,
+    /// The cage's mechanisms, as the first line's supervisor found them.
+    pub confinement: Option<Confinement>,
+    /// Why the renderer kept check's own user, when check ran as root.
+    pub cage_note: Option<String>,
+    /// Whether check was interrupted: some lines did not run (their pictures are errors).
+    pub partial: bool,
+}
 
-/// Runs every line of the suite with the renderer and grades every image it should write.
-/// `progress` is called once a line has run. The error is a usage or suite problem.
-pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec<Graded>, String> {
+/// Runs every line of the suite with the renderer, each in its cage, and grades every image it
+/// should write. `progress` is called once a line has run; once `stop` is set (check was
+/// interrupted), the lines running end and no other starts. The error is a usage or suite
+/// problem.
+pub fn check(
+    options: &CheckOptions,
+    progress: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
+) -> Result<Checked, String> {
     let suite = Suite::read(&options.suite)?;
-    run::check_program(&options.renderer)?;
+    let executable = run::check_program(&options.renderer)?;
+    let mut command = options.renderer.clone();
+    command[0] = executable.display().to_string();
+    let readable = submission(
+        &options.renderer,
+        &executable,
+        &options.readable,
+        &options.suite,
+    )?;
+    let (user, cage_note) = match cage::unprivileged_user(&readable) {
+        None => (None, None),
+        Some(Ok(user)) => (Some(user), None),
+        Some(Err(why)) => (
+            None,
+            Some(format!(
+                "the renderer ran as root, because {why}: give other users access to it, or \
+                 run check as an ordinary user"
+            )),
+        ),
+    };
     let fingerprint = guard::Fingerprint::of(&options.suite)?;
     let scratch = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
-    let scenes = scratch.path().join("scenes");
-    run::copy_scenes(&suite.scenes, &scenes)?;
+    if user.is_some() {
+        use std::os::unix::fs::PermissionsExt;
+        // Passed through by the renderer's user to its own line's folders, never listed.
+        std::fs::set_permissions(scratch.path(), std::fs::Permissions::from_mode(0o711))
+            .map_err(|e| format!("cannot open the scratch folder to the renderer: {e}"))?;
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.jobs.max(1))
         .build()
@@ -226,7 +276,13 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
             .map(|line| references_of(&suite, line))
             .collect()
     });
-    let graded: Vec<Vec<Graded>> = pool.install(|| {
+    let caged = Caged {
+        command: &command,
+        readable: &readable,
+        user,
+        stop,
+    };
+    let graded: Vec<(Vec<Graded>, Option<Confinement>)> = pool.install(|| {
         suite
             .lines
             .par_iter()
@@ -237,13 +293,14 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
             .enumerate()
             .map(|(number, (line, references))| {
                 let folder = scratch.path().join(format!("line{number}"));
-                let graded = grade_line(options, &suite, line, references, &scenes, &folder);
+                let graded = grade_line(options, &caged, &suite, line, references, &folder);
                 progress();
                 graded
             })
             .collect()
     });
-    let mut graded: Vec<Graded> = graded.into_iter().flatten().collect();
+    let confinement = graded.iter().find_map(|(_, c)| c.clone());
+    let mut graded: Vec<Graded> = graded.into_iter().flat_map(|(g, _)| g).collect();
     unique_names(&mut graded);
     let changed = guard::Fingerprint::of(&options.suite)
         .map(|after| fingerprint.changed(&after))
@@ -251,7 +308,59 @@ pub fn check(options: &CheckOptions, progress: &(dyn Fn() + Sync)) -> Result<Vec
     if !changed.is_empty() {
         void(&mut graded, &changed);
     }
-    Ok(graded)
+    Ok(Checked {
+        graded,
+        confinement,
+        cage_note,
+        partial: stop.load(Ordering::Relaxed),
+    })
+}
+
+/// What the renderer may read: its program and every word of its command that names a file
+/// or folder (a script, a data folder), each with the folder it is in unless that folder holds
+/// the suite (whose references a renderer must not read), and what `--allow-read` adds.
+fn submission(
+    renderer: &[String],
+    executable: &Path,
+    allowed: &[PathBuf],
+    suite: &Path,
+) -> Result<Vec<PathBuf>, String> {
+    let suite = std::fs::canonicalize(suite).unwrap_or_else(|_| suite.to_path_buf());
+    let mut readable: Vec<PathBuf> = Vec::new();
+    let named = renderer
+        .iter()
+        .skip(1)
+        .map(PathBuf::from)
+        .filter(|p| p.exists());
+    for path in std::iter::once(executable.to_path_buf()).chain(named) {
+        let path = std::fs::canonicalize(&path).unwrap_or(path);
+        let folder = match path.parent() {
+            Some(folder) if !path.is_dir() && !suite.starts_with(folder) => folder.to_path_buf(),
+            _ => path,
+        };
+        if !readable.contains(&folder) {
+            readable.push(folder);
+        }
+    }
+    for path in allowed {
+        if suite.starts_with(path) {
+            return Err(format!(
+                "--allow-read {} holds the suite: the renderer could read its references",
+                path.display()
+            ));
+        }
+        readable.push(path.clone());
+    }
+    Ok(readable)
+}
+
+/// How every line's renderer is run: its command (the program resolved), what it may read,
+/// the user it runs as, and the flag that ends the run.
+struct Caged<'a> {
+    command: &'a [String],
+    readable: &'a [PathBuf],
+    user: Option<(u32, u32)>,
+    stop: &'a AtomicBool,
 }
 
 /// A renderer changed the suite's files while it ran: every grade of the run is void, each
@@ -341,39 +450,49 @@ fn references_of(suite: &Suite, line: &Line) -> References {
         .collect()
 }
 
-/// Runs one line and grades its images, each against its reference (read before any renderer
-/// ran).
+/// Runs one line in its cage and grades its images, each against its reference (read before
+/// any renderer ran); with the cage the line's supervisor found.
 fn grade_line(
     options: &CheckOptions,
+    caged: &Caged,
     suite: &Suite,
     line: &Line,
     references: References,
-    scenes: &Path,
     folder: &Path,
-) -> Vec<Graded> {
-    let produce = |who: &str, program: &[String]| -> (Ran, PathBuf) {
-        let work = folder.join(format!("{who}-work"));
-        let out = folder.join(format!("{who}-out"));
-        let prepared = run::work_folder(scenes, &work)
-            .and_then(|()| std::fs::create_dir_all(&out).map_err(|e| e.to_string()));
-        if let Err(e) = prepared {
-            let ran = Ran {
-                ending: Ending::NotStarted(e),
-                stderr: String::new(),
-                seconds: 0.0,
-            };
-            return (ran, out);
-        }
-        let mut args = line.args.clone();
-        for (at, name) in &line.outputs {
-            args[*at] = out.join(file_name(name)).to_string_lossy().into_owned();
-        }
-        if !options.keep_preview_options {
-            args = suite::without_preview_options(&args);
-        }
-        (run::run(program, &args, &work, options.timeout), out)
+) -> (Vec<Graded>, Option<Confinement>) {
+    let ran_only = |ending: Ending| Ran {
+        ending,
+        stderr: String::new(),
+        seconds: 0.0,
+        confinement: None,
     };
-    let (ran, out) = produce("renderer", &options.renderer);
+    let files = run::line_files(line, &suite.scenes);
+    let (ran, out) = if caged.stop.load(Ordering::Relaxed) {
+        (ran_only(Ending::Interrupted), folder.join("out"))
+    } else {
+        match run::prepare(&suite.scenes, &files, folder, caged.user) {
+            Err(why) => (ran_only(Ending::NotStarted(why)), folder.join("out")),
+            Ok((work, out)) => {
+                let mut args = line.args.clone();
+                for (at, name) in &line.outputs {
+                    args[*at] = out.join(file_name(name)).to_string_lossy().into_owned();
+                }
+                if !options.keep_preview_options {
+                    args = suite::without_preview_options(&args);
+                }
+                let request = cage::Request {
+                    command: caged.command.iter().cloned().chain(args).collect(),
+                    work,
+                    outputs: out.clone(),
+                    readable: caged.readable.to_vec(),
+                    limit: options.timeout,
+                    limits: options.limits,
+                    user: caged.user,
+                };
+                (cage::run(&request, caged.stop), out)
+            }
+        }
+    };
     let mut graded: Vec<Graded> = line
         .outputs
         .iter()
@@ -411,7 +530,7 @@ fn grade_line(
             });
         }
     }
-    graded
+    (graded, ran.confinement)
 }
 
 /// Names the faults whose render of the line matches each failing picture; where none does,
@@ -483,31 +602,30 @@ fn grade(
             return graded(Status::Error, vec![], format!("No reference image: {why}."));
         }
     };
-    if let Some(explanation) = failed_run(ran) {
+    if let Some((cause, explanation)) = failed_run(ran, &options.limits) {
         return Graded {
             reference: Some(reference),
-            ..graded(
-                Status::Error,
-                vec![Finding::Diagnosis(Diagnosis::CRASH)],
-                explanation,
-            )
+            ..graded(Status::Error, vec![Finding::Diagnosis(cause)], explanation)
         };
     }
-    let actual = match read_output(path) {
+    let actual = match output::read_output(path, (reference.width, reference.height)) {
         Ok(image) => image,
-        Err(why) => {
+        Err(unread) => {
             let explanation = format!(
-                "{why}. {}{}",
-                Diagnosis::MISSING_OUTPUT.explanation(),
+                "{}. {}{}",
+                unread.message,
+                unread.cause.explanation(),
                 said(&ran.stderr)
             );
+            // A picture of the wrong size was made, only wrong: a failure, not an error.
+            let status = if unread.cause == Diagnosis::SIZE {
+                Status::Fail
+            } else {
+                Status::Error
+            };
             return Graded {
                 reference: Some(reference),
-                ..graded(
-                    Status::Error,
-                    vec![Finding::Diagnosis(Diagnosis::MISSING_OUTPUT)],
-                    explanation,
-                )
+                ..graded(status, vec![Finding::Diagnosis(unread.cause)], explanation)
             };
         }
     };
@@ -547,109 +665,119 @@ fn said(stderr: &str) -> String {
     format!(" It said: {}", last.join(" / "))
 }
 
-/// What went wrong with a run that did not end well, for the student; `None` for a success.
-fn failed_run(ran: &Ran) -> Option<String> {
-    match &ran.ending {
-        Ending::Success => None,
-        Ending::Failed { status } => {
-            let how = match status {
-                Some(code) => format!("exited with status {code}"),
-                None => "was killed by a signal".to_string(),
-            };
-            Some(format!(
-                "The renderer {how}.{} {}",
-                said(&ran.stderr),
-                Diagnosis::CRASH.explanation()
-            ))
-        }
-        Ending::TimedOut(limit) => Some(format!(
-            "The renderer did not finish within {} s and was stopped.",
-            limit.as_secs_f64()
-        )),
-        Ending::NotStarted(why) => Some(format!("The renderer could not be started: {why}.")),
+/// What went wrong with a run that did not end well, its cause and what to tell the student;
+/// `None` for a success.
+fn failed_run(ran: &Ran, limits: &Limits) -> Option<(Diagnosis, String)> {
+    let likely_out_of_memory = || {
+        ALLOCATION_FAILED
+            .iter()
+            .any(|marker| ran.stderr.contains(marker))
+    };
+    let (cause, what) = match &ran.ending {
+        Ending::Success => return None,
+        Ending::Failed { .. } | Ending::Signaled { .. } if likely_out_of_memory() => (
+            Diagnosis::OUT_OF_MEMORY,
+            format!(
+                "The renderer {}, most likely out of memory (its limit is {}).",
+                how_it_ended(&ran.ending),
+                bytes(limits.memory)
+            ),
+        ),
+        Ending::Signaled { signal: SIGXFSZ }
+        | Ending::Failed {
+            status: SHELL_SIGXFSZ,
+        } => (
+            Diagnosis::OUTPUT_TOO_LARGE,
+            format!(
+                "The renderer was stopped by SIGXFSZ: it wrote past the size limit of {} a \
+                 file.",
+                bytes(limits.file_size)
+            ),
+        ),
+        Ending::Failed { .. } | Ending::Signaled { .. } => (
+            Diagnosis::CRASH,
+            format!("The renderer {}.", how_it_ended(&ran.ending)),
+        ),
+        Ending::TimedOut(limit) => (
+            Diagnosis::TIMED_OUT,
+            format!(
+                "The renderer did not finish within {} s and was stopped.",
+                limit.as_secs_f64()
+            ),
+        ),
+        Ending::Interrupted => (
+            Diagnosis::INTERRUPTED,
+            "check was interrupted before this line ended.".to_string(),
+        ),
+        Ending::NotStarted(why) => (
+            Diagnosis::CRASH,
+            format!("The renderer could not be started: {why}."),
+        ),
+    };
+    Some((
+        cause,
+        format!("{what}{} {}", said(&ran.stderr), cause.explanation()),
+    ))
+}
+
+/// What programs print when an allocation fails: Rust, C++, Python, Java, C's perror.
+const ALLOCATION_FAILED: &[&str] = &[
+    "memory allocation of",
+    "std::bad_alloc",
+    "MemoryError",
+    "OutOfMemoryError",
+    "Cannot allocate memory",
+    "out of memory",
+];
+
+/// The signal a process gets for writing past RLIMIT_FSIZE.
+const SIGXFSZ: i32 = 25;
+
+/// A script's exit status when a command of it was killed by SIGXFSZ (a shell's 128 + N).
+const SHELL_SIGXFSZ: i32 = 128 + SIGXFSZ;
+
+/// "exited with status 3", "was killed by SIGSEGV (a segmentation fault: ...)".
+fn how_it_ended(ending: &Ending) -> String {
+    match ending {
+        Ending::Failed { status } => format!("exited with status {status}"),
+        Ending::Signaled { signal } => format!("was killed by {}", signal_name(*signal)),
+        _ => "ended".to_string(),
     }
 }
 
-/// Reads an image a renderer wrote, whatever it is: refused when missing, too big, or not a
-/// picture in a format raycast reads (TGA, PPM, PNG).
-pub fn read_image(path: &Path) -> Result<Image, String> {
-    read_picture(path, true)
+/// A signal's name and what it usually means, for a student.
+fn signal_name(signal: i32) -> String {
+    let (name, meaning) = match signal {
+        4 => ("SIGILL", "an illegal instruction"),
+        6 => (
+            "SIGABRT",
+            "an abort: a failed assertion or an uncaught exception",
+        ),
+        7 => ("SIGBUS", "a bus error"),
+        8 => (
+            "SIGFPE",
+            "an arithmetic error, such as an integer division by zero",
+        ),
+        9 => ("SIGKILL", "killed from outside"),
+        11 => (
+            "SIGSEGV",
+            "a segmentation fault: a bad pointer or an index out of bounds",
+        ),
+        15 => ("SIGTERM", "asked to stop"),
+        24 => ("SIGXCPU", "its CPU time ran out"),
+        25 => ("SIGXFSZ", "a file past the size limit"),
+        _ => return format!("signal {signal}"),
+    };
+    format!("{name} ({meaning})")
 }
 
-/// [`read_image`] of what a renderer wrote: refused if it is a symbolic link (which a renderer
-/// could point at the reference).
-pub fn read_output(path: &Path) -> Result<Image, String> {
-    read_picture(path, false)
-}
-
-fn read_picture(path: &Path, follow_links: bool) -> Result<Image, String> {
-    let file = open_plain(path, follow_links)?;
-    let size = file
-        .metadata()
-        .map_err(|e| format!("The image cannot be read: {e}"))?
-        .len();
-    if size > MAX_IMAGE_BYTES {
-        return Err(format!(
-            "The image is {size} bytes, far too big to be one of the course's"
-        ));
+/// `4 GiB`, `256 MiB`, as limits are given.
+fn bytes(n: u64) -> String {
+    if n >= 1 << 30 && n % (1 << 30) == 0 {
+        format!("{} GiB", n >> 30)
+    } else {
+        format!("{} MiB", n >> 20)
     }
-    let mut reader = image::ImageReader::new(std::io::BufReader::new(file));
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(crate::image_io::MAX_SIDE);
-    limits.max_image_height = Some(crate::image_io::MAX_SIDE);
-    limits.max_alloc = Some(1 << 30);
-    reader.limits(limits);
-    // TGA has no signature: the guess falls back on the extension.
-    let mut reader = reader
-        .with_guessed_format()
-        .map_err(|e| format!("The image cannot be read: {e}"))?;
-    if reader.format().is_none()
-        && let Ok(format) = image::ImageFormat::from_path(path)
-    {
-        reader.set_format(format);
-    }
-    let decoded = reader
-        .decode()
-        .map_err(|e| format!("The file is not a readable image: {e}"))?
-        .to_rgb8();
-    Ok(Image {
-        width: decoded.width(),
-        height: decoded.height(),
-        pixels: decoded.pixels().map(|p| p.0).collect(),
-    })
-}
-
-/// Opens `path` for reading only if it is a plain file, without blocking on a FIFO (which
-/// would hang the check); unless `follow_links`, not through a symbolic link either.
-fn open_plain(path: &Path, follow_links: bool) -> Result<std::fs::File, String> {
-    let mut open = std::fs::OpenOptions::new();
-    open.read(true);
-    #[cfg(target_os = "linux")]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        let mut flags = rustix::fs::OFlags::NONBLOCK;
-        if !follow_links {
-            flags |= rustix::fs::OFlags::NOFOLLOW;
-        }
-        open.custom_flags(flags.bits() as i32);
-    }
-    let kind = std::fs::symlink_metadata(path).map(|m| m.file_type());
-    if !follow_links && kind.as_ref().is_ok_and(|k| k.is_symlink()) {
-        return Err("The image is a symbolic link: raycast reads only plain files".into());
-    }
-    let file = open.open(path).map_err(|e| match kind {
-        Ok(_) => format!("The image cannot be opened: {e}"),
-        Err(_) => format!("There is no image '{}'", path.display()),
-    })?;
-    let is_file = file.metadata().map(|m| m.is_file()).unwrap_or(false);
-    if !is_file {
-        return Err(
-            "The image is not a plain file (a FIFO, a folder or a device): raycast reads only \
-             plain files"
-                .into(),
-        );
-    }
-    Ok(file)
 }
 
 /// The one-line verdict of an image for the terminal.
@@ -686,16 +814,25 @@ pub fn verdict(graded: &Graded) -> String {
     }
 }
 
-/// `summary.json`'s contents: raycast's version and the rule, the counts, the renderer's
+/// `summary.json`'s contents: raycast's version and the rule, whether the run was cut short
+/// (`partial`) and the cage the renderer ran in (`cage`), the counts, the renderer's
 /// verdict (`{fault, lines}`, biggest group first), and for each image its status, the share
 /// of pixels off, its causes (`diagnoses`, the one the verdict names first), what to look at,
 /// the renderer's last words on stderr and its time for the line, and for a failing picture
 /// the pixel where it differs most with raycast's account of it (`worst_pixel`).
-pub fn summary_json(graded: &[Graded], groups: &[Group], rule: Rule) -> serde_json::Value {
+pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_json::Value {
+    let graded = &checked.graded;
     let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
+    let mut cage = checked
+        .confinement
+        .as_ref()
+        .map_or(serde_json::json!({}), Confinement::json);
+    cage["note"] = serde_json::json!(checked.cage_note);
     serde_json::json!({
         "raycast": env!("CARGO_PKG_VERSION"),
         "rule": { "tolerance": rule.tolerance, "max_bad": rule.max_bad },
+        "partial": checked.partial,
+        "cage": cage,
         "passed": passed,
         "failed": graded.len() - passed,
         "verdict": verdict::json(groups),

@@ -7,22 +7,81 @@
 //! one repeated block, and every value put into it goes through [`escape`].
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use super::{Finding, Graded, Group, Rule, Status, diagnose, summary_json, verdict_entries};
+use super::{
+    Checked, Finding, Graded, Group, Rule, Status, diagnose, summary_json, verdict_entries,
+};
 use crate::image_io::{self, ImageFormat};
 
 /// Writes `summary.json`, `index.html` and the pictures into `dir` (made if missing).
 pub fn write_report(
     dir: &Path,
-    graded: &[Graded],
+    checked: &Checked,
     groups: &[Group],
     rule: Rule,
 ) -> Result<(), String> {
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let fail = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        let holds_files = entries.count() > 0;
+        if holds_files && !dir.join("summary.json").is_file() {
+            return Err(format!(
+                "{} holds files and is not a report of raycast's (it has no summary.json): \
+                 give a new or empty folder",
+                dir.display()
+            ));
+        }
+    } else if dir.exists() {
+        return Err(format!("{} is not a folder", dir.display()));
+    }
+    std::fs::create_dir_all(&parent).map_err(|e| fail(&parent, e))?;
+    // Built beside its place and renamed into it: a reader, or a second check writing the
+    // same report, sees the old report or the new one whole, never a mixture.
+    let staging = tempfile::Builder::new()
+        .prefix(".raycast-report-")
+        .tempdir_in(&parent)
+        .map_err(|e| fail(&parent, e))?;
+    write_into(staging.path(), checked, groups, rule)?;
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(staging.path(), std::fs::Permissions::from_mode(0o755))
+            .map_err(|e| fail(staging.path(), e))?;
+    }
+    let built = staging.keep();
+    for _ in 0..10 {
+        let old = parent.join(format!(
+            ".raycast-old-report-{}-{}",
+            std::process::id(),
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| d.as_nanos())
+        ));
+        let moved_old = std::fs::rename(dir, &old).is_ok();
+        let placed = std::fs::rename(&built, dir);
+        if moved_old {
+            let _ = std::fs::remove_dir_all(&old);
+        }
+        if placed.is_ok() {
+            return Ok(());
+        }
+    }
+    let _ = std::fs::remove_dir_all(&built);
+    Err(format!(
+        "{}: another program keeps writing there",
+        dir.display()
+    ))
+}
+
+/// Writes the report's files into `dir`, an empty folder.
+fn write_into(dir: &Path, checked: &Checked, groups: &[Group], rule: Rule) -> Result<(), String> {
+    let graded = &checked.graded[..];
     let tolerance = rule.tolerance;
     let fail = |e: std::io::Error| format!("{}: {e}", dir.display());
-    std::fs::create_dir_all(dir).map_err(fail)?;
-    let json = serde_json::to_string_pretty(&summary_json(graded, groups, rule))
+    let json = serde_json::to_string_pretty(&summary_json(checked, groups, rule))
         .map_err(|e| e.to_string())?;
     std::fs::write(dir.join("summary.json"), json + "\n").map_err(fail)?;
     let mut order: Vec<&Graded> = graded.iter().collect();

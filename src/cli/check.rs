@@ -13,7 +13,7 @@ use crate::image_io::{self, ImageFormat};
 pub const CHECK_USAGE: &str = "\
 usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
                      [--max-bad FRACTION] [--jobs N] [--timeout SECONDS]
-                     [--keep-preview-options]
+                     [--memory SIZE] [--allow-read PATH]... [--keep-preview-options]
        raycast diff IMAGE REFERENCE [--out DIFF.png] [--tolerance LEVELS] [--max-bad FRACTION]
 
 check runs every line of SUITE/COMMANDS.txt ('raytracer ARGS') as 'CMD ARGS' in a scratch
@@ -25,6 +25,12 @@ POSIX shell splits them (quotes and backslashes; no expansion): --renderer \"pyt
 tracer.py'\". -gui, -tessellation and -gouraud, which only drive the course's OpenGL preview,
 are dropped from the lines (--keep-preview-options passes them on). Lines run --jobs at a time
 (default: one a core), each handed out as a worker comes free.
+Each line's renderer runs caged (docs/check.md, \"The cage\"): as user nobody when check runs as
+root, under Landlock (it reads the system's files, its own program's folder and --allow-read
+paths; it writes its work and output folders only), in its own PID and network namespaces,
+with --memory of address space (default 4G), files of at most 256 MiB, a private HOME and
+TMPDIR, and everything it started ended with it. Ctrl-C ends the renderers and writes what was
+graded, marked partial.
 An image passes when at most FRACTION of its pixels (default 0.001) are off by more than
 LEVELS (default 2). Exit status: 0 all pass, 1 some fail, 2 a usage or suite error.";
 
@@ -76,6 +82,19 @@ fn grading(flag: &str, text: &str, rule: &mut Rule) -> Result<(), String> {
     Ok(())
 }
 
+/// A size in bytes: a number with K, M or G (powers of 1024) after it; at least 16 MiB.
+fn size(text: &str) -> Option<u64> {
+    let (number, unit) = text.split_at(text.find(|c: char| !c.is_ascii_digit())?);
+    let shift = match unit {
+        "K" | "k" => 10,
+        "M" | "m" => 20,
+        "G" | "g" => 30,
+        _ => return None,
+    };
+    let bytes = number.parse::<u64>().ok()?.checked_shl(shift)?;
+    (bytes >> shift == number.parse::<u64>().ok()? && bytes >= 16 << 20).then_some(bytes)
+}
+
 /// Reads `check`'s command line; `None` for `-help`.
 fn parse_check_args(args: Vec<OsString>) -> Result<Option<CheckOptions>, String> {
     let mut args = args.into_iter();
@@ -115,6 +134,18 @@ fn parse_check_args(args: Vec<OsString>) -> Result<Option<CheckOptions>, String>
                 options.timeout = Duration::from_secs_f64(s);
             }
             "--keep-preview-options" => options.keep_preview_options = true,
+            "--memory" => {
+                let v = value(&mut args, "--memory", "a size such as 4G or 512M")?;
+                options.limits.memory = size(&v).ok_or_else(|| {
+                    format!("--memory needs a size such as 4G or 512M (at least 16M), found '{v}'")
+                })?;
+            }
+            "--allow-read" => {
+                let v = value(&mut args, "--allow-read", "a file or folder")?;
+                let path =
+                    std::fs::canonicalize(&v).map_err(|e| format!("--allow-read: '{v}': {e}"))?;
+                options.readable.push(path);
+            }
             "-help" | "--help" | "-h" => return Ok(None),
             _ if text.starts_with('-') => {
                 return Err(format!("check: unknown option '{text}'"));
@@ -153,8 +184,18 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             bar.inc(1);
         }
     };
-    let mut graded = match check::check(&options, &advance) {
-        Ok(graded) => graded,
+    // Ctrl-C, SIGTERM and SIGHUP end the renderers running, and the pictures graded so far
+    // are reported, marked partial.
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    for signal in [
+        signal_hook::consts::SIGINT,
+        signal_hook::consts::SIGTERM,
+        signal_hook::consts::SIGHUP,
+    ] {
+        let _ = signal_hook::flag::register(signal, stop.clone());
+    }
+    let mut checked = match check::check(&options, &advance, &stop) {
+        Ok(checked) => checked,
         Err(message) => {
             say(std::io::stderr(), &format!("raycast: check: {message}"));
             return ExitCode::from(2);
@@ -162,6 +203,18 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     };
     if let Some(bar) = bar {
         bar.finish_and_clear();
+    }
+    if let Some(confinement) = &checked.confinement {
+        say(
+            std::io::stderr(),
+            &format!("raycast: check: {}", confinement.summary()),
+        );
+    }
+    if let Some(note) = &checked.cage_note {
+        say(
+            std::io::stderr(),
+            &format!("raycast: check: warning: {note}"),
+        );
     }
     let previewing = check::preview_lines(&options);
     if previewing > 0 && !options.keep_preview_options {
@@ -175,20 +228,21 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             ),
         );
     }
-    let groups = check::renderer_verdict(&mut graded);
+    let groups = check::renderer_verdict(&mut checked.graded);
+    let graded = &checked.graded;
     let mut out = std::io::stdout().lock();
     // The verdict first: what to fix first, for all the lines at once.
     for line in check::verdict_lines(&groups) {
         let _ = writeln!(out, "{line}");
     }
-    for g in &graded {
+    for g in graded {
         let _ = writeln!(out, "{}", check::verdict(g));
     }
     let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
     let failed = graded.len() - passed;
     let _ = writeln!(out, "{passed} passed, {failed} failed");
     if let Some(dir) = &options.report {
-        if let Err(message) = check::write_report(dir, &graded, &groups, options.rule) {
+        if let Err(message) = check::write_report(dir, &checked, &groups, options.rule) {
             say(
                 std::io::stderr(),
                 &format!("raycast: check: cannot write the report: {message}"),
@@ -196,6 +250,13 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             return ExitCode::from(2);
         }
         let _ = writeln!(out, "report: {}", dir.join("index.html").display());
+    }
+    if checked.partial {
+        let _ = writeln!(
+            out,
+            "check was interrupted: the pictures not graded count as failed"
+        );
+        return ExitCode::from(130);
     }
     if failed == 0 {
         ExitCode::SUCCESS

@@ -23,6 +23,11 @@ use crate::scene::{LoadStats, Loaded, Scene};
 pub fn run(args: Vec<OsString>) -> ExitCode {
     match args.first().and_then(|a| a.to_str()) {
         Some("check") => return check::run_check(args[1..].to_vec()),
+        // A line's supervisor, started by check: not an option a user gives.
+        Some(crate::check::SUPERVISE) => {
+            let request = args.get(1).map(|a| a.to_string_lossy().into_owned());
+            return crate::check::supervise(&request.unwrap_or_default());
+        }
         Some("diff") => return check::run_diff(args[1..].to_vec()),
         _ => {}
     }

@@ -64,13 +64,7 @@ impl Diagnosis {
     /// Whether it is a fact of the run (a crash, no picture, the wrong size) rather than a
     /// guess from the pixels.
     pub fn is_fact(self) -> bool {
-        [
-            Diagnosis::CRASH,
-            Diagnosis::MISSING_OUTPUT,
-            Diagnosis::SIZE,
-            Diagnosis::SUITE_TAMPERED,
-        ]
-        .contains(&self)
+        Diagnosis::FACTS.contains(&self)
     }
 
     /// Every diagnosis `check` can name: those its caller decides, then those of the lists.
@@ -79,33 +73,75 @@ impl Diagnosis {
         let local = LOCAL.iter().map(|&(d, _)| d);
         let outline = OUTLINE.iter().map(|&(d, _)| d);
         let mut seen = Vec::new();
-        [
-            Diagnosis::CRASH,
-            Diagnosis::MISSING_OUTPUT,
-            Diagnosis::SIZE,
-            Diagnosis::SUITE_TAMPERED,
-        ]
-        .into_iter()
-        .chain(found)
-        .chain(local)
-        .chain(outline)
-        .chain([Diagnosis::UNKNOWN])
-        .filter(move |d| {
-            let new = !seen.contains(d);
-            seen.push(*d);
-            new
-        })
+        Diagnosis::FACTS
+            .into_iter()
+            .chain(found)
+            .chain(local)
+            .chain(outline)
+            .chain([Diagnosis::UNKNOWN])
+            .filter(move |d| {
+                let new = !seen.contains(d);
+                seen.push(*d);
+                new
+            })
     }
 }
 
 // Decided by the caller (a run that failed, an image that is missing) or by no cause fitting.
 impl Diagnosis {
-    /// The renderer crashed, timed out or exited with an error.
+    /// The facts of a run, as opposed to guesses from its pixels.
+    const FACTS: [Diagnosis; 10] = [
+        Diagnosis::CRASH,
+        Diagnosis::TIMED_OUT,
+        Diagnosis::OUT_OF_MEMORY,
+        Diagnosis::OUTPUT_TOO_LARGE,
+        Diagnosis::INTERRUPTED,
+        Diagnosis::MISSING_OUTPUT,
+        Diagnosis::UNREADABLE_OUTPUT,
+        Diagnosis::WRONG_FORMAT,
+        Diagnosis::SIZE,
+        Diagnosis::SUITE_TAMPERED,
+    ];
+
+    /// The renderer crashed, or exited with an error.
     pub const CRASH: Diagnosis = Diagnosis::new(
         "crash",
         8,
-        "The renderer crashed, timed out or reported an error before writing its \
-        picture: run the same command line by hand and read its message.",
+        "The renderer crashed or reported an error before writing its picture: run the same \
+        command line by hand and read its message.",
+    );
+
+    /// The renderer outlasted the line's time limit.
+    pub const TIMED_OUT: Diagnosis = Diagnosis::new(
+        "timed_out",
+        8,
+        "The renderer did not finish in time: look for a loop that never ends (a ray that \
+        keeps hitting the surface it leaves, a grid walk that never steps out), or time the \
+        line by hand.",
+    );
+
+    /// The renderer ran out of the memory it may use (said as likely where the kernel gave
+    /// no count).
+    pub const OUT_OF_MEMORY: Diagnosis = Diagnosis::new(
+        "out_of_memory",
+        8,
+        "The renderer most likely ran out of memory: look for an allocation per ray or per \
+        pixel that is never freed, or a structure that grows with every step.",
+    );
+
+    /// The renderer wrote a file past the size limit.
+    pub const OUTPUT_TOO_LARGE: Diagnosis = Diagnosis::new(
+        "output_too_large",
+        8,
+        "The renderer wrote a file far larger than any picture of the course: check the \
+        width and height it writes, and that it writes each pixel once.",
+    );
+
+    /// check was interrupted before the line ended.
+    pub const INTERRUPTED: Diagnosis = Diagnosis::new(
+        "interrupted",
+        8,
+        "check was interrupted before this line was graded: run it again.",
     );
 
     /// The renderer wrote no picture.
@@ -114,6 +150,22 @@ impl Diagnosis {
         8,
         "The renderer finished but wrote no picture where -output asked: check that the \
         output file name is taken from the command line and the file is written.",
+    );
+
+    /// The renderer's picture is there, but is not a picture raycast can read.
+    pub const UNREADABLE_OUTPUT: Diagnosis = Diagnosis::new(
+        "unreadable_output",
+        8,
+        "The renderer wrote a file that is not a readable picture: check the file's header \
+        and that every pixel is written (a file cut short, or written as text, reads as this).",
+    );
+
+    /// The picture is in another format than its name says.
+    pub const WRONG_FORMAT: Diagnosis = Diagnosis::new(
+        "wrong_format",
+        8,
+        "The picture is in another format than its file name says (the course's .tga is \
+        uncompressed TGA, .ppm is binary PPM): write the format the name asks for.",
     );
 
     /// The suite's files changed while the renderer ran: the grade is void.

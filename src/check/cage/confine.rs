@@ -1,0 +1,154 @@
+//! What confines a renderer: a network namespace (entered by its supervisor), and, between
+//! fork and exec, resource limits,
+//! death with its supervisor, and Landlock's rules (the system's files and its own submission
+//! readable; its work and output folders writable; no TCP; no signals out of its domain).
+
+// The one system call here with no safe wrapper, `unshare`, needs an unsafe block.
+#![allow(unsafe_code)]
+
+use std::path::PathBuf;
+
+use landlock::{
+    ABI, Access, AccessFs, AccessNet, Ruleset, RulesetAttr, RulesetCreated, RulesetCreatedAttr,
+    RulesetError, RulesetStatus, Scope, path_beneath_rules,
+};
+use rustix::process::{Resource, Rlimit, Signal};
+
+use super::Request;
+
+/// The folders of the system a program needs to run (its libraries, interpreters, settings,
+/// devices and the kernel's views): readable, never writable.
+const SYSTEM: &[&str] = &[
+    "/bin", "/sbin", "/usr", "/lib", "/lib32", "/lib64", "/libx32", "/etc", "/opt", "/proc",
+    "/sys", "/dev",
+];
+
+/// Files of the system a program may write to.
+const SYSTEM_SINKS: &[&str] = &["/dev/null", "/dev/zero", "/dev/full"];
+
+/// Which namespaces the supervisor entered.
+pub struct Namespaces {
+    /// A user namespace (taken without root, to make the other).
+    pub user: bool,
+    /// A network namespace: no interface but a loopback that is down.
+    pub network: bool,
+}
+
+/// Puts the supervisor in a new network namespace, as far as the kernel allows: without root,
+/// in a user namespace of its own first (it keeps the user's files and ids outside), which
+/// lets it make the other. No PID namespace: the renderer would be its first process, which
+/// ignores its own signals (an abort() would be misnamed); the subreaper and Landlock's signal
+/// scope give what it would.
+pub fn enter_namespaces() -> Namespaces {
+    use rustix::thread::UnshareFlags;
+    // SAFETY: neither flag unshares the file descriptor table, the one case in which
+    // `unshare` affects memory safety; the supervisor is single-threaded here.
+    let enter = |flags| unsafe { rustix::thread::unshare_unsafe(flags) }.is_ok();
+    let user = !rustix::process::geteuid().is_root() && enter(UnshareFlags::NEWUSER);
+    Namespaces {
+        user,
+        network: enter(UnshareFlags::NEWNET),
+    }
+}
+
+/// The renderer's environment: the PATH, a private HOME and TMPDIR in its work folder, and a
+/// plain locale; nothing else of check's.
+pub fn environment(request: &Request) -> Vec<(String, String)> {
+    let path = std::env::var("PATH").unwrap_or_else(|_| "/usr/local/bin:/usr/bin:/bin".into());
+    vec![
+        ("PATH".into(), path),
+        (
+            "HOME".into(),
+            request.work.join(".home").display().to_string(),
+        ),
+        (
+            "TMPDIR".into(),
+            request.work.join(".tmp").display().to_string(),
+        ),
+        ("LANG".into(), "C.UTF-8".into()),
+    ]
+}
+
+/// Landlock's rules for `request`.
+fn ruleset(request: &Request) -> Result<RulesetCreated, RulesetError> {
+    // The rights of Landlock's sixth version (Linux 6.12); an older kernel enforces those it
+    // has (best effort), and the report says "partially".
+    let abi = ABI::V6;
+    let writable: [&PathBuf; 2] = [&request.work, &request.outputs];
+    Ruleset::default()
+        .handle_access(AccessFs::from_all(abi))?
+        .handle_access(AccessNet::from_all(abi))?
+        .scope(Scope::from_all(abi))?
+        .create()?
+        .add_rules(path_beneath_rules(SYSTEM, AccessFs::from_read(abi)))?
+        .add_rules(path_beneath_rules(SYSTEM_SINKS, AccessFs::from_file(abi)))?
+        .add_rules(path_beneath_rules(
+            &request.readable,
+            AccessFs::from_read(abi),
+        ))?
+        .add_rules(path_beneath_rules(writable, AccessFs::from_all(abi)))
+}
+
+/// Whether Landlock will hold the renderer, in words for the report: the rules are tried on a
+/// thread that ends at once (Landlock binds the thread that asks, and what it starts).
+pub fn landlock_state(request: &Request) -> String {
+    let request = request.clone();
+    let tried = std::thread::Builder::new().spawn(move || {
+        match ruleset(&request).and_then(|r| r.restrict_self()) {
+            Ok(status) => match status.ruleset {
+                RulesetStatus::FullyEnforced => "fully enforced".to_string(),
+                RulesetStatus::PartiallyEnforced => "partially enforced (an older kernel)".into(),
+                RulesetStatus::NotEnforced => "not available on this kernel".into(),
+            },
+            Err(e) => format!("not used ({e})"),
+        }
+    });
+    match tried.map(|thread| thread.join()) {
+        Ok(Ok(state)) => state,
+        _ => "not tried (no thread could be started)".to_string(),
+    }
+}
+
+/// What the renderer's process does to itself between fork and exec: it dies with its
+/// supervisor, takes its limits (`count_processes` where its process count is its own), and
+/// binds itself by Landlock's rules.
+pub fn in_child(
+    request: &Request,
+    count_processes: bool,
+) -> impl FnMut() -> std::io::Result<()> + Send + Sync + 'static {
+    let request = request.clone();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+    // CPU seconds: the wall-clock limit on every core, and one more.
+    let cpu = (request.limit.as_secs() + 1) * cores + 1;
+    move || {
+        rustix::process::set_parent_process_death_signal(Some(Signal::KILL))?;
+        let limits = request.limits;
+        lower(Resource::As, limits.memory)?;
+        lower(Resource::Fsize, limits.file_size)?;
+        lower(Resource::Nofile, limits.open_files)?;
+        lower(Resource::Core, 0)?;
+        lower(Resource::Cpu, cpu)?;
+        if count_processes {
+            lower(Resource::Nproc, limits.processes)?;
+        }
+        // Where Landlock is missing the renderer runs without it (the report says so).
+        if let Ok(ruleset) = ruleset(&request) {
+            let _ = ruleset.restrict_self();
+        }
+        Ok(())
+    }
+}
+
+/// Sets a limit to `value`, or to the hard limit already there where that is lower.
+fn lower(resource: Resource, value: u64) -> std::io::Result<()> {
+    let hard = rustix::process::getrlimit(resource).maximum;
+    let value = hard.map_or(value, |hard| hard.min(value));
+    rustix::process::setrlimit(
+        resource,
+        Rlimit {
+            current: Some(value),
+            maximum: Some(value),
+        },
+    )?;
+    Ok(())
+}

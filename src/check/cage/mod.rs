@@ -1,0 +1,439 @@
+//! The cage a renderer under test runs in. Every line's renderer is started by a supervisor of
+//! its own (raycast itself, started with [`SUPERVISE`]): a small single-threaded process that
+//! confines the renderer as far as the kernel allows (an unprivileged user when check runs as
+//! root; Landlock; its own network namespace; resource limits; a private HOME and TMPDIR), enforces the line's deadline, and ends everything the renderer started before it
+//! reports, setsid and double forks included. check itself only waits for the supervisor's
+//! report, with a deadline of its own behind the supervisor's.
+
+mod confine;
+mod reap;
+mod supervisor;
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+pub use supervisor::supervise;
+
+/// The hidden first word of raycast's command line that makes it a line's supervisor; what
+/// follows is the [`Request`] as JSON.
+pub const SUPERVISE: &str = "__supervise";
+
+/// The resource limits a renderer runs under (`setrlimit`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Address space, in bytes (`--memory`).
+    pub memory: u64,
+    /// The largest file it may write, in bytes.
+    pub file_size: u64,
+    /// Processes, when the renderer has a user count of its own (another user, or a user
+    /// namespace); otherwise the supervisor ends them all when the line ends.
+    pub processes: u64,
+    /// Open files.
+    pub open_files: u64,
+}
+
+impl Default for Limits {
+    /// 4 GiB of memory, files of up to 256 MiB (the largest image check reads), 256 processes,
+    /// 256 open files; no core files.
+    fn default() -> Limits {
+        Limits {
+            memory: 4 << 30,
+            file_size: crate::check::MAX_IMAGE_BYTES,
+            processes: 256,
+            open_files: 256,
+        }
+    }
+}
+
+/// What a line's supervisor is asked to run, and how.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Request {
+    /// The renderer's executable (resolved) and its own arguments, then the line's.
+    pub command: Vec<String>,
+    /// The folder it runs in, holding its copies of the line's scene files: writable.
+    pub work: PathBuf,
+    /// The folder its pictures go to: writable.
+    pub outputs: PathBuf,
+    /// Folders and files it may read beyond the system's: its own submission.
+    pub readable: Vec<PathBuf>,
+    /// Its wall-clock time.
+    pub limit: Duration,
+    /// Its resource limits.
+    pub limits: Limits,
+    /// The user and group it runs as, when check runs as root.
+    pub user: Option<(u32, u32)>,
+}
+
+impl Request {
+    fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "command": self.command,
+            "work": self.work,
+            "outputs": self.outputs,
+            "readable": self.readable,
+            "limit_ms": self.limit.as_millis() as u64,
+            "memory": self.limits.memory,
+            "file_size": self.limits.file_size,
+            "processes": self.limits.processes,
+            "open_files": self.limits.open_files,
+            "user": self.user.map(|(u, g)| [u, g]),
+        })
+    }
+
+    fn from_json(text: &str) -> Result<Request, String> {
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| format!("a request that is not JSON: {e}"))?;
+        let strings = |key: &str| -> Result<Vec<String>, String> {
+            value[key]
+                .as_array()
+                .ok_or(format!("no '{key}' in the request"))?
+                .iter()
+                .map(|v| {
+                    v.as_str()
+                        .map(String::from)
+                        .ok_or(format!("'{key}' not text"))
+                })
+                .collect()
+        };
+        let number = |key: &str| {
+            value[key]
+                .as_u64()
+                .ok_or(format!("no '{key}' in the request"))
+        };
+        let user = match &value["user"] {
+            serde_json::Value::Array(pair) => match (&pair[..], pair.len()) {
+                ([u, g], 2) => Some((
+                    u.as_u64().ok_or("a user that is not a number")? as u32,
+                    g.as_u64().ok_or("a group that is not a number")? as u32,
+                )),
+                _ => return Err("'user' is not [uid, gid]".into()),
+            },
+            _ => None,
+        };
+        Ok(Request {
+            command: strings("command")?,
+            work: value["work"]
+                .as_str()
+                .map(PathBuf::from)
+                .ok_or("no 'work' in the request")?,
+            outputs: value["outputs"]
+                .as_str()
+                .map(PathBuf::from)
+                .ok_or("no 'outputs' in the request")?,
+            readable: strings("readable")?
+                .into_iter()
+                .map(PathBuf::from)
+                .collect(),
+            limit: Duration::from_millis(number("limit_ms")?),
+            limits: Limits {
+                memory: number("memory")?,
+                file_size: number("file_size")?,
+                processes: number("processes")?,
+                open_files: number("open_files")?,
+            },
+            user,
+        })
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Ending {
+    /// It exited with status 0.
+    Success,
+    /// It exited with another status.
+    Failed {
+        /// The exit status.
+        status: i32,
+    },
+    /// A signal ended it.
+    Signaled {
+        /// The signal's number.
+        signal: i32,
+    },
+    /// It outlasted the time limit and was killed.
+    TimedOut(Duration),
+    /// check was interrupted (Ctrl-C, SIGTERM, SIGHUP) while it ran, and ended it.
+    Interrupted,
+    /// It could not be started at all.
+    NotStarted(String),
+}
+
+/// A run: how it ended, the end of what the renderer said (stderr, then stdout), how long it
+/// took, and the cage it ran in.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ran {
+    /// How it ended.
+    pub ending: Ending,
+    /// The last 64 KiB of what it wrote to stderr and stdout.
+    pub stderr: String,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+    /// What confined it, as its supervisor found the kernel.
+    pub confinement: Option<Confinement>,
+}
+
+/// Which of the cage's mechanisms were in force for a run, as its supervisor found the kernel
+/// (where one is missing the renderer runs anyway, and the report says so).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Confinement {
+    /// Who the renderer ran as.
+    pub user: String,
+    /// Landlock's state: "fully enforced", "partially enforced" or why not.
+    pub landlock: String,
+    /// Whether it had a network namespace of its own (no network).
+    pub network_namespace: bool,
+    /// Whether its supervisor adopted its orphans (PR_SET_CHILD_SUBREAPER) to end them.
+    pub subreaper: bool,
+}
+
+impl Confinement {
+    /// As the report writes it.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "user": self.user,
+            "landlock": self.landlock,
+            "network_namespace": self.network_namespace,
+            "subreaper": self.subreaper,
+        })
+    }
+
+    fn from_json(value: &serde_json::Value) -> Option<Confinement> {
+        Some(Confinement {
+            user: value["user"].as_str()?.to_string(),
+            landlock: value["landlock"].as_str()?.to_string(),
+            network_namespace: value["network_namespace"].as_bool()?,
+            subreaper: value["subreaper"].as_bool()?,
+        })
+    }
+
+    /// One line for the terminal: what held the renderer, and what was missing.
+    pub fn summary(&self) -> String {
+        let yes_no = |on: bool, what: &str| {
+            if on {
+                what.to_string()
+            } else {
+                format!("no {what}")
+            }
+        };
+        format!(
+            "renderer caged as {}; Landlock {}; {}; {}",
+            self.user,
+            self.landlock,
+            yes_no(self.network_namespace, "network namespace"),
+            yes_no(self.subreaper, "subreaper"),
+        )
+    }
+}
+
+/// The last this many bytes of a renderer's stderr and stdout are kept: its error message
+/// comes last.
+const SAID_TAIL: usize = 64 * 1024;
+
+/// How long check waits past a line's deadline for its supervisor, which enforces the
+/// deadline itself, before it kills the supervisor.
+const SUPERVISOR_GRACE: Duration = Duration::from_secs(3);
+
+/// Runs `request` under a supervisor and waits for its report. `stop` asks for the run to end
+/// early (check was interrupted): the supervisor is told, and ends the renderer's tree.
+pub fn run(request: &Request, stop: &AtomicBool) -> Ran {
+    let start = Instant::now();
+    let not_started = |why: String| Ran {
+        ending: Ending::NotStarted(why),
+        stderr: String::new(),
+        seconds: start.elapsed().as_secs_f64(),
+        confinement: None,
+    };
+    let supervisor = match std::env::current_exe() {
+        Ok(path) => path,
+        Err(e) => return not_started(format!("raycast cannot find its own program: {e}")),
+    };
+    use std::os::unix::process::CommandExt;
+    let child = Command::new(supervisor)
+        .arg(SUPERVISE)
+        .arg(request.json().to_string())
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        // Its own group: a Ctrl-C at the terminal reaches check, which tells each supervisor.
+        .process_group(0)
+        .spawn();
+    let mut child = match child {
+        Ok(child) => child,
+        Err(e) => return not_started(format!("its supervisor could not start: {e}")),
+    };
+    let said = child.stderr.take().map(|pipe| read_tail(pipe, SAID_TAIL));
+    let report = child.stdout.take().map(|pipe| read_tail(pipe, SAID_TAIL));
+    let backstop = request.limit + SUPERVISOR_GRACE;
+    let mut told = false;
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break Some(status),
+            Ok(None) if start.elapsed() >= backstop => break None,
+            Ok(None) => {
+                if stop.load(Ordering::Relaxed) && !told {
+                    signal(child.id(), rustix::process::Signal::TERM);
+                    told = true;
+                }
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            Err(e) => return not_started(e.to_string()),
+        }
+    };
+    if status.is_none() {
+        // A supervisor past its own deadline was stopped by the renderer (where neither another
+        // user nor Landlock's signal scope kept it out): killed, and the renderer dies with it
+        // (PR_SET_PDEATHSIG).
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+    // Whatever the renderer started ended with its supervisor; the pipes close at once, but
+    // are not waited on past the deadline either way.
+    let left = backstop
+        .saturating_sub(start.elapsed())
+        .max(Duration::from_millis(100));
+    let report = report
+        .and_then(|r| r.recv_timeout(left).ok())
+        .unwrap_or_default();
+    let stderr = said
+        .and_then(|s| s.recv_timeout(Duration::from_millis(100)).ok())
+        .unwrap_or_default();
+    let seconds = start.elapsed().as_secs_f64();
+    let stderr = String::from_utf8_lossy(&stderr).into_owned();
+    let Some(status) = status else {
+        return Ran {
+            ending: Ending::TimedOut(request.limit),
+            stderr,
+            seconds,
+            confinement: None,
+        };
+    };
+    let report: Option<serde_json::Value> = serde_json::from_slice(&report).ok();
+    let Some(report) = report else {
+        return Ran {
+            ending: Ending::NotStarted(format!("its supervisor ended ({status}) without a report")),
+            stderr,
+            seconds,
+            confinement: None,
+        };
+    };
+    Ran {
+        ending: supervisor::ending_of(&report["ending"]),
+        stderr,
+        seconds,
+        confinement: Confinement::from_json(&report["cage"]),
+    }
+}
+
+/// Sends `signal` to process `pid`, if it still is.
+fn signal(pid: u32, signal: rustix::process::Signal) {
+    if let Some(pid) = rustix::process::Pid::from_raw(pid as i32) {
+        let _ = rustix::process::kill_process(pid, signal);
+    }
+}
+
+/// Reads `pipe` to its end on a thread of its own, keeping its last `keep` bytes (so a chatty
+/// renderer never blocks on a full pipe); the bytes arrive on the channel at the end.
+fn read_tail(
+    mut pipe: impl Read + Send + 'static,
+    keep: usize,
+) -> std::sync::mpsc::Receiver<Vec<u8>> {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut tail = Vec::new();
+        let mut chunk = [0u8; 8192];
+        while let Ok(n) = pipe.read(&mut chunk) {
+            if n == 0 {
+                break;
+            }
+            tail.extend_from_slice(&chunk[..n]);
+            if tail.len() > 2 * keep {
+                tail.drain(..tail.len() - keep);
+            }
+        }
+        let start = tail.len().saturating_sub(keep);
+        let _ = send.send(tail.split_off(start));
+    });
+    receive
+}
+
+/// The user a renderer runs as when check runs as root: `nobody` (its ids from /etc/passwd,
+/// 65534 where it is not listed), provided it can reach every path the renderer needs;
+/// `Err` says why not (check's own user is kept, and the report says so).
+pub fn unprivileged_user(needed: &[PathBuf]) -> Option<Result<(u32, u32), String>> {
+    if !rustix::process::geteuid().is_root() {
+        return None;
+    }
+    let (uid, gid) = std::fs::read_to_string("/etc/passwd")
+        .ok()
+        .and_then(|passwd| {
+            passwd.lines().find_map(|l| {
+                let fields: Vec<&str> = l.split(':').collect();
+                (fields.len() > 3 && fields[0] == "nobody")
+                    .then(|| Some((fields[2].parse().ok()?, fields[3].parse().ok()?)))
+                    .flatten()
+            })
+        })
+        .unwrap_or((65534, 65534));
+    for path in needed {
+        if let Err(why) = reachable_by_others(path) {
+            return Some(Err(why));
+        }
+    }
+    Some(Ok((uid, gid)))
+}
+
+/// Whether any user may reach `path`: every folder above it searchable by others, and the file
+/// itself readable by others (and, for a folder, searchable).
+fn reachable_by_others(path: &Path) -> Result<(), String> {
+    use std::os::unix::fs::PermissionsExt;
+    let path = std::fs::canonicalize(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    for folder in path.ancestors().skip(1) {
+        let mode = std::fs::metadata(folder)
+            .map_err(|e| format!("{}: {e}", folder.display()))?
+            .permissions()
+            .mode();
+        if mode & 0o001 == 0 {
+            return Err(format!(
+                "{} (mode {:o}) is closed to other users",
+                folder.display(),
+                mode & 0o777
+            ));
+        }
+    }
+    let metadata = std::fs::metadata(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let needs = if metadata.is_dir() { 0o005 } else { 0o004 };
+    let mode = metadata.permissions().mode();
+    if mode & needs != needs {
+        return Err(format!(
+            "{} (mode {:o}) is closed to other users",
+            path.display(),
+            mode & 0o777
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_request_reads_back_as_it_was_written() {
+        let request = Request {
+            command: vec!["/bin/echo".into(), "-input".into(), "a b.txt".into()],
+            work: "/tmp/x/work".into(),
+            outputs: "/tmp/x/out".into(),
+            readable: vec!["/home/s".into()],
+            limit: Duration::from_millis(2500),
+            limits: Limits::default(),
+            user: Some((65534, 65533)),
+        };
+        let text = request.json().to_string();
+        assert_eq!(Request::from_json(&text), Ok(request));
+        assert!(Request::from_json("{}").is_err());
+    }
+}

@@ -1,0 +1,636 @@
+//! `raycast check` against hostile renderers: each one tries to forge its grade, hang the check,
+//! escape, exhaust memory or disk, write or read outside its folders. For each: the grade is
+//! right (a forger never passes), check ends within its deadline, nothing the renderer started
+//! is left running, a canary folder and the suite are unchanged, and the cause is named.
+
+mod common;
+
+use common::data_dir;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn conformance_dir() -> Option<PathBuf> {
+    data_dir(
+        "the cage tests",
+        "RAYCAST_CONFORMANCE_DIR",
+        "../shared/conformance",
+        "COMMANDS.txt",
+    )
+}
+
+const RAYCAST: &str = env!("CARGO_BIN_EXE_raycast");
+
+/// The line's time limit in these tests, in seconds.
+const TIMEOUT: u64 = 4;
+
+/// A hostile renderer's world: a one-line suite with its own reference, a folder of scripts
+/// any user may run, and a canary folder any user may write to (so only the cage keeps a
+/// renderer out of it).
+struct World {
+    _dir: tempfile::TempDir,
+    suite: PathBuf,
+    reference: PathBuf,
+    scripts: PathBuf,
+    canary: PathBuf,
+    report: PathBuf,
+}
+
+impl World {
+    fn new(conformance: &Path) -> World {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+        let suite = dir.path().join("suite");
+        std::fs::create_dir_all(suite.join("reference")).unwrap();
+        std::fs::write(
+            suite.join("COMMANDS.txt"),
+            "raytracer -input scene2_01_diffuse.txt -size 200 200 -output output2_01.tga\n",
+        )
+        .unwrap();
+        let reference = suite.join("reference/output2_01.png");
+        std::fs::copy(conformance.join("reference/output2_01.png"), &reference).unwrap();
+        std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
+        let scripts = dir.path().join("scripts");
+        let canary = dir.path().join("canary");
+        for folder in [&scripts, &canary] {
+            std::fs::create_dir_all(folder).unwrap();
+        }
+        std::fs::set_permissions(&canary, std::fs::Permissions::from_mode(0o777)).unwrap();
+        let canary_file = canary.join("kept.txt");
+        std::fs::write(&canary_file, "untouched").unwrap();
+        std::fs::set_permissions(&canary_file, std::fs::Permissions::from_mode(0o666)).unwrap();
+        World {
+            report: dir.path().join("report"),
+            _dir: dir,
+            suite,
+            reference,
+            scripts,
+            canary,
+        }
+    }
+
+    /// A renderer: a bash script; `$7` is the picture's path, `"$@"` the line.
+    fn renderer(&self, name: &str, body: &str) -> String {
+        let path = self.scripts.join(name);
+        std::fs::write(&path, format!("#!/usr/bin/env bash\n{body}\n")).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        path.to_str().unwrap().to_string()
+    }
+
+    /// The suite's and the canary's files and their contents.
+    fn state(&self) -> Vec<(PathBuf, Vec<u8>)> {
+        let mut files = Vec::new();
+        for root in [&self.suite.join("reference"), &self.canary] {
+            let mut entries: Vec<PathBuf> = std::fs::read_dir(root)
+                .unwrap()
+                .map(|e| e.unwrap().path())
+                .collect();
+            entries.sort();
+            for path in entries {
+                let bytes = std::fs::read(&path).unwrap_or_default();
+                files.push((path, bytes));
+            }
+        }
+        files.push((
+            self.suite.join("COMMANDS.txt"),
+            std::fs::read(self.suite.join("COMMANDS.txt")).unwrap(),
+        ));
+        files
+    }
+
+    /// `raycast check` with `renderer`, which must end within the deadline; its stdout, and
+    /// the check's exit status. Asserts that the suite and the canary are unchanged and that
+    /// no process carrying `token` in its command line is left.
+    fn check(&self, renderer: &str, extra: &[&str], token: &str) -> (String, Option<i32>) {
+        let before = self.state();
+        let start = Instant::now();
+        let mut child = Command::new(RAYCAST)
+            .args([
+                "check",
+                self.suite.to_str().unwrap(),
+                "--renderer",
+                renderer,
+            ])
+            .args(["--timeout", &TIMEOUT.to_string()])
+            .args(["--report", self.report.to_str().unwrap()])
+            // Those that render in the end run raycast, which they may read.
+            .args([
+                "--allow-read",
+                Path::new(RAYCAST).parent().unwrap().to_str().unwrap(),
+            ])
+            .args(extra)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let deadline = Duration::from_secs(TIMEOUT + 6);
+        while child.try_wait().unwrap().is_none() {
+            if start.elapsed() > deadline {
+                let _ = child.kill();
+                panic!("check still running after {deadline:?} with {renderer}");
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let output: Output = child.wait_with_output().unwrap();
+        let out = String::from_utf8_lossy(&output.stdout).into_owned()
+            + &String::from_utf8_lossy(&output.stderr);
+        assert_eq!(
+            self.state(),
+            before,
+            "the suite or the canary changed: {out}"
+        );
+        assert_eq!(left_running(token), Vec::<String>::new(), "{out}");
+        (out, output.status.code())
+    }
+}
+
+/// The command lines of the processes that carry `token`.
+fn left_running(token: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
+            continue;
+        };
+        let cmdline = String::from_utf8_lossy(&cmdline).replace('\0', " ");
+        if cmdline.contains(token) {
+            found.push(cmdline);
+        }
+    }
+    found
+}
+
+/// A line of raycast's own render, for renderers that do their harm and then render.
+fn render() -> String {
+    format!("exec {RAYCAST} \"$@\"")
+}
+
+fn world() -> Option<World> {
+    Some(World::new(&conformance_dir()?))
+}
+
+fn assert_graded(out: &str, expected: &str) {
+    assert!(out.contains(expected), "expected '{expected}' in:\n{out}");
+}
+
+#[test]
+fn a_forger_never_passes() {
+    let Some(w) = world() else { return };
+    let reference = w.reference.display();
+    // Copies the reference it knows the path of.
+    let copier = w.renderer("copier.sh", &format!("cp '{reference}' \"$7\""));
+    let (out, code) = w.check(&copier, &[], "copier.sh");
+    assert_eq!(code, Some(1), "{out}");
+    assert_graded(&out, "ERROR  output2_01: crash");
+    assert_graded(&out, "cannot open");
+    // Finds the suite in check's command line, through /proc.
+    let finder = w.renderer(
+        "finder.sh",
+        "for c in /proc/[0-9]*/cmdline; do
+           suite=$(tr '\\0' '\\n' < $c 2>/dev/null | grep -A1 '^check$' | tail -1)
+           [ -n \"$suite\" ] && cp \"$suite/reference/output2_01.png\" \"$7\" && exit 0
+         done",
+    );
+    let (out, _) = w.check(&finder, &[], "finder.sh");
+    assert!(!out.contains("pass   output2_01"), "{out}");
+    // Links its output to the reference.
+    let linker = w.renderer("linker.sh", &format!("ln -s '{reference}' \"$7\""));
+    let (out, _) = w.check(&linker, &[], "linker.sh");
+    assert_graded(
+        &out,
+        "ERROR  output2_01: unreadable_output: The image is a symbolic link",
+    );
+    // Blackens the reference, then writes black.
+    let black = w.scripts.join("black.txt");
+    std::fs::write(
+        &black,
+        "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 1 }
+         Background { color 0 0 0 ambientLight 0 0 0 }
+         Group { numObjects 0 }",
+    )
+    .unwrap();
+    let blackener = w.renderer(
+        "blackener.sh",
+        &format!(
+            "{RAYCAST} -input '{}' -size 200 200 -output '{reference}'
+             exec {RAYCAST} -input '{}' -size 200 200 -output \"$7\"",
+            black.display(),
+            black.display()
+        ),
+    );
+    let (out, _) = w.check(
+        &blackener,
+        &["--allow-read", w.scripts.to_str().unwrap()],
+        "blackener.sh",
+    );
+    assert_graded(&out, "FAIL   output2_01");
+    // Empties its copy of the scene and writes black, in a suite without references: the
+    // reference, raycast's own render, was made before from the suite's scene.
+    std::fs::remove_file(&w.reference).unwrap();
+    let emptier = w.renderer(
+        "emptier.sh",
+        &format!(
+            "rm -f scene2_01_diffuse.txt; cp '{}' scene2_01_diffuse.txt
+             exec {RAYCAST} -input scene2_01_diffuse.txt -size 200 200 -output \"$7\"",
+            black.display()
+        ),
+    );
+    let (out, _) = w.check(
+        &emptier,
+        &["--allow-read", w.scripts.to_str().unwrap()],
+        "emptier.sh",
+    );
+    assert_graded(&out, "FAIL   output2_01");
+}
+
+#[test]
+fn nothing_the_renderer_starts_outlives_its_line() {
+    let Some(w) = world() else { return };
+    let cases = [
+        ("lingerer", "(exec -a lingerer-token sleep 30) &\n"),
+        (
+            "setsid",
+            "setsid bash -c 'exec -a setsid-token sleep 30' < /dev/null > /dev/null 2>&1 &\n",
+        ),
+        (
+            "daemon",
+            "(setsid bash -c 'exec -a daemon-token sleep 30' &) ; sleep 0.2\n",
+        ),
+        (
+            "crowd",
+            "for i in $(seq 200); do (exec -a crowd-token sleep 30) & done\n",
+        ),
+        (
+            "stderr-holder",
+            "setsid bash -c 'exec -a holder-token sleep 30' < /dev/null > /dev/null &\n",
+        ),
+    ];
+    for (name, prelude) in cases {
+        let token = format!("{name}-token");
+        let renderer = w.renderer(&format!("{name}.sh"), &format!("{prelude}{}", render()));
+        let start = Instant::now();
+        let (out, code) = w.check(&renderer, &[], &token);
+        assert_eq!(code, Some(0), "{name}: {out}");
+        assert!(
+            start.elapsed() < Duration::from_secs(TIMEOUT),
+            "{name}: took {:?}",
+            start.elapsed()
+        );
+    }
+}
+
+#[test]
+fn hangs_end_at_the_deadline_with_their_cause() {
+    let Some(w) = world() else { return };
+    let cases = [
+        ("sleeper", "exec -a sleeper-token sleep 100\n"),
+        (
+            "stubborn",
+            "trap '' TERM INT HUP; (exec -a stubborn-token sleep 100); sleep 100\n",
+        ),
+        ("spinner", "while :; do :; done # spinner-token\n"),
+    ];
+    for (name, body) in cases {
+        let renderer = w.renderer(&format!("{name}.sh"), body);
+        let (out, code) = w.check(&renderer, &[], &format!("{name}-token"));
+        assert_eq!(code, Some(1), "{out}");
+        assert_graded(
+            &out,
+            "ERROR  output2_01: timed_out: The renderer did not finish within 4 s",
+        );
+    }
+    // One that stops its supervisor (or anything it can find) cannot freeze check.
+    let stopper = w.renderer(
+        "stopper.sh",
+        "for p in /proc/[0-9]*; do kill -STOP ${p#/proc/} 2>/dev/null; done; exec -a stopper-token sleep 100",
+    );
+    let (out, _) = w.check(&stopper, &[], "stopper-token");
+    assert_graded(&out, "ERROR  output2_01: timed_out");
+    // Nor can it kill check.
+    let killer = w.renderer(
+        "killer.sh",
+        &format!(
+            "for p in /proc/[0-9]*; do kill -KILL ${{p#/proc/}} 2>/dev/null; done; {}",
+            render()
+        ),
+    );
+    let (out, code) = w.check(&killer, &[], "killer.sh");
+    assert!(out.contains("output2_01"), "{out}");
+    assert!(code == Some(0) || code == Some(1), "{code:?}: {out}");
+}
+
+#[test]
+fn pictures_that_are_not_pictures_get_their_cause() {
+    let Some(w) = world() else { return };
+    let fifo = w.renderer("fifo.sh", "mkfifo \"$7\"");
+    let (out, _) = w.check(&fifo, &[], "fifo.sh");
+    assert_graded(
+        &out,
+        "ERROR  output2_01: unreadable_output: The image is not a plain file",
+    );
+    let png = w.renderer(
+        "png.sh",
+        &format!("{RAYCAST} \"${{@:1:6}}\" \"$7.png\" && mv \"$7.png\" \"$7\""),
+    );
+    let (out, _) = w.check(&png, &[], "png.sh");
+    assert_graded(
+        &out,
+        "ERROR  output2_01: wrong_format: The file is named .tga but holds a PNG picture",
+    );
+    let cut = w.renderer(
+        "cut.sh",
+        &format!("{RAYCAST} \"$@\" && truncate -s 5000 \"$7\""),
+    );
+    let (out, _) = w.check(&cut, &[], "cut.sh");
+    assert_graded(&out, "ERROR  output2_01: unreadable_output");
+    // A PNG whose header says 18000x18000: refused by its header, never decoded.
+    let giant = w.scripts.join("giant.png");
+    std::fs::write(&giant, png_header(18000, 18000)).unwrap();
+    let liar = w.renderer(
+        "liar.sh",
+        &format!("cp '{}' \"$7.png\"; mv \"$7.png\" \"$7\"", giant.display()),
+    );
+    let (out, _) = w.check(
+        &liar,
+        &["--allow-read", w.scripts.to_str().unwrap()],
+        "liar.sh",
+    );
+    assert_graded(&out, "wrong_format");
+    let liar = w.renderer("liar2.sh", &format!("cp '{}' \"$7\"", giant.display()));
+    let suite_png = w.suite.join("COMMANDS.txt");
+    std::fs::write(
+        &suite_png,
+        "raytracer -input scene2_01_diffuse.txt -size 200 200 -output output2_01.png\n",
+    )
+    .unwrap();
+    let (out, _) = w.check(
+        &liar,
+        &["--allow-read", w.scripts.to_str().unwrap()],
+        "liar2.sh",
+    );
+    assert_graded(
+        &out,
+        "FAIL   output2_01: size: The picture is 18000x18000; its reference is 200x200",
+    );
+}
+
+/// A PNG signature and header chunk for a picture of `width` x `height` (no pixels).
+fn png_header(width: u32, height: u32) -> Vec<u8> {
+    let mut chunk = b"IHDR".to_vec();
+    chunk.extend(width.to_be_bytes());
+    chunk.extend(height.to_be_bytes());
+    chunk.extend([8, 2, 0, 0, 0]);
+    let mut bytes = vec![0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
+    // The header, a few bytes of pixel data, and the end.
+    for chunk in [chunk, b"IDAT\x78\x9c\x03\x00".to_vec(), b"IEND".to_vec()] {
+        bytes.extend((chunk.len() as u32 - 4).to_be_bytes());
+        bytes.extend(&chunk);
+        bytes.extend(crc32(&chunk).to_be_bytes());
+    }
+    bytes
+}
+
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &b in bytes {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 == 1 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
+#[test]
+fn limits_hold_and_name_their_cause() {
+    let Some(w) = world() else { return };
+    // Memory: raycast itself under 16 MiB of address space.
+    let (out, _) = w.check(RAYCAST, &["--memory", "16M"], "no-token-memory");
+    assert!(
+        out.contains("ERROR  output2_01: out_of_memory")
+            || out.contains("ERROR  output2_01: crash"),
+        "{out}"
+    );
+    // A file past the size limit.
+    let filler = w.renderer("filler.sh", "head -c 300M /dev/zero > \"$7\"");
+    let (out, _) = w.check(&filler, &[], "filler.sh");
+    assert_graded(&out, "ERROR  output2_01: output_too_large");
+    // A crash by a signal, named.
+    let segv = w.renderer("segv.sh", "kill -SEGV $$");
+    let (out, _) = w.check(&segv, &[], "segv.sh");
+    assert_graded(
+        &out,
+        "ERROR  output2_01: crash: The renderer was killed by SIGSEGV (a segmentation fault",
+    );
+    // A fork bomb ends with its line.
+    let bomb = w.renderer(
+        "bomb.sh",
+        "for i in $(seq 2000); do (exec -a bomb-token sleep 30) & done; wait",
+    );
+    let (out, _) = w.check(&bomb, &[], "bomb-token");
+    assert!(out.contains("ERROR  output2_01"), "{out}");
+}
+
+#[test]
+fn nothing_is_written_or_read_outside_its_folders() {
+    let Some(w) = world() else { return };
+    let canary = w.canary.display();
+    let secret = w.canary.join("kept.txt");
+    let writer = w.renderer(
+        "writer.sh",
+        &format!(
+            "echo x > '{canary}/new.txt'; echo x >> '{}'; ln -s '{}' link; echo x >> link
+             echo x > /tmp/raycast-cage-escape-$$; echo x > ~/raycast-cage-escape
+             echo \"HOME=$HOME TMPDIR=$TMPDIR\" >&2
+             {}",
+            secret.display(),
+            secret.display(),
+            render()
+        ),
+    );
+    let (out, code) = w.check(&writer, &[], "writer.sh");
+    assert_eq!(code, Some(0), "{out}");
+    assert!(!Path::new(&format!("{canary}/new.txt")).exists());
+    let leaked: Vec<_> = std::fs::read_dir("/tmp")
+        .unwrap()
+        .flatten()
+        .filter(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .starts_with("raycast-cage-escape")
+        })
+        .collect();
+    assert!(leaked.is_empty(), "{leaked:?}");
+    // Another submission's file (readable by any user) cannot be read.
+    let reader = w.renderer(
+        "reader.sh",
+        &format!("cat '{}' >&2; exit 3", secret.display()),
+    );
+    let (out, _) = w.check(&reader, &[], "reader.sh");
+    assert!(!out.contains("untouched"), "{out}");
+    let summary = std::fs::read_to_string(w.report.join("summary.json")).unwrap();
+    assert!(!summary.contains("untouched"), "{summary}");
+    // No network: a listener on loopback hears nothing.
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    listener.set_nonblocking(true).unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let caller = w.renderer(
+        "caller.sh",
+        &format!(
+            "exec 3<>/dev/tcp/127.0.0.1/{port} && echo hello >&3; {}",
+            render()
+        ),
+    );
+    w.check(&caller, &[], "caller.sh");
+    assert!(
+        listener.accept().is_err(),
+        "the renderer reached the network"
+    );
+}
+
+#[test]
+fn the_report_is_whole_and_says_how_the_renderer_was_caged() {
+    let Some(w) = world() else { return };
+    let (out, code) = w.check(RAYCAST, &[], "no-token-report");
+    assert_eq!(code, Some(0), "{out}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(w.report.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["partial"], false);
+    let cage = &summary["cage"];
+    for key in ["user", "landlock", "network_namespace", "subreaper"] {
+        assert!(!cage[key].is_null(), "no cage.{key} in {summary}");
+    }
+    assert!(out.contains("raycast: check: renderer caged as"), "{out}");
+    // Two checks into one report folder: the report is one run's or the other's, whole.
+    let black = w.renderer("black2.sh", "exit 1");
+    let first = std::thread::spawn({
+        let (suite, report) = (w.suite.clone(), w.report.clone());
+        move || {
+            for _ in 0..5 {
+                Command::new(RAYCAST)
+                    .args(["check", suite.to_str().unwrap(), "--renderer", RAYCAST])
+                    .args(["--report", report.to_str().unwrap()])
+                    .output()
+                    .unwrap();
+            }
+        }
+    });
+    for _ in 0..5 {
+        Command::new(RAYCAST)
+            .args(["check", w.suite.to_str().unwrap(), "--renderer", &black])
+            .args(["--report", w.report.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let summary = std::fs::read_to_string(w.report.join("summary.json")).unwrap();
+        let page = std::fs::read_to_string(w.report.join("index.html")).unwrap();
+        let passed = summary.contains("\"passed\": 1");
+        assert_eq!(
+            page.contains("1 passed, 0 failed"),
+            passed,
+            "{summary}\n{page}"
+        );
+    }
+    first.join().unwrap();
+    // A folder that holds other files is not taken for a report.
+    let not_a_report = w.scripts.clone();
+    let output = Command::new(RAYCAST)
+        .args(["check", w.suite.to_str().unwrap(), "--renderer", RAYCAST])
+        .args(["--report", not_a_report.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&output.stderr).contains("is not a report of raycast's"));
+}
+
+#[test]
+fn an_interrupted_check_ends_its_renderers_and_reports_what_it_graded() {
+    let Some(w) = world() else { return };
+    let sleeper = w.renderer("interrupted.sh", "exec -a interrupted-token sleep 100");
+    let mut child = Command::new(RAYCAST)
+        .args(["check", w.suite.to_str().unwrap(), "--renderer", &sleeper])
+        .args(["--timeout", "60", "--report", w.report.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(800));
+    assert!(!left_running("interrupted-token").is_empty());
+    let start = Instant::now();
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    while child.try_wait().unwrap().is_none() {
+        assert!(
+            start.elapsed() < Duration::from_secs(5),
+            "check did not end on SIGINT"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let output = child.wait_with_output().unwrap();
+    let out = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(130), "{out}");
+    assert!(out.contains("ERROR  output2_01: interrupted"), "{out}");
+    assert_eq!(left_running("interrupted-token"), Vec::<String>::new());
+    let summary = std::fs::read_to_string(w.report.join("summary.json")).unwrap();
+    assert!(summary.contains("\"partial\": true"), "{summary}");
+}
+
+#[test]
+fn check_run_by_an_ordinary_user_cages_the_renderer_too() {
+    let Some(w) = world() else { return };
+    if !rustix_is_root() {
+        // Already an ordinary user: the other tests ran as one.
+        return;
+    }
+    std::fs::set_permissions(
+        &w.report.parent().unwrap(),
+        std::fs::Permissions::from_mode(0o777),
+    )
+    .unwrap();
+    let setpriv = ["--reuid=65534", "--regid=65534", "--clear-groups"];
+    let lingerer = w.renderer(
+        "user-lingerer.sh",
+        &format!(
+            "(setsid bash -c 'exec -a user-token sleep 30' &); {}",
+            render()
+        ),
+    );
+    let output = Command::new("setpriv")
+        .args(setpriv)
+        .args([
+            RAYCAST,
+            "check",
+            w.suite.to_str().unwrap(),
+            "--renderer",
+            &lingerer,
+        ])
+        .args(["--report", w.report.to_str().unwrap()])
+        .args([
+            "--allow-read",
+            Path::new(RAYCAST).parent().unwrap().to_str().unwrap(),
+        ])
+        .output();
+    let Ok(output) = output else {
+        panic!("setpriv is needed to run check as an ordinary user");
+    };
+    let out = String::from_utf8_lossy(&output.stdout).into_owned()
+        + &String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    assert!(out.contains("renderer caged as check's own user"), "{out}");
+    assert_eq!(left_running("user-token"), Vec::<String>::new());
+}
+
+fn rustix_is_root() -> bool {
+    std::fs::read_to_string("/proc/self/status")
+        .map(|s| {
+            s.lines()
+                .any(|l| l.starts_with("Uid:") && l.split_whitespace().nth(2) == Some("0"))
+        })
+        .unwrap_or(false)
+}
