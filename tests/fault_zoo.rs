@@ -102,6 +102,15 @@ struct Graded {
 fn check(suite: &Path, renderer: &str) -> Graded {
     let output = Command::new(env!("CARGO_BIN_EXE_raycast"))
         .args(["check", suite.to_str().unwrap(), "--renderer", renderer])
+        // The planted renderers are scripts that run raycast: its folder is theirs to read.
+        .args([
+            "--allow-read",
+            Path::new(env!("CARGO_BIN_EXE_raycast"))
+                .parent()
+                .unwrap()
+                .to_str()
+                .unwrap(),
+        ])
         .output()
         .unwrap();
     let out = String::from_utf8_lossy(&output.stdout).into_owned();

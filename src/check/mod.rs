@@ -773,7 +773,7 @@ fn signal_name(signal: i32) -> String {
 
 /// `4 GiB`, `256 MiB`, as limits are given.
 fn bytes(n: u64) -> String {
-    if n >= 1 << 30 && n % (1 << 30) == 0 {
+    if n >= 1 << 30 && n.is_multiple_of(1 << 30) {
         format!("{} GiB", n >> 30)
     } else {
         format!("{} MiB", n >> 20)

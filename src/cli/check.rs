@@ -204,10 +204,11 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    if let Some(confinement) = &checked.confinement {
+    // The cage is reported in summary.json; the terminal hears of it only where part is missing.
+    if let Some(confinement) = checked.confinement.as_ref().filter(|c| !c.is_whole()) {
         say(
             std::io::stderr(),
-            &format!("raycast: check: {}", confinement.summary()),
+            &format!("raycast: check: warning: {}", confinement.summary()),
         );
     }
     if let Some(note) = &checked.cage_note {

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 pub use supervisor::supervise;
 
 /// The hidden first word of raycast's command line that makes it a line's supervisor; what
-/// follows is the [`Request`] as JSON.
+/// follows is the line's request as JSON.
 pub const SUPERVISE: &str = "__supervise";
 
 /// The resource limits a renderer runs under (`setrlimit`).
@@ -208,6 +208,11 @@ impl Confinement {
             network_namespace: value["network_namespace"].as_bool()?,
             subreaper: value["subreaper"].as_bool()?,
         })
+    }
+
+    /// Whether every mechanism held: Landlock in full, no network, the tree adopted.
+    pub fn is_whole(&self) -> bool {
+        self.landlock == "fully enforced" && self.network_namespace && self.subreaper
     }
 
     /// One line for the terminal: what held the renderer, and what was missing.

@@ -73,13 +73,13 @@ fn run(request: &Request) -> (Ending, Confinement) {
     }
     // The renderer's own process count: another user's, or a user namespace's.
     let counted = request.user.is_some() || namespaces.user;
-    let mut prepare = confine::in_child(request, counted);
+    let prepare = confine::in_child(request, counted);
     // SAFETY: the closure runs in the forked child before exec. The supervisor is
     // single-threaded (signal-hook's handlers need no thread), so no lock is held by another
     // thread at the fork, and what the closure does (prctl, setrlimit, Landlock's system calls
     // and its small allocations) is safe there.
     unsafe {
-        command.pre_exec(move || prepare());
+        command.pre_exec(prepare);
     }
     let start = Instant::now();
     let child = match command.spawn() {
