@@ -640,3 +640,32 @@ fn rustix_is_root() -> bool {
         })
         .unwrap_or(false)
 }
+
+#[test]
+fn a_suite_past_its_bounds_is_one_error_before_anything_runs() {
+    let Some(w) = world() else { return };
+    let commands = w.suite.join("COMMANDS.txt");
+    let outputs: String = (0..9).map(|k| format!(" -output o{k}.tga")).collect();
+    std::fs::write(&commands, format!("raytracer -input a.txt{outputs}\n")).unwrap();
+    let output = Command::new(RAYCAST)
+        .args(["check", w.suite.to_str().unwrap(), "--renderer", RAYCAST])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    let said = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        said.contains("a line writes 9 pictures, more than the 8 a line may"),
+        "{said}"
+    );
+    std::fs::write(&commands, "raytracer -output a.tga\n".repeat(100_000)).unwrap();
+    let output = Command::new(RAYCAST)
+        .args(["check", w.suite.to_str().unwrap(), "--renderer", RAYCAST])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    let said = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        said.contains("COMMANDS.txt: more than 1 MiB: not a suite's list of command lines"),
+        "{said}"
+    );
+}

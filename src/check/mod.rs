@@ -3,9 +3,11 @@
 //! same comparison for two image files.
 
 mod cage;
+pub mod class;
 pub mod diagnose;
 pub mod faults;
 mod finding;
+pub mod formats;
 mod guard;
 mod output;
 mod report;
@@ -25,7 +27,7 @@ pub use cage::{Confinement, Ending, Limits, Ran, SUPERVISE, supervise};
 pub use diagnose::Diagnosis;
 pub use finding::Finding;
 pub use output::{MAX_IMAGE_BYTES, read_image};
-pub use report::write_report;
+pub use report::{Pictures, Staging, write_report};
 pub use rule::{Comparison, Rule, compare};
 pub use simulate::FaultMatch;
 pub use suite::{Line, PictureKind, Suite};
@@ -57,6 +59,9 @@ pub struct CheckOptions {
     /// What the renderer may read besides the system's files and its own program's folder
     /// (`--allow-read`).
     pub readable: Vec<PathBuf>,
+    /// This run's share of the suite's lines (`--shard K/N`): those whose place, counted from
+    /// 0, is K - 1 modulo N.
+    pub shard: Option<(usize, usize)>,
 }
 
 impl CheckOptions {
@@ -72,6 +77,7 @@ impl CheckOptions {
             keep_preview_options: false,
             limits: Limits::default(),
             readable: Vec::new(),
+            shard: None,
         }
     }
 }
@@ -129,6 +135,10 @@ pub struct Graded {
     /// For a failing picture: raycast's account (`-inspect`) of the pixel where it differs
     /// most from the reference.
     pub worst_pixel: Option<WorstPixel>,
+    /// The report's files of its pictures, once written (its pixels are dropped then).
+    pub pictures: Pictures,
+    /// What a pass is worth (the suite's `POINTS`; one by default).
+    pub points: f64,
 }
 
 /// The pixel where a failing picture differs most from its reference, and what raycast's
@@ -212,7 +222,7 @@ pub fn judge(actual: &Image, reference: &Image, rule: Rule) -> Judgement {
 }
 
 /// A run of `check`: every picture graded, and the cage the renderer ran in.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug)]
 pub struct Checked {
     /// Every picture of the suite, in its order.
     pub graded: Vec<Graded>,
@@ -222,6 +232,69 @@ pub struct Checked {
     pub cage_note: Option<String>,
     /// Whether check was interrupted: some lines did not run (their pictures are errors).
     pub partial: bool,
+    /// The report being built, its pictures written, when one was asked for.
+    pub staging: Option<Staging>,
+    /// How the submission's build went, in a class (`class::Built::json`).
+    pub build: Option<serde_json::Value>,
+}
+
+/// A suite made ready to grade renderers against, once for all of them: read, fingerprinted,
+/// its references read and raycast's own rendered, before any renderer's code runs (nothing a
+/// renderer does to the suite's files can change what it is graded against).
+pub struct Prepared {
+    suite: Suite,
+    references: Vec<References>,
+    fingerprint: guard::Fingerprint,
+    pool: rayon::ThreadPool,
+}
+
+impl Prepared {
+    /// The suite.
+    pub fn suite(&self) -> &Suite {
+        &self.suite
+    }
+}
+
+/// Reads the options' suite and makes its references, on `options.jobs` threads.
+pub fn prepare(options: &CheckOptions) -> Result<Prepared, String> {
+    let mut suite = Suite::read(&options.suite)?;
+    if let Some((k, n)) = options.shard {
+        suite.lines = std::mem::take(&mut suite.lines)
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| i % n == k - 1)
+            .map(|(_, line)| line)
+            .collect();
+    }
+    let fingerprint = guard::Fingerprint::of(&options.suite)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.jobs.max(1))
+        .build()
+        .map_err(|e| format!("cannot start {} threads: {e}", options.jobs))?;
+    let references: Vec<References> = pool.install(|| {
+        suite
+            .lines
+            .par_iter()
+            .with_max_len(1)
+            .map(|line| references_of(&suite, line))
+            .collect()
+    });
+    Ok(Prepared {
+        suite,
+        references,
+        fingerprint,
+        pool,
+    })
+}
+
+/// One renderer to grade.
+pub struct Renderer<'a> {
+    /// Its command: the executable (resolved), then its own arguments.
+    pub command: &'a [String],
+    /// What it may read besides the system's files.
+    pub readable: &'a [PathBuf],
+    /// The most time its lines may take together; the lines left when it is spent are not run.
+    pub budget: Option<Duration>,
 }
 
 /// Runs every line of the suite with the renderer, each in its cage, and grades every image it
@@ -233,7 +306,6 @@ pub fn check(
     progress: &(dyn Fn() + Sync),
     stop: &AtomicBool,
 ) -> Result<Checked, String> {
-    let suite = Suite::read(&options.suite)?;
     let executable = run::check_program(&options.renderer)?;
     let mut command = options.renderer.clone();
     command[0] = executable.display().to_string();
@@ -243,7 +315,29 @@ pub fn check(
         &options.readable,
         &options.suite,
     )?;
-    let (user, cage_note) = match cage::unprivileged_user(&readable) {
+    // Made before the lines run: a report folder that cannot be one is an error at once.
+    let staging = options.report.as_deref().map(Staging::new).transpose()?;
+    let prepared = prepare(options)?;
+    let renderer = Renderer {
+        command: &command,
+        readable: &readable,
+        budget: None,
+    };
+    grade_renderer(&prepared, options, &renderer, staging, progress, stop)
+}
+
+/// Grades one renderer against a prepared suite (see [`check`]); its pictures go into
+/// `staging`, the report being built, where there is one.
+pub fn grade_renderer(
+    prepared: &Prepared,
+    options: &CheckOptions,
+    renderer: &Renderer,
+    staging: Option<Staging>,
+    progress: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
+) -> Result<Checked, String> {
+    let suite = &prepared.suite;
+    let (user, cage_note) = match cage::unprivileged_user(renderer.readable) {
         None => (None, None),
         Some(Ok(user)) => (Some(user), None),
         Some(Err(why)) => (
@@ -254,7 +348,6 @@ pub fn check(
             )),
         ),
     };
-    let fingerprint = guard::Fingerprint::of(&options.suite)?;
     let scratch = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
     if user.is_some() {
         use std::os::unix::fs::PermissionsExt;
@@ -262,40 +355,38 @@ pub fn check(
         std::fs::set_permissions(scratch.path(), std::fs::Permissions::from_mode(0o711))
             .map_err(|e| format!("cannot open the scratch folder to the renderer: {e}"))?;
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.jobs.max(1))
-        .build()
-        .map_err(|e| format!("cannot start {} threads: {e}", options.jobs))?;
-    // Every reference read, and raycast's own made, before any of the renderer's code runs:
-    // nothing it does to the suite's files can change what it is graded against.
-    let references: Vec<References> = pool.install(|| {
-        suite
-            .lines
-            .par_iter()
-            .with_max_len(1)
-            .map(|line| references_of(&suite, line))
-            .collect()
-    });
     let caged = Caged {
-        command: &command,
-        readable: &readable,
+        command: renderer.command,
+        readable: renderer.readable,
         user,
         stop,
+        budget: renderer.budget.map(|b| (std::time::Instant::now(), b)),
     };
-    let graded: Vec<(Vec<Graded>, Option<Confinement>)> = pool.install(|| {
+    let graded: Vec<(Vec<Graded>, Option<Confinement>)> = prepared.pool.install(|| {
         suite
             .lines
             .par_iter()
-            .zip(references)
+            .zip(&prepared.references)
             // One line a task: lines differ in time a hundredfold, and a worker that runs out
             // takes the next line, not half of another's.
             .with_max_len(1)
             .enumerate()
             .map(|(number, (line, references))| {
                 let folder = scratch.path().join(format!("line{number}"));
-                let graded = grade_line(options, &caged, &suite, line, references, &folder);
+                let (mut graded, confinement) =
+                    grade_line(options, &caged, suite, line, references.clone(), &folder);
+                match &staging {
+                    Some(staging) => {
+                        staging.keep_pictures(number, &mut graded, options.rule.tolerance)
+                    }
+                    // Nothing needs the pixels once the line is graded.
+                    None => graded.iter_mut().for_each(|g| {
+                        g.actual = None;
+                        g.reference = None;
+                    }),
+                }
                 progress();
-                graded
+                (graded, confinement)
             })
             .collect()
     });
@@ -303,7 +394,7 @@ pub fn check(
     let mut graded: Vec<Graded> = graded.into_iter().flat_map(|(g, _)| g).collect();
     unique_names(&mut graded);
     let changed = guard::Fingerprint::of(&options.suite)
-        .map(|after| fingerprint.changed(&after))
+        .map(|after| prepared.fingerprint.changed(&after))
         .unwrap_or_else(|why| vec![PathBuf::from(why)]);
     if !changed.is_empty() {
         void(&mut graded, &changed);
@@ -313,7 +404,51 @@ pub fn check(
         confinement,
         cage_note,
         partial: stop.load(Ordering::Relaxed),
+        staging,
+        build: None,
     })
+}
+
+/// The check of a submission that did not build: every picture an error that says why.
+pub fn not_built(prepared: &Prepared, why: &str, staging: Option<Staging>) -> Checked {
+    let explanation = format!("{why}. {}", Diagnosis::BUILD_FAILED.explanation());
+    let mut graded: Vec<Graded> = prepared
+        .suite
+        .lines
+        .iter()
+        .flat_map(|line| {
+            let explanation = explanation.clone();
+            line.outputs.iter().enumerate().map(move |(k, (_, name))| {
+                let image_name = suite::image_name(name);
+                Graded {
+                    points: prepared.suite.points(&image_name),
+                    name: image_name,
+                    command: line.command.clone(),
+                    status: Status::Error,
+                    bad_fraction: None,
+                    findings: vec![Finding::Diagnosis(Diagnosis::BUILD_FAILED)],
+                    explanation: explanation.clone(),
+                    actual: None,
+                    reference: None,
+                    stderr: String::new(),
+                    seconds: 0.0,
+                    against_raycast: false,
+                    picture: line.picture_kind(k),
+                    worst_pixel: None,
+                    pictures: Pictures::default(),
+                }
+            })
+        })
+        .collect();
+    unique_names(&mut graded);
+    Checked {
+        graded,
+        confinement: None,
+        cage_note: None,
+        partial: false,
+        staging,
+        build: None,
+    }
 }
 
 /// What the renderer may read: its program and every word of its command that names a file
@@ -361,6 +496,8 @@ struct Caged<'a> {
     readable: &'a [PathBuf],
     user: Option<(u32, u32)>,
     stop: &'a AtomicBool,
+    /// When the renderer's lines began, and the time they may take together.
+    budget: Option<(std::time::Instant, Duration)>,
 }
 
 /// A renderer changed the suite's files while it ran: every grade of the run is void, each
@@ -467,8 +604,15 @@ fn grade_line(
         confinement: None,
     };
     let files = run::line_files(line, &suite.scenes);
+    let left = caged
+        .budget
+        .map(|(start, budget)| budget.saturating_sub(start.elapsed()));
     let (ran, out) = if caged.stop.load(Ordering::Relaxed) {
         (ran_only(Ending::Interrupted), folder.join("out"))
+    } else if let (Some(left), Some((_, budget))) = (left, caged.budget)
+        && left.is_zero()
+    {
+        (ran_only(Ending::OverBudget(budget)), folder.join("out"))
     } else {
         match run::prepare(&suite.scenes, &files, folder, caged.user) {
             Err(why) => (ran_only(Ending::NotStarted(why)), folder.join("out")),
@@ -485,7 +629,7 @@ fn grade_line(
                     work,
                     outputs: out.clone(),
                     readable: caged.readable.to_vec(),
-                    limit: options.timeout,
+                    limit: left.map_or(options.timeout, |left| left.min(options.timeout)),
                     limits: options.limits,
                     user: caged.user,
                 };
@@ -510,6 +654,7 @@ fn grade_line(
                 reference,
             );
             graded.against_raycast = own_render;
+            graded.points = suite.points(&image_name);
             graded
         })
         .collect();
@@ -595,6 +740,8 @@ fn grade(
         against_raycast: false,
         picture: line.picture_kind(index),
         worst_pixel: None,
+        pictures: Pictures::default(),
+        points: 1.0,
     };
     let reference = match reference {
         Ok(image) => image,
@@ -708,6 +855,14 @@ fn failed_run(ran: &Ran, limits: &Limits) -> Option<(Diagnosis, String)> {
         Ending::Interrupted => (
             Diagnosis::INTERRUPTED,
             "check was interrupted before this line ended.".to_string(),
+        ),
+        Ending::OverBudget(budget) => (
+            Diagnosis::OVER_BUDGET,
+            format!(
+                "The renderer's time budget of {} s was spent on earlier lines: this one was \
+                 not run.",
+                budget.as_secs_f64()
+            ),
         ),
         Ending::NotStarted(why) => (
             Diagnosis::CRASH,
@@ -833,6 +988,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
         "rule": { "tolerance": rule.tolerance, "max_bad": rule.max_bad },
         "partial": checked.partial,
         "cage": cage,
+        "build": checked.build,
         "passed": passed,
         "failed": graded.len() - passed,
         "verdict": verdict::json(groups),
@@ -846,6 +1002,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
             "reference": if g.against_raycast { "raycast" } else { "suite" },
             "stderr": last_lines(&g.stderr, 20),
             "seconds": g.seconds,
+            "points": g.points,
             "worst_pixel": g.worst_pixel.as_ref().map(|w| serde_json::json!({
                 "x": w.x, "y": w.y, "difference": w.difference, "ray_tree": w.ray_tree,
             })),

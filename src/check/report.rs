@@ -14,100 +14,170 @@ use super::{
 };
 use crate::image_io::{self, ImageFormat};
 
-/// Writes `summary.json`, `index.html` and the pictures into `dir` (made if missing).
+/// A report being built: a folder beside its place, which each line's pictures go into as soon
+/// as the line is graded (so that check keeps no pixels), and which is renamed into place once
+/// `summary.json` and `index.html` are written beside them.
+#[derive(Debug)]
+pub struct Staging {
+    folder: tempfile::TempDir,
+    place: PathBuf,
+    /// The first picture that could not be written, reported when the report is placed.
+    failed: std::sync::Mutex<Option<String>>,
+}
+
+impl Staging {
+    /// A new report for `place`: refused if `place` holds files and is not a report of
+    /// raycast's (it would be replaced).
+    pub fn new(place: &Path) -> Result<Staging, String> {
+        let parent = match place.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        if let Ok(entries) = std::fs::read_dir(place) {
+            if entries.count() > 0 && !place.join("summary.json").is_file() {
+                return Err(format!(
+                    "{} holds files and is not a report of raycast's (it has no \
+                     summary.json): give a new or empty folder",
+                    place.display()
+                ));
+            }
+        } else if place.exists() {
+            return Err(format!("{} is not a folder", place.display()));
+        }
+        std::fs::create_dir_all(&parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+        let folder = tempfile::Builder::new()
+            .prefix(".raycast-report-")
+            .tempdir_in(&parent)
+            .map_err(|e| format!("{}: {e}", parent.display()))?;
+        Ok(Staging {
+            folder,
+            place: place.to_path_buf(),
+            failed: std::sync::Mutex::new(None),
+        })
+    }
+
+    /// The folder being built.
+    pub fn path(&self) -> &Path {
+        self.folder.path()
+    }
+
+    /// Puts the report in its place: renamed over the old one (a reader, or a second check
+    /// writing the same report, sees the old report or the new one whole, never a mixture).
+    pub fn place(self) -> Result<(), String> {
+        if let Some(failed) = self.failed.lock().ok().and_then(|f| f.clone()) {
+            return Err(failed);
+        }
+        let fail = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
+        {
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(self.path(), std::fs::Permissions::from_mode(0o755))
+                .map_err(|e| fail(self.path(), e))?;
+        }
+        let dir = self.place.clone();
+        let parent = self
+            .path()
+            .parent()
+            .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        let built = self.folder.keep();
+        for _ in 0..10 {
+            let old = parent.join(format!(
+                ".raycast-old-report-{}-{}",
+                std::process::id(),
+                std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0, |d| d.as_nanos())
+            ));
+            let moved_old = std::fs::rename(&dir, &old).is_ok();
+            let placed = std::fs::rename(&built, &dir);
+            if moved_old {
+                let _ = std::fs::remove_dir_all(&old);
+            }
+            if placed.is_ok() {
+                return Ok(());
+            }
+        }
+        let _ = std::fs::remove_dir_all(&built);
+        Err(format!(
+            "{}: another program keeps writing there",
+            dir.display()
+        ))
+    }
+
+    /// Writes the pictures of line `line` (its own, the references and the heat maps) and
+    /// names them in each `Graded`; their pixels are dropped either way.
+    pub fn keep_pictures(&self, line: usize, graded: &mut [Graded], tolerance: u8) {
+        for (k, g) in graded.iter_mut().enumerate() {
+            let name = |kind: &str| format!("{line:03}-{k}-{}-{kind}.png", safe(&g.name));
+            let write = |kind: &str, image: &crate::shade::Image| -> Option<String> {
+                let file = name(kind);
+                let bytes = image_io::encode(image, ImageFormat::Png);
+                match std::fs::write(self.folder.path().join(&file), bytes) {
+                    Ok(()) => Some(file),
+                    Err(e) => {
+                        if let Ok(mut failed) = self.failed.lock() {
+                            failed.get_or_insert_with(|| format!("{file}: {e}"));
+                        }
+                        None
+                    }
+                }
+            };
+            let actual = g.actual.take();
+            let reference = g.reference.take();
+            g.pictures = Pictures {
+                actual: actual.as_ref().and_then(|i| write("actual", i)),
+                reference: reference.as_ref().and_then(|i| write("reference", i)),
+                diff: match (&actual, &reference) {
+                    (Some(a), Some(r)) if (a.width, a.height) == (r.width, r.height) => {
+                        write("diff", &diagnose::heat_map(a, r, tolerance))
+                    }
+                    _ => None,
+                },
+            };
+        }
+    }
+}
+
+/// The files of one picture's report: the renderer's, the reference, the heat map.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Pictures {
+    /// The renderer's picture.
+    pub actual: Option<String>,
+    /// The reference.
+    pub reference: Option<String>,
+    /// Where they differ.
+    pub diff: Option<String>,
+}
+
+/// Writes `summary.json` and `index.html` beside the pictures, and puts the report in its
+/// place.
 pub fn write_report(
-    dir: &Path,
+    staging: Staging,
     checked: &Checked,
     groups: &[Group],
     rule: Rule,
 ) -> Result<(), String> {
-    let parent = match dir.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let fail = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
-    if let Ok(entries) = std::fs::read_dir(dir) {
-        let holds_files = entries.count() > 0;
-        if holds_files && !dir.join("summary.json").is_file() {
-            return Err(format!(
-                "{} holds files and is not a report of raycast's (it has no summary.json): \
-                 give a new or empty folder",
-                dir.display()
-            ));
-        }
-    } else if dir.exists() {
-        return Err(format!("{} is not a folder", dir.display()));
-    }
-    std::fs::create_dir_all(&parent).map_err(|e| fail(&parent, e))?;
-    // Built beside its place and renamed into it: a reader, or a second check writing the
-    // same report, sees the old report or the new one whole, never a mixture.
-    let staging = tempfile::Builder::new()
-        .prefix(".raycast-report-")
-        .tempdir_in(&parent)
-        .map_err(|e| fail(&parent, e))?;
     write_into(staging.path(), checked, groups, rule)?;
-    {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(staging.path(), std::fs::Permissions::from_mode(0o755))
-            .map_err(|e| fail(staging.path(), e))?;
-    }
-    let built = staging.keep();
-    for _ in 0..10 {
-        let old = parent.join(format!(
-            ".raycast-old-report-{}-{}",
-            std::process::id(),
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(0, |d| d.as_nanos())
-        ));
-        let moved_old = std::fs::rename(dir, &old).is_ok();
-        let placed = std::fs::rename(&built, dir);
-        if moved_old {
-            let _ = std::fs::remove_dir_all(&old);
-        }
-        if placed.is_ok() {
-            return Ok(());
-        }
-    }
-    let _ = std::fs::remove_dir_all(&built);
-    Err(format!(
-        "{}: another program keeps writing there",
-        dir.display()
-    ))
+    staging.place()
 }
 
 /// Writes the report's files into `dir`, an empty folder.
 fn write_into(dir: &Path, checked: &Checked, groups: &[Group], rule: Rule) -> Result<(), String> {
     let graded = &checked.graded[..];
-    let tolerance = rule.tolerance;
     let fail = |e: std::io::Error| format!("{}: {e}", dir.display());
     let json = serde_json::to_string_pretty(&summary_json(checked, groups, rule))
         .map_err(|e| e.to_string())?;
     std::fs::write(dir.join("summary.json"), json + "\n").map_err(fail)?;
+    super::formats::write_all(dir, checked)?;
     let mut order: Vec<&Graded> = graded.iter().collect();
     // Failures and errors first, then passes, each in the suite's order.
     order.sort_by_key(|g| g.status == Status::Pass);
     let mut blocks = String::new();
-    for (k, g) in order.iter().enumerate() {
-        let file = |kind: &str| format!("{k:03}-{}-{kind}.png", safe(&g.name));
-        let write = |kind: &str, image: &crate::shade::Image| -> Result<String, String> {
-            let name = file(kind);
-            std::fs::write(dir.join(&name), image_io::encode(image, ImageFormat::Png))
-                .map_err(fail)?;
-            Ok(name)
-        };
-        let actual = g.actual.as_ref().map(|i| write("actual", i)).transpose()?;
-        let reference = g
-            .reference
-            .as_ref()
-            .map(|i| write("reference", i))
-            .transpose()?;
-        let diff = match (&g.actual, &g.reference) {
-            (Some(a), Some(r)) if (a.width, a.height) == (r.width, r.height) => {
-                Some(write("diff", &diagnose::heat_map(a, r, tolerance))?)
-            }
-            _ => None,
-        };
+    for g in order {
+        let Pictures {
+            actual,
+            reference,
+            diff,
+        } = g.pictures.clone();
         blocks.push_str(&block(g, actual, reference, diff));
     }
     let passed = graded.iter().filter(|g| g.status == Status::Pass).count();

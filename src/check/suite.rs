@@ -80,7 +80,7 @@ impl Line {
 }
 
 /// A suite read from its folder.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Suite {
     /// The suite's folder.
     pub root: PathBuf,
@@ -92,7 +92,18 @@ pub struct Suite {
     pub references: Vec<(String, PathBuf)>,
     /// Every command line.
     pub lines: Vec<Line>,
+    /// The points of the pictures the suite's `POINTS` file names; every other is worth one.
+    pub points: Vec<(String, f64)>,
 }
+
+/// The largest `COMMANDS.txt` check reads (the course's longest is 12 KiB).
+pub const MAX_COMMANDS_BYTES: u64 = 1 << 20;
+
+/// The most command lines a suite may have (the course's largest has 168).
+pub const MAX_LINES: usize = 10_000;
+
+/// The most pictures one line may write (the course's write at most three).
+pub const MAX_OUTPUTS: usize = 8;
 
 /// Options that name an image file, and which of their values it is.
 const IMAGE_OPTIONS: [(&str, usize); 5] = [
@@ -104,11 +115,26 @@ const IMAGE_OPTIONS: [(&str, usize); 5] = [
 ];
 
 impl Suite {
-    /// Reads `root/COMMANDS.txt` and checks that `root/scenes` exists.
+    /// Reads `root/COMMANDS.txt` and checks that `root/scenes` exists. A suite is bounded: at
+    /// most [`MAX_COMMANDS_BYTES`] of `COMMANDS.txt`, [`MAX_LINES`] lines, [`MAX_OUTPUTS`]
+    /// pictures a line.
     pub fn read(root: &Path) -> Result<Suite, String> {
+        use std::io::Read;
         let commands = root.join("COMMANDS.txt");
-        let text = std::fs::read_to_string(&commands)
-            .map_err(|e| format!("{}: cannot read: {e}", commands.display()))?;
+        let cannot = |e: std::io::Error| format!("{}: cannot read: {e}", commands.display());
+        let mut text = String::new();
+        std::fs::File::open(&commands)
+            .map_err(cannot)?
+            .take(MAX_COMMANDS_BYTES + 1)
+            .read_to_string(&mut text)
+            .map_err(cannot)?;
+        if text.len() as u64 > MAX_COMMANDS_BYTES {
+            return Err(format!(
+                "{}: more than {} MiB: not a suite's list of command lines",
+                commands.display(),
+                MAX_COMMANDS_BYTES >> 20
+            ));
+        }
         let scenes = root.join("scenes");
         if !scenes.is_dir() {
             return Err(format!(
@@ -118,18 +144,43 @@ impl Suite {
         }
         let references = root.join("reference");
         let lines: Vec<Line> = text.lines().filter_map(parse_line).collect();
+        if lines.len() > MAX_LINES {
+            return Err(format!(
+                "{}: {} command lines, more than the {MAX_LINES} a suite may have",
+                commands.display(),
+                lines.len()
+            ));
+        }
+        if let Some(line) = lines.iter().find(|l| l.outputs.len() > MAX_OUTPUTS) {
+            return Err(format!(
+                "{}: a line writes {} pictures, more than the {MAX_OUTPUTS} a line may: {}",
+                commands.display(),
+                line.outputs.len(),
+                line.command.chars().take(200).collect::<String>()
+            ));
+        }
         if lines.is_empty() {
             return Err(format!(
                 "{}: no command lines (lines that start with 'raytracer ')",
                 commands.display()
             ));
         }
+        let points = read_points(&root.join("POINTS"), &lines)?;
         Ok(Suite {
             root: root.to_path_buf(),
             scenes,
             references: reference_files(&references),
             lines,
+            points,
         })
+    }
+
+    /// The points a picture named `name` is worth.
+    pub fn points(&self, name: &str) -> f64 {
+        self.points
+            .iter()
+            .find(|(known, _)| known == name)
+            .map_or(1.0, |&(_, points)| points)
     }
 
     /// The reference image of the image named `name` (without its extension), if the suite
@@ -140,6 +191,43 @@ impl Suite {
             .find(|(known, _)| known == name)
             .map(|(_, path)| path.clone())
     }
+}
+
+/// Reads a suite's `POINTS` file, if it has one: a line `NAME POINTS` for each picture worth
+/// other than one (NAME as the picture's file name without its extension; `#` starts a
+/// comment).
+fn read_points(path: &Path, lines: &[Line]) -> Result<Vec<(String, f64)>, String> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(Vec::new());
+    };
+    let mut points = Vec::new();
+    for (number, text) in text.lines().enumerate() {
+        let text = text.split('#').next().unwrap_or("").trim();
+        if text.is_empty() {
+            continue;
+        }
+        let at = || format!("{} line {}", path.display(), number + 1);
+        let words: Vec<&str> = text.split_whitespace().collect();
+        let [name, value] = words[..] else {
+            return Err(format!("{}: expected 'NAME POINTS', found '{text}'", at()));
+        };
+        let value: f64 = value
+            .parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite() && *v >= 0.0)
+            .ok_or_else(|| format!("{}: '{value}' is not a number of points (0 or more)", at()))?;
+        let known = lines
+            .iter()
+            .any(|l| l.outputs.iter().any(|(_, n)| image_name(n) == name));
+        if !known {
+            return Err(format!(
+                "{}: no line of COMMANDS.txt writes a picture named '{name}'",
+                at()
+            ));
+        }
+        points.push((name.to_string(), value));
+    }
+    Ok(points)
 }
 
 /// The PNG files of `folder` and of the folders in it, by name without extension; those at the

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use crate::check::class::ClassOptions;
 use crate::check::{self, CheckOptions, Rule, Status};
 use crate::image_io::{self, ImageFormat};
 
@@ -95,11 +96,40 @@ fn size(text: &str) -> Option<u64> {
     (bytes >> shift == number.parse::<u64>().ok()? && bytes >= 16 << 20).then_some(bytes)
 }
 
-/// Reads `check`'s command line; `None` for `-help`.
-fn parse_check_args(args: Vec<OsString>) -> Result<Option<CheckOptions>, String> {
+/// `K/N`, 1 <= K <= N.
+fn shard(text: &str) -> Option<(usize, usize)> {
+    let (k, n) = text.split_once('/')?;
+    let (k, n): (usize, usize) = (k.parse().ok()?, n.parse().ok()?);
+    (1..=n).contains(&k).then_some((k, n))
+}
+
+/// A number of seconds above 0, for `flag`.
+fn seconds(text: &str, flag: &str) -> Result<Duration, String> {
+    let s: f64 = number(text, flag, "a number of seconds above 0")?;
+    if !(s > 0.0 && s.is_finite()) {
+        return Err(format!(
+            "{flag} needs a number of seconds above 0, found '{text}'"
+        ));
+    }
+    Ok(Duration::from_secs_f64(s))
+}
+
+/// Reads `check`'s command line; `None` for `-help`. The class's options come with it when
+/// `--class` is given.
+fn parse_check_args(
+    args: Vec<OsString>,
+) -> Result<Option<(CheckOptions, Option<ClassOptions>)>, String> {
     let mut args = args.into_iter();
     let mut suite = None;
     let mut options = CheckOptions::new(PathBuf::new(), Vec::new());
+    let mut class = ClassOptions {
+        roster: PathBuf::new(),
+        build: None,
+        build_timeout: Duration::from_secs(120),
+        budget: None,
+        shard: None,
+    };
+    let mut roster = None;
     while let Some(arg) = args.next() {
         let text = arg.to_string_lossy().into_owned();
         match text.as_str() {
@@ -134,6 +164,31 @@ fn parse_check_args(args: Vec<OsString>) -> Result<Option<CheckOptions>, String>
                 options.timeout = Duration::from_secs_f64(s);
             }
             "--keep-preview-options" => options.keep_preview_options = true,
+            "--class" => roster = Some(PathBuf::from(value(&mut args, "--class", "a folder")?)),
+            "--build" => {
+                let command = value(&mut args, "--build", "the build's command")?;
+                class.build = Some(
+                    shlex::split(&command)
+                        .filter(|words| !words.is_empty())
+                        .ok_or_else(|| {
+                            format!("--build: no command, or unbalanced quotes in '{command}'")
+                        })?,
+                );
+            }
+            "--build-timeout" => {
+                let v = value(&mut args, "--build-timeout", "a number of seconds")?;
+                class.build_timeout = seconds(&v, "--build-timeout")?;
+            }
+            "--budget" => {
+                let v = value(&mut args, "--budget", "a number of seconds")?;
+                class.budget = Some(seconds(&v, "--budget")?);
+            }
+            "--shard" => {
+                let v = value(&mut args, "--shard", "K/N")?;
+                options.shard = Some(shard(&v).ok_or_else(|| {
+                    format!("--shard needs K/N with 1 <= K <= N (this run's share), found '{v}'")
+                })?);
+            }
             "--memory" => {
                 let v = value(&mut args, "--memory", "a size such as 4G or 512M")?;
                 options.limits.memory = size(&v).ok_or_else(|| {
@@ -165,13 +220,37 @@ fn parse_check_args(args: Vec<OsString>) -> Result<Option<CheckOptions>, String>
         return Err("check needs --renderer CMD: which renderer should be graded?".into());
     }
     options.suite = suite;
-    Ok(Some(options))
+    let Some(roster) = roster else {
+        if class.build.is_some() || class.budget.is_some() {
+            return Err("--build and --budget grade a class: give --class DIR too".into());
+        }
+        return Ok(Some((options, None)));
+    };
+    class.roster = roster;
+    // A class is sharded by students; its every student runs every line.
+    class.shard = options.shard.take();
+    Ok(Some((options, Some(class))))
+}
+
+/// A flag that Ctrl-C, SIGTERM and SIGHUP set: the renderers running end, and what was graded
+/// so far is reported, marked partial.
+pub(super) fn stop_on_signals() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    for signal in [
+        signal_hook::consts::SIGINT,
+        signal_hook::consts::SIGTERM,
+        signal_hook::consts::SIGHUP,
+    ] {
+        let _ = signal_hook::flag::register(signal, stop.clone());
+    }
+    stop
 }
 
 /// `raycast check ...` (arguments after `check`).
 pub fn run_check(args: Vec<OsString>) -> ExitCode {
     let options = match parse_check_args(args) {
-        Ok(Some(options)) => options,
+        Ok(Some((options, Some(class)))) => return super::class::run_class(options, class),
+        Ok(Some((options, None))) => options,
         Ok(None) => {
             say(std::io::stdout(), CHECK_USAGE);
             return ExitCode::SUCCESS;
@@ -184,16 +263,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             bar.inc(1);
         }
     };
-    // Ctrl-C, SIGTERM and SIGHUP end the renderers running, and the pictures graded so far
-    // are reported, marked partial.
-    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    for signal in [
-        signal_hook::consts::SIGINT,
-        signal_hook::consts::SIGTERM,
-        signal_hook::consts::SIGHUP,
-    ] {
-        let _ = signal_hook::flag::register(signal, stop.clone());
-    }
+    let stop = stop_on_signals();
     let mut checked = match check::check(&options, &advance, &stop) {
         Ok(checked) => checked,
         Err(message) => {
@@ -243,7 +313,11 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     let failed = graded.len() - passed;
     let _ = writeln!(out, "{passed} passed, {failed} failed");
     if let Some(dir) = &options.report {
-        if let Err(message) = check::write_report(dir, &checked, &groups, options.rule) {
+        let written = match checked.staging.take() {
+            Some(staging) => check::write_report(staging, &checked, &groups, options.rule),
+            None => Err("no report was begun".to_string()),
+        };
+        if let Err(message) = written {
             say(
                 std::io::stderr(),
                 &format!("raycast: check: cannot write the report: {message}"),

@@ -3,6 +3,7 @@
 //! the exit statuses, and `raycast completions SHELL`.
 
 mod check;
+mod class;
 mod completions;
 
 use std::ffi::OsString;

@@ -158,6 +158,8 @@ pub enum Ending {
     TimedOut(Duration),
     /// check was interrupted (Ctrl-C, SIGTERM, SIGHUP) while it ran, and ended it.
     Interrupted,
+    /// It was not run: the renderer's time budget (`--budget`) was spent on earlier lines.
+    OverBudget(Duration),
     /// It could not be started at all.
     NotStarted(String),
 }

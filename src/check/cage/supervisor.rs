@@ -130,6 +130,9 @@ fn ending_json(ending: &Ending) -> serde_json::Value {
         Ending::Signaled { signal } => serde_json::json!({ "signal": signal }),
         Ending::TimedOut(limit) => serde_json::json!({ "timed_out_ms": limit.as_millis() as u64 }),
         Ending::Interrupted => serde_json::json!({ "interrupted": true }),
+        Ending::OverBudget(budget) => {
+            serde_json::json!({ "over_budget_ms": budget.as_millis() as u64 })
+        }
         Ending::NotStarted(why) => serde_json::json!({ "not_started": why }),
     }
 }
@@ -155,6 +158,9 @@ pub(super) fn ending_of(value: &serde_json::Value) -> Ending {
     if value["interrupted"].as_bool() == Some(true) {
         return Ending::Interrupted;
     }
+    if let Some(ms) = value["over_budget_ms"].as_u64() {
+        return Ending::OverBudget(Duration::from_millis(ms));
+    }
     Ending::NotStarted(
         value["not_started"]
             .as_str()
@@ -175,6 +181,7 @@ mod tests {
             Ending::Signaled { signal: 11 },
             Ending::TimedOut(Duration::from_millis(1500)),
             Ending::Interrupted,
+            Ending::OverBudget(Duration::from_secs(90)),
             Ending::NotStarted("no such file".into()),
         ] {
             assert_eq!(ending_of(&ending_json(&ending)), ending);

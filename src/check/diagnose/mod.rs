@@ -90,12 +90,14 @@ impl Diagnosis {
 // Decided by the caller (a run that failed, an image that is missing) or by no cause fitting.
 impl Diagnosis {
     /// The facts of a run, as opposed to guesses from its pixels.
-    const FACTS: [Diagnosis; 10] = [
+    const FACTS: [Diagnosis; 12] = [
         Diagnosis::CRASH,
         Diagnosis::TIMED_OUT,
         Diagnosis::OUT_OF_MEMORY,
         Diagnosis::OUTPUT_TOO_LARGE,
         Diagnosis::INTERRUPTED,
+        Diagnosis::OVER_BUDGET,
+        Diagnosis::BUILD_FAILED,
         Diagnosis::MISSING_OUTPUT,
         Diagnosis::UNREADABLE_OUTPUT,
         Diagnosis::WRONG_FORMAT,
@@ -135,6 +137,22 @@ impl Diagnosis {
         8,
         "The renderer wrote a file far larger than any picture of the course: check the \
         width and height it writes, and that it writes each pixel once.",
+    );
+
+    /// The renderer's time budget ran out before the line ran.
+    pub const OVER_BUDGET: Diagnosis = Diagnosis::new(
+        "over_budget",
+        8,
+        "The renderer's lines together took longer than its time budget: make the slow \
+        lines faster (an acceleration structure, fewer rays), then run check again.",
+    );
+
+    /// The submission did not build, so its renderer was not run.
+    pub const BUILD_FAILED: Diagnosis = Diagnosis::new(
+        "build_failed",
+        8,
+        "The submission did not build, so no line was run: read the build's output in the \
+        report, and build it by hand the same way.",
     );
 
     /// check was interrupted before the line ended.
@@ -291,7 +309,7 @@ mod tests {
     #[test]
     fn codes_are_distinct_snake_case_with_explanations() {
         let codes: Vec<&str> = Diagnosis::all().map(|d| d.code()).collect();
-        assert_eq!(codes.len(), 20);
+        assert_eq!(codes.len(), 28);
         for (i, code) in codes.iter().enumerate() {
             assert!(
                 code.chars().all(|c| c.is_ascii_lowercase() || c == '_'),

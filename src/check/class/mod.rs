@@ -1,0 +1,233 @@
+//! Grading a class: every folder of a roster is one student's submission. Each is copied into
+//! scratch, built with `--build` (caged like a renderer, with a time limit of its own), and its
+//! renderer graded against the suite, prepared once for the whole class; its report goes to
+//! `REPORT/STUDENT/`, and the class's table to `REPORT/class.{csv,html}` and the terminal.
+
+pub mod table;
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use super::cage::{self, Ending, Ran, Request};
+use super::{CheckOptions, Checked, Prepared, Renderer, Staging, grade_renderer};
+
+/// How a class is graded, beside the check's own options.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClassOptions {
+    /// The roster: one folder a student.
+    pub roster: PathBuf,
+    /// The command that builds a submission, run in its folder (`make`), split into words.
+    pub build: Option<Vec<String>>,
+    /// How long a build may take.
+    pub build_timeout: Duration,
+    /// How long a student's lines may take together (`--budget`).
+    pub budget: Option<Duration>,
+    /// This run's share of the class (`--shard K/N`): the students whose place in name order,
+    /// counted from 0, is K - 1 modulo N.
+    pub shard: Option<(usize, usize)>,
+}
+
+/// A student's build: how it ended, what it said, how long it took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Built {
+    /// Whether it ended with status 0.
+    pub ok: bool,
+    /// How it ended, in a sentence.
+    pub ending: String,
+    /// The end of what it printed.
+    pub output: String,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+impl Built {
+    fn of(ran: &Ran) -> Built {
+        let ending = match &ran.ending {
+            Ending::Success => "built".to_string(),
+            Ending::Failed { status } => format!("the build exited with status {status}"),
+            Ending::Signaled { signal } => format!("the build was killed by signal {signal}"),
+            Ending::TimedOut(limit) => {
+                format!("the build did not finish within {} s", limit.as_secs_f64())
+            }
+            Ending::Interrupted => "check was interrupted during the build".to_string(),
+            Ending::OverBudget(_) => "the build was not run".to_string(),
+            Ending::NotStarted(why) => format!("the build could not be started: {why}"),
+        };
+        Built {
+            ok: ran.ending == Ending::Success,
+            ending,
+            output: super::last_lines(&ran.stderr, 40),
+            seconds: ran.seconds,
+        }
+    }
+
+    /// As `summary.json` writes it.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "ok": self.ok,
+            "ending": self.ending,
+            "output": self.output,
+            "seconds": self.seconds,
+        })
+    }
+}
+
+/// The students of a roster, by name (the folder's), in name order, this shard's only.
+pub fn students(
+    roster: &Path,
+    shard: Option<(usize, usize)>,
+) -> Result<Vec<(String, PathBuf)>, String> {
+    let entries =
+        std::fs::read_dir(roster).map_err(|e| format!("--class {}: {e}", roster.display()))?;
+    let mut students: Vec<(String, PathBuf)> = entries
+        .filter_map(Result::ok)
+        .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
+        .filter_map(|e| Some((e.file_name().into_string().ok()?, e.path())))
+        .filter(|(name, _)| !name.starts_with('.'))
+        .collect();
+    students.sort();
+    if students.is_empty() {
+        return Err(format!(
+            "--class {}: no submissions (one folder a student)",
+            roster.display()
+        ));
+    }
+    if let Some((k, n)) = shard {
+        students = students
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| i % n == k - 1)
+            .map(|(_, s)| s)
+            .collect();
+    }
+    Ok(students)
+}
+
+/// One student graded: their name, the check of their renderer (its report written, when one
+/// was asked for), their build.
+#[derive(Debug)]
+pub struct Graded {
+    /// The submission folder's name.
+    pub name: String,
+    /// Their pictures, graded.
+    pub checked: Checked,
+    /// Their build, when `--build` was given.
+    pub built: Option<Built>,
+    /// Their `summary.json`.
+    pub summary: serde_json::Value,
+}
+
+/// Grades one student: copies the submission into `scratch`, builds it, grades its renderer
+/// (`renderer`, its first word relative to the submission when it holds a `/`), and writes
+/// their report into `report` (a folder of the class's report being built) when there is one.
+#[allow(clippy::too_many_arguments)]
+pub fn grade_student(
+    prepared: &Prepared,
+    options: &CheckOptions,
+    class: &ClassOptions,
+    (name, folder): &(String, PathBuf),
+    scratch: &Path,
+    report: Option<&Path>,
+    progress: &(dyn Fn() + Sync),
+    stop: &AtomicBool,
+) -> Result<Graded, String> {
+    let copy = scratch.join(name);
+    copy_tree(folder, &copy).map_err(|e| format!("{}: cannot copy it: {e}", folder.display()))?;
+    for private in [".home", ".tmp"] {
+        std::fs::create_dir_all(copy.join(private)).map_err(|e| e.to_string())?;
+    }
+    let readable: Vec<PathBuf> = std::iter::once(copy.clone())
+        .chain(options.readable.iter().cloned())
+        .collect();
+    let user = match cage::unprivileged_user(&readable) {
+        Some(Ok(user)) => {
+            own_tree(&copy, user).map_err(|e| format!("{}: {e}", copy.display()))?;
+            Some(user)
+        }
+        _ => None,
+    };
+    let built = class.build.as_ref().map(|build| {
+        let mut command = build.clone();
+        command[0] = in_submission(&command[0], &copy);
+        let request = Request {
+            command,
+            work: copy.clone(),
+            outputs: copy.clone(),
+            readable: readable.clone(),
+            limit: class.build_timeout,
+            limits: options.limits,
+            user,
+        };
+        Built::of(&cage::run(&request, stop))
+    });
+    let mut command = options.renderer.clone();
+    command[0] = in_submission(&command[0], &copy);
+    let staging = report.map(Staging::new).transpose()?;
+    let renderer = Renderer {
+        command: &command,
+        readable: &readable,
+        budget: class.budget,
+    };
+    let unbuilt = built.as_ref().filter(|b| !b.ok).map(|b| b.ending.clone());
+    let mut checked = match unbuilt {
+        // A submission that did not build is not run: each picture says so.
+        Some(why) => super::not_built(prepared, &why, staging),
+        None => grade_renderer(prepared, options, &renderer, staging, progress, stop)?,
+    };
+    checked.build = built.as_ref().map(Built::json);
+    let groups = super::renderer_verdict(&mut checked.graded);
+    let summary = super::summary_json(&checked, &groups, options.rule);
+    if let Some(staging) = checked.staging.take() {
+        super::write_report(staging, &checked, &groups, options.rule)?;
+    }
+    if stop.load(Ordering::Relaxed) {
+        checked.partial = true;
+    }
+    Ok(Graded {
+        name: name.clone(),
+        checked,
+        built,
+        summary,
+    })
+}
+
+/// A renderer or build command's first word: a path (it holds a `/`) is taken inside the
+/// submission; a bare name is left for the PATH.
+fn in_submission(word: &str, submission: &Path) -> String {
+    if word.contains('/') && Path::new(word).is_relative() {
+        submission.join(word).display().to_string()
+    } else {
+        word.to_string()
+    }
+}
+
+/// Copies the folder `from` to `to`: files, folders and links as they are (a link is read by
+/// no one but the caged renderer, which Landlock keeps inside).
+fn copy_tree(from: &Path, to: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(to)?;
+    for entry in std::fs::read_dir(from)? {
+        let entry = entry?;
+        let kind = entry.file_type()?;
+        let target = to.join(entry.file_name());
+        if kind.is_dir() {
+            copy_tree(&entry.path(), &target)?;
+        } else if kind.is_symlink() {
+            std::os::unix::fs::symlink(std::fs::read_link(entry.path())?, &target)?;
+        } else if kind.is_file() {
+            std::fs::copy(entry.path(), &target)?;
+        }
+    }
+    Ok(())
+}
+
+/// Gives the folder `root` and everything in it to `user`.
+fn own_tree(root: &Path, (uid, gid): (u32, u32)) -> std::io::Result<()> {
+    std::os::unix::fs::lchown(root, Some(uid), Some(gid))?;
+    if std::fs::symlink_metadata(root)?.is_dir() {
+        for entry in std::fs::read_dir(root)? {
+            own_tree(&entry?.path(), (uid, gid))?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,83 @@
+//! JUnit XML, as GitHub, GitLab and Jenkins read it: one `testsuite` named after the suite,
+//! one `testcase` a picture (`classname` the line, `name` the picture, `time` the line's
+//! seconds), a `failure` for a picture that fails and an `error` for one not made, the
+//! explanation and the renderer's last words in `system-out`.
+
+use super::{message, output, seconds};
+use crate::check::{Checked, Status};
+
+/// The XML of `checked`.
+pub fn xml(checked: &Checked) -> String {
+    let failures = checked
+        .graded
+        .iter()
+        .filter(|g| g.status == Status::Fail)
+        .count();
+    let errors = checked
+        .graded
+        .iter()
+        .filter(|g| g.status == Status::Error)
+        .count();
+    let mut xml = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+    xml.push_str(&format!(
+        "<testsuites name=\"raycast check\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\" time=\"{:.3}\">\n",
+        checked.graded.len(),
+        seconds(checked)
+    ));
+    xml.push_str(&format!(
+        "  <testsuite name=\"raycast check\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\" skipped=\"0\" time=\"{:.3}\">\n",
+        checked.graded.len(),
+        seconds(checked)
+    ));
+    for g in &checked.graded {
+        xml.push_str(&format!(
+            "    <testcase classname=\"{}\" name=\"{}\" time=\"{:.3}\">\n",
+            escape(&g.command),
+            escape(&g.name),
+            g.seconds
+        ));
+        let element = match g.status {
+            Status::Pass => None,
+            Status::Fail => Some("failure"),
+            Status::Error => Some("error"),
+        };
+        if let Some(element) = element {
+            let kind = g
+                .findings
+                .first()
+                .map(|f| f.code())
+                .unwrap_or_else(|| "unknown".into());
+            xml.push_str(&format!(
+                "      <{element} message=\"{}\" type=\"{}\">{}</{element}>\n",
+                escape(&message(g)),
+                escape(&kind),
+                escape(&g.explanation)
+            ));
+        }
+        xml.push_str(&format!(
+            "      <system-out>{}</system-out>\n    </testcase>\n",
+            escape(&output(g))
+        ));
+    }
+    xml.push_str("  </testsuite>\n</testsuites>\n");
+    xml
+}
+
+/// Text made safe in XML, in an element or an attribute; characters XML 1.0 cannot hold
+/// (controls other than tab and line breaks) become U+FFFD.
+fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\t' | '\n' | '\r' => out.push(c),
+            c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => out.push('\u{FFFD}'),
+            c => out.push(c),
+        }
+    }
+    out
+}

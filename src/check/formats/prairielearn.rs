@@ -1,0 +1,99 @@
+//! PrairieLearn's external grader results: `gradable`, `score` from 0 to 1, `message`, and
+//! one entry of `tests` a picture with `name`, `description`, `points`, `max_points`,
+//! `message`, `output` and, for a failing picture, its `images` (the renderer's, the reference
+//! and the heat map) as data URLs, as long as the whole stays within PrairieLearn's 1 MB.
+
+use std::path::Path;
+
+use serde_json::{Value, json};
+
+use super::{max_score, message, output, score, total};
+use crate::check::{Checked, Status};
+
+/// PrairieLearn refuses results over 1 MB; pictures are left out past this many bytes.
+const IMAGE_BUDGET: usize = 900 * 1024;
+
+/// The results of `checked`; the pictures are read from `dir`, the report's folder.
+pub fn results(checked: &Checked, dir: &Path) -> Value {
+    let mut budget = IMAGE_BUDGET;
+    let tests: Vec<Value> = checked
+        .graded
+        .iter()
+        .map(|g| {
+            let mut images = Vec::new();
+            if g.status != Status::Pass {
+                for (label, file) in [
+                    ("yours", &g.pictures.actual),
+                    ("reference", &g.pictures.reference),
+                    ("difference", &g.pictures.diff),
+                ] {
+                    let Some(bytes) = file.as_ref().and_then(|f| std::fs::read(dir.join(f)).ok())
+                    else {
+                        continue;
+                    };
+                    let url = format!("data:image/png;base64,{}", base64(&bytes));
+                    if url.len() > budget {
+                        continue;
+                    }
+                    budget -= url.len();
+                    images.push(json!({ "label": format!("{}: {label}", g.name), "url": url }));
+                }
+            }
+            json!({
+                "name": g.name,
+                "description": g.command,
+                "points": score(g),
+                "max_points": g.points,
+                "message": message(g),
+                "output": output(g),
+                "images": images,
+            })
+        })
+        .collect();
+    let most = max_score(checked);
+    json!({
+        "gradable": true,
+        "score": if most > 0.0 { total(checked) / most } else { 0.0 },
+        "message": format!("{} of {most} points", total(checked)),
+        "tests": tests,
+    })
+}
+
+/// Standard base64 with padding (RFC 4648).
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (i, &b)| n | u32::from(b) << (16 - 8 * i));
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * i) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn base64_is_rfc_4648s() {
+        // The RFC's own test vectors.
+        for (text, encoded) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            assert_eq!(super::base64(text.as_bytes()), encoded);
+        }
+    }
+}
