@@ -13,27 +13,40 @@ use crate::image_io::{self, ImageFormat};
 /// The usage of the two subcommands.
 pub const CHECK_USAGE: &str = "\
 usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
-                     [--max-bad FRACTION] [--jobs N] [--timeout SECONDS]
+                     [--max-bad FRACTION] [--jobs N] [--timeout SECONDS] [--shard K/N]
                      [--memory SIZE] [--allow-read PATH]... [--keep-preview-options]
+       raycast check SUITE --class ROSTER --renderer CMD [--build CMD] [--build-timeout S]
+                     [--budget SECONDS] [the options above]
+       raycast check merge OUT DIR...
        raycast diff IMAGE REFERENCE [--out DIFF.png] [--tolerance LEVELS] [--max-bad FRACTION]
 
 check runs every line of SUITE/COMMANDS.txt ('raytracer ARGS') as 'CMD ARGS' in a scratch
-copy of SUITE/scenes, and compares each image with its reference, SUITE/reference/NAME.png or
-SUITE/reference/*/NAME.png (or, where the suite has none, with raycast's own render of the same
-line). It names the likely cause of each mismatch, and writes DIR/summary.json and
-DIR/index.html with --report. CMD is the renderer's command, one argument split into words as a
-POSIX shell splits them (quotes and backslashes; no expansion): --renderer \"python3 'my
-tracer.py'\". -gui, -tessellation and -gouraud, which only drive the course's OpenGL preview,
-are dropped from the lines (--keep-preview-options passes them on). Lines run --jobs at a time
-(default: one a core), each handed out as a worker comes free.
+folder with copies of the files the line reads, and compares each image with its reference,
+SUITE/reference/NAME.png or SUITE/reference/*/NAME.png (or, where the suite has none, with
+raycast's own render of the same line). It names the likely cause of each mismatch, and with
+--report writes DIR/summary.json, DIR/index.html and the grades for Gradescope
+(gradescope.json), PrairieLearn (prairielearn.json), JUnit readers (junit.xml) and GitHub
+Classroom (github-classroom.json), each picture worth the points SUITE/POINTS gives it (one by
+default). CMD is the renderer's command, one argument split into words as a POSIX shell splits
+them (quotes and backslashes; no expansion): --renderer \"python3 'my tracer.py'\". -gui,
+-tessellation and -gouraud, which only drive the course's OpenGL preview, are dropped from the
+lines (--keep-preview-options passes them on). Lines run --jobs at a time (default: one a
+core), each handed out as a worker comes free; --shard K/N runs every Nth line from the Kth.
 Each line's renderer runs caged (docs/check.md, \"The cage\"): as user nobody when check runs as
 root, under Landlock (it reads the system's files, its own program's folder and --allow-read
-paths; it writes its work and output folders only), in its own PID and network namespaces,
-with --memory of address space (default 4G), files of at most 256 MiB, a private HOME and
-TMPDIR, and everything it started ended with it. Ctrl-C ends the renderers and writes what was
-graded, marked partial.
+paths; it writes its work and output folders only), in a network namespace of its own, with
+--memory of address space (default 4G), files of at most 256 MiB, a private HOME and TMPDIR,
+and everything it started ended with it. Ctrl-C ends the renderers and writes what was graded,
+marked partial (exit 130).
+--class grades each folder of ROSTER as one student's submission: copied, built with --build
+in its folder (caged, --build-timeout seconds, default 120), its renderer (CMD's first word
+taken inside the submission) graded; the class's table on the terminal and in DIR/class.csv
+and DIR/class.html, each student's report in DIR/STUDENT/. --budget bounds a student's lines
+together; those left when it is spent are not run. --shard K/N grades every Nth student from
+the Kth; merge joins the shards' report folders into the one report a single run makes.
 An image passes when at most FRACTION of its pixels (default 0.001) are off by more than
-LEVELS (default 2). Exit status: 0 all pass, 1 some fail, 2 a usage or suite error.";
+LEVELS (default 2). Exit status: 0 all pass (for a class: graded), 1 some fail, 2 a usage or
+suite error.";
 
 fn say(mut to: impl Write, text: &str) {
     let _ = writeln!(to, "{text}");
@@ -248,6 +261,13 @@ pub(super) fn stop_on_signals() -> std::sync::Arc<std::sync::atomic::AtomicBool>
 
 /// `raycast check ...` (arguments after `check`).
 pub fn run_check(args: Vec<OsString>) -> ExitCode {
+    if args.first().is_some_and(|a| a == "merge") {
+        let words: Vec<String> = args[1..]
+            .iter()
+            .map(|a| a.to_string_lossy().into_owned())
+            .collect();
+        return super::class::run_merge(&words);
+    }
     let options = match parse_check_args(args) {
         Ok(Some((options, Some(class)))) => return super::class::run_class(options, class),
         Ok(Some((options, None))) => options,

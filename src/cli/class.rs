@@ -13,6 +13,89 @@ fn fail(message: &str) -> ExitCode {
     ExitCode::from(2)
 }
 
+/// `raycast check merge OUT DIR...`: the reports of shards of a class (`--shard K/N`) joined
+/// into the report one run over the whole class makes.
+pub fn run_merge(args: &[String]) -> ExitCode {
+    let Some((out, shards)) = args.split_first().filter(|(_, shards)| !shards.is_empty()) else {
+        return fail(
+            "merge needs OUT and the shards' report folders: raycast check merge OUT DIR...",
+        );
+    };
+    let staging = match Staging::new(std::path::Path::new(out)) {
+        Ok(staging) => staging,
+        Err(message) => return fail(&message),
+    };
+    let mut rows = Vec::new();
+    let mut partial = false;
+    for shard in shards {
+        let shard = std::path::Path::new(shard);
+        let summary = std::fs::read_to_string(shard.join("summary.json"))
+            .ok()
+            .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok());
+        let Some(summary) = summary.filter(|s| s["class"] == true) else {
+            return fail(&format!(
+                "{}: not the report of a class (no summary.json of a --class run)",
+                shard.display()
+            ));
+        };
+        partial |= summary["partial"] == true;
+        for student in summary["students"].as_array().into_iter().flatten() {
+            let Some(name) = student["name"].as_str() else {
+                continue;
+            };
+            let target = staging.path().join(name);
+            if target.exists() {
+                return fail(&format!(
+                    "{name} is in two shards ({} is one): were they made with the same roster?",
+                    shard.display()
+                ));
+            }
+            let own = std::fs::read_to_string(shard.join(name).join("summary.json"))
+                .ok()
+                .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok());
+            let Some(own) = own else {
+                return fail(&format!("{}: no report of {name}", shard.display()));
+            };
+            if let Err(e) = class::copy_tree(&shard.join(name), &target) {
+                return fail(&format!("{}: {e}", shard.join(name).display()));
+            }
+            rows.push(table::Row::of(name, &own));
+        }
+    }
+    rows.sort_by(|a, b| a.name.cmp(&b.name));
+    let mut out_text = std::io::stdout().lock();
+    let _ = write!(out_text, "{}", table::terminal(&rows));
+    match finish(staging, &rows, partial) {
+        Ok(()) => {
+            let _ = writeln!(
+                out_text,
+                "report: {}",
+                std::path::Path::new(out).join("class.html").display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(message) => fail(&format!("cannot write the report: {message}")),
+    }
+}
+
+/// Writes the class's files beside the students' reports, and puts the report in its place.
+fn finish(staging: Staging, rows: &[table::Row], partial: bool) -> Result<(), String> {
+    let dir = staging.path().to_path_buf();
+    let files = [
+        ("class.csv", table::csv(rows)),
+        ("class.html", table::html(rows, partial)),
+        (
+            "summary.json",
+            serde_json::to_string_pretty(&table::json(rows, partial)).unwrap_or_default() + "\n",
+        ),
+    ];
+    for (name, text) in files {
+        std::fs::write(dir.join(name), text)
+            .map_err(|e| format!("{}: {e}", dir.join(name).display()))?;
+    }
+    staging.place()
+}
+
 /// Grades every student of `class.roster`; exit status 0 once the class is graded (whatever
 /// the grades), 130 when interrupted, 2 for a usage or suite problem.
 pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
@@ -88,25 +171,7 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
     let mut out = std::io::stdout().lock();
     let _ = write!(out, "{}", table::terminal(&rows));
     if let Some(staging) = staging {
-        let dir = staging.path().to_path_buf();
-        let files = [
-            ("class.csv", table::csv(&rows)),
-            ("class.html", table::html(&rows, partial)),
-            (
-                "summary.json",
-                serde_json::to_string_pretty(&table::json(&rows, partial)).unwrap_or_default()
-                    + "\n",
-            ),
-        ];
-        for (name, text) in files {
-            if let Err(e) = std::fs::write(dir.join(name), text) {
-                return fail(&format!(
-                    "cannot write the report: {}: {e}",
-                    dir.join(name).display()
-                ));
-            }
-        }
-        if let Err(message) = staging.place() {
+        if let Err(message) = finish(staging, &rows, partial) {
             return fail(&format!("cannot write the report: {message}"));
         }
         if let Some(place) = &options.report {

@@ -204,7 +204,7 @@ fn in_submission(word: &str, submission: &Path) -> String {
 
 /// Copies the folder `from` to `to`: files, folders and links as they are (a link is read by
 /// no one but the caged renderer, which Landlock keeps inside).
-fn copy_tree(from: &Path, to: &Path) -> std::io::Result<()> {
+pub fn copy_tree(from: &Path, to: &Path) -> std::io::Result<()> {
     std::fs::create_dir_all(to)?;
     for entry in std::fs::read_dir(from)? {
         let entry = entry?;

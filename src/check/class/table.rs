@@ -204,7 +204,7 @@ pub fn html(rows: &[Row], partial: bool) -> String {
             })
             .collect();
         body.push_str(&format!(
-            "<tr class=\"{}\"><td><a href=\"{}/index.html\">{}</a></td><td>{}/{}</td><td>{}/{}</td>{cells}<td>{}</td><td>{:.1}</td><td>{}</td></tr>\n",
+            "<tr class=\"{}\"><td><a href=\"{}/index.html\">{}</a></td><td>{}/{}</td><td>{}/{}</td>{cells}<td>{}</td><td class=\"seconds\">{:.1}</td><td>{}</td></tr>\n",
             if r.passed == r.total { "pass" } else { "fail" },
             escape(&r.name),
             escape(&r.name),

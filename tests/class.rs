@@ -1,0 +1,404 @@
+//! Grading a class with `raycast check --class`: submissions built and graded in one command,
+//! the class's table, the platforms' formats (read by parsers that are not ours: Python's csv,
+//! json and junitparser), points, a time budget, and shards merged into the report one run
+//! makes.
+
+mod common;
+
+use common::data_dir;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const RAYCAST: &str = env!("CARGO_BIN_EXE_raycast");
+
+fn conformance_dir() -> Option<PathBuf> {
+    data_dir(
+        "the class tests",
+        "RAYCAST_CONFORMANCE_DIR",
+        "../shared/conformance",
+        "COMMANDS.txt",
+    )
+}
+
+/// A suite of the conformance suite's first `lines` lines, with its references and a POINTS
+/// file giving `output2_01` three points.
+fn suite(dir: &Path, conformance: &Path, lines: usize) -> PathBuf {
+    let suite = dir.join("suite");
+    std::fs::create_dir_all(&suite).unwrap();
+    let commands: Vec<String> = std::fs::read_to_string(conformance.join("COMMANDS.txt"))
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with("raytracer -input scene2"))
+        .take(lines)
+        .map(String::from)
+        .collect();
+    std::fs::write(suite.join("COMMANDS.txt"), commands.join("\n") + "\n").unwrap();
+    std::fs::write(
+        suite.join("POINTS"),
+        "# the first picture counts more\noutput2_01 3\n",
+    )
+    .unwrap();
+    std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
+    std::os::unix::fs::symlink(conformance.join("reference"), suite.join("reference")).unwrap();
+    suite
+}
+
+/// A roster: each student a folder with a Makefile that makes `raytracer` from `raytracer.in`
+/// (a script around raycast, with a fault planted where one is named), or fails to.
+fn roster(dir: &Path, students: &[(&str, &str)]) -> PathBuf {
+    let roster = dir.join("roster");
+    for (name, kind) in students {
+        let folder = roster.join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        let script = match *kind {
+            "correct" => format!("#!/bin/sh\nexec {RAYCAST} \"$@\"\n"),
+            "broken" => "this is not a script\n".to_string(),
+            "slow" => format!("#!/bin/sh\nsleep 0.6\nexec {RAYCAST} \"$@\"\n"),
+            "snoop" => {
+                "#!/bin/sh\ncat ../*/raytracer.in ../../*/*/raytracer.in >&2\nexit 1\n".to_string()
+            }
+            fault => format!("#!/bin/sh\nexec {RAYCAST} -fault {fault} \"$@\"\n"),
+        };
+        std::fs::write(folder.join("raytracer.in"), script).unwrap();
+        std::fs::write(
+            folder.join("Makefile"),
+            "raytracer: raytracer.in\n\tgrep -q '^#!' raytracer.in\n\tcp raytracer.in raytracer\n\tchmod +x raytracer\n",
+        )
+        .unwrap();
+    }
+    open_to_all(dir);
+    roster
+}
+
+/// Opens `dir` and everything in it to every user (the renderers run as nobody under root).
+fn open_to_all(dir: &Path) {
+    let mode = |p: &Path| if p.is_dir() { 0o755 } else { 0o644 };
+    for entry in walk(dir) {
+        let _ = std::fs::set_permissions(&entry, std::fs::Permissions::from_mode(mode(&entry)));
+    }
+}
+
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut found = vec![dir.to_path_buf()];
+    if std::fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir()) {
+        for entry in std::fs::read_dir(dir).unwrap().flatten() {
+            found.extend(walk(&entry.path()));
+        }
+    }
+    found
+}
+
+fn check(args: &[&str]) -> Output {
+    Command::new(RAYCAST)
+        .arg("check")
+        .args(args)
+        .args([
+            "--allow-read",
+            Path::new(RAYCAST).parent().unwrap().to_str().unwrap(),
+        ])
+        .output()
+        .unwrap()
+}
+
+fn text(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr)
+}
+
+/// Runs Python on `program` with `args`; its stdout.
+fn python(program: &str, args: &[&Path]) -> String {
+    let output = Command::new("python3")
+        .arg("-c")
+        .arg(program)
+        .args(args)
+        .output()
+        .expect("python3 reads the formats");
+    assert!(output.status.success(), "{}", text(&output));
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+#[test]
+fn a_class_is_graded_in_one_command_with_its_table_and_formats() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &conformance, 4);
+    let roster = roster(
+        dir.path(),
+        &[
+            ("alice", "correct"),
+            ("bob", "pixel_corner"),
+            ("carol", "ambient_missing"),
+            ("dave", "broken"),
+            ("eve", "snoop"),
+        ],
+    );
+    let report = dir.path().join("report");
+    let output = check(&[
+        suite.to_str().unwrap(),
+        "--class",
+        roster.to_str().unwrap(),
+        "--build",
+        "make",
+        "--renderer",
+        "./raytracer",
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    // The terminal's table: one row a student, the verdict naming each one's fault.
+    for row in [
+        "alice          6/6          8/8",
+        "bob            0/6          0/8",
+        "carol",
+        "dave           0/6          0/8",
+    ] {
+        assert!(out.contains(row), "no '{row}' in:\n{out}");
+    }
+    assert!(out.contains("pixel_corner / A2 0/6"), "{out}");
+    assert!(out.contains("ambient_missing"), "{out}");
+    assert!(out.contains("the build exited with status 2"), "{out}");
+    // The CSV, read by Python's csv module.
+    let rows = python(
+        "import csv, sys\n\
+         for r in csv.DictReader(open(sys.argv[1], newline='')):\n\
+         \x20   print(r['student'], r['passed'], r['pictures'], r['points'], r['max_points'], r['A2 passed'], r['verdict'], r['report'])",
+        &[&report.join("class.csv")],
+    );
+    let rows: Vec<&str> = rows.lines().collect();
+    assert_eq!(rows.len(), 5, "{rows:?}");
+    assert_eq!(rows[0], "alice 6 6 8 8 6  alice/index.html");
+    assert_eq!(rows[1], "bob 0 6 0 8 0 pixel_corner bob/index.html");
+    assert!(
+        rows[2].starts_with("carol ") && rows[2].contains(" ambient_missing "),
+        "{rows:?}"
+    );
+    assert_eq!(rows[3], "dave 0 6 0 8 0 build_failed dave/index.html");
+    assert_eq!(rows[4], "eve 0 6 0 8 0 crash eve/index.html");
+
+    let page = std::fs::read_to_string(report.join("class.html")).unwrap();
+    assert!(
+        page.contains("<a href=\"bob/index.html\">bob</a>"),
+        "{page}"
+    );
+    for student in ["alice", "bob", "carol", "dave", "eve"] {
+        assert!(report.join(student).join("index.html").is_file());
+    }
+    // A student cannot read another's submission: eve's renderer said nothing of the others.
+    let eve = std::fs::read_to_string(report.join("eve/summary.json")).unwrap();
+    assert!(!eve.contains("-fault"), "{eve}");
+    // The build's account is in the student's own summary.
+    let dave = std::fs::read_to_string(report.join("dave/summary.json")).unwrap();
+    assert!(dave.contains("\"ok\": false"), "{dave}");
+    assert!(dave.contains("build_failed"), "{dave}");
+
+    // Gradescope's results.json, field by field as its documentation lists them.
+    let gradescope = python(
+        "import json, sys\n\
+         r = json.load(open(sys.argv[1]))\n\
+         assert set(r) >= {'score', 'execution_time', 'tests'}, r.keys()\n\
+         assert isinstance(r['execution_time'], int)\n\
+         for t in r['tests']:\n\
+         \x20   assert set(t) >= {'name', 'score', 'max_score', 'status', 'output', 'visibility'}, t\n\
+         \x20   assert t['status'] in ('passed', 'failed') and t['visibility'] in ('visible', 'hidden', 'after_due_date', 'after_published')\n\
+         \x20   assert 0 <= t['score'] <= t['max_score']\n\
+         print(r['score'], sum(t['max_score'] for t in r['tests']), r['tests'][0]['status'], r['tests'][1]['status'])",
+        &[&report.join("carol/gradescope.json")],
+    );
+    assert_eq!(gradescope.trim(), "5.0 8.0 passed failed");
+    // PrairieLearn's external grader results, within its 1 MB, pictures as PNG data URLs.
+    let prairielearn = python(
+        "import json, sys, base64, os\n\
+         assert os.path.getsize(sys.argv[1]) < 1_000_000\n\
+         r = json.load(open(sys.argv[1]))\n\
+         assert r['gradable'] is True and 0 <= r['score'] <= 1\n\
+         images = 0\n\
+         for t in r['tests']:\n\
+         \x20   assert set(t) >= {'name', 'points', 'max_points', 'message', 'output'}, t\n\
+         \x20   for i in t.get('images', []):\n\
+         \x20       head, data = i['url'].split(',', 1)\n\
+         \x20       assert head == 'data:image/png;base64' and base64.b64decode(data)[:8] == b'\\x89PNG\\r\\n\\x1a\\n'\n\
+         \x20       images += 1\n\
+         print(round(r['score'], 4), images > 0)",
+        &[&report.join("bob/prairielearn.json")],
+    );
+    assert_eq!(prairielearn.trim(), "0.0 True");
+    // JUnit XML, as junitparser reads it.
+    let junit = python(
+        "import sys\n\
+         from junitparser import JUnitXml, Failure, Error\n\
+         x = JUnitXml.fromfile(sys.argv[1])\n\
+         for suite in x:\n\
+         \x20   kinds = [type(r).__name__ for case in suite for r in case.result]\n\
+         \x20   print(suite.tests, suite.failures, suite.errors, kinds.count('Failure'), kinds.count('Error'))",
+        &[&report.join("dave/junit.xml")],
+    );
+    assert_eq!(junit.trim(), "6 0 6 0 6");
+    // GitHub Classroom's autograding result.
+    let classroom = python(
+        "import json, sys\n\
+         r = json.load(open(sys.argv[1]))\n\
+         assert r['version'] == 1\n\
+         for t in r['tests']:\n\
+         \x20   assert set(t) >= {'name', 'status', 'score', 'message', 'test_code', 'duration'}\n\
+         print(r['status'], r['max_score'], [t['status'] for t in r['tests']].count('pass'))",
+        &[&report.join("alice/github-classroom.json")],
+    );
+    assert_eq!(classroom.trim(), "pass 8.0 6");
+}
+
+#[test]
+fn a_budget_leaves_a_slow_student_partial_results() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &conformance, 6);
+    let roster = roster(dir.path(), &[("slow", "slow")]);
+    let report = dir.path().join("report");
+    let output = check(&[
+        suite.to_str().unwrap(),
+        "--class",
+        roster.to_str().unwrap(),
+        "--build",
+        "make",
+        "--renderer",
+        "./raytracer",
+        "--budget",
+        "1.5",
+        "--jobs",
+        "1",
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    let summary = std::fs::read_to_string(report.join("slow/summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
+    let statuses: Vec<(String, String)> = summary["images"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| {
+            (
+                i["status"].as_str().unwrap().to_string(),
+                i["diagnoses"][0]["code"].as_str().unwrap_or("").to_string(),
+            )
+        })
+        .collect();
+    let passed = statuses.iter().filter(|(s, _)| s == "pass").count();
+    let over = statuses.iter().filter(|(_, c)| c == "over_budget").count();
+    assert!(passed >= 1 && over >= 1, "{statuses:?}");
+}
+
+#[test]
+fn shards_merge_into_the_report_one_run_makes() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &conformance, 3);
+    let roster = roster(
+        dir.path(),
+        &[
+            ("ann", "correct"),
+            ("ben", "pixel_corner"),
+            ("cat", "channel_swap"),
+        ],
+    );
+    let run = |report: &Path, shard: Option<&str>| {
+        let mut args = vec![
+            suite.to_str().unwrap(),
+            "--class",
+            roster.to_str().unwrap(),
+            "--renderer",
+            "./raytracer.in",
+            "--report",
+            report.to_str().unwrap(),
+        ];
+        if let Some(shard) = shard {
+            args.extend(["--shard", shard]);
+        }
+        let output = check(&args);
+        assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    };
+    for student in ["ann", "ben", "cat"] {
+        let script = roster.join(student).join("raytracer.in");
+        std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let whole = dir.path().join("whole");
+    run(&whole, None);
+    let (one, two) = (dir.path().join("one"), dir.path().join("two"));
+    run(&one, Some("1/2"));
+    run(&two, Some("2/2"));
+    let merged = dir.path().join("merged");
+    let output = Command::new(RAYCAST)
+        .args(["check", "merge"])
+        .args([&merged, &one, &two])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    // The same files, the same contents apart from times.
+    let without_times = |path: &Path| -> String {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        text.lines()
+            .filter(|l| !l.contains("seconds") && !l.contains("duration") && !l.contains("time"))
+            .map(|l| {
+                // class.csv's seconds column (one assignment: the ninth), class.html's cells.
+                if path.extension().is_some_and(|e| e == "csv") {
+                    l.split(',').take(8).collect::<Vec<_>>().join(",")
+                } else if l.contains("<td class=\"seconds\">") {
+                    let mut parts = l.split("<td class=\"seconds\">");
+                    let first = parts.next().unwrap_or("").to_string();
+                    first
+                        + &parts
+                            .map(|part| part.split_once("</td>").map_or(part, |(_, rest)| rest))
+                            .collect::<String>()
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let files = |root: &Path| -> Vec<PathBuf> {
+        let mut files: Vec<PathBuf> = walk(root)
+            .into_iter()
+            .filter(|p| p.is_file())
+            .map(|p| p.strip_prefix(root).unwrap().to_path_buf())
+            .collect();
+        files.sort();
+        files
+    };
+    assert_eq!(files(&merged), files(&whole));
+    for file in files(&whole) {
+        if file.extension().is_some_and(|e| e == "png") {
+            assert_eq!(
+                std::fs::read(merged.join(&file)).unwrap(),
+                std::fs::read(whole.join(&file)).unwrap(),
+                "{}",
+                file.display()
+            );
+        } else {
+            assert_eq!(
+                without_times(&merged.join(&file)),
+                without_times(&whole.join(&file)),
+                "{}",
+                file.display()
+            );
+        }
+    }
+    // A shard given twice is refused.
+    let output = Command::new(RAYCAST)
+        .args(["check", "merge"])
+        .args([&dir.path().join("again"), &one, &one])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        text(&output).contains("is in two shards"),
+        "{}",
+        text(&output)
+    );
+}
