@@ -116,8 +116,7 @@ const IMAGE_OPTIONS: [(&str, usize); 5] = [
 
 impl Suite {
     /// Reads `root/COMMANDS.txt` and checks that `root/scenes` exists. A suite is bounded: at
-    /// most [`MAX_COMMANDS_BYTES`] of `COMMANDS.txt`, [`MAX_LINES`] lines, [`MAX_OUTPUTS`]
-    /// pictures a line.
+    /// most 1 MiB of `COMMANDS.txt`, 10,000 lines, 8 pictures a line.
     pub fn read(root: &Path) -> Result<Suite, String> {
         use std::io::Read;
         let commands = root.join("COMMANDS.txt");
