@@ -402,3 +402,48 @@ fn shards_merge_into_the_report_one_run_makes() {
         text(&output)
     );
 }
+
+#[test]
+fn raycasts_own_references_are_made_once_and_kept_for_the_next_run() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // A suite without references: every picture graded against raycast's own render.
+    let suite = dir.path().join("suite");
+    std::fs::create_dir_all(suite.join("scenes")).unwrap();
+    std::fs::copy(
+        conformance.join("scenes/scene2_01_diffuse.txt"),
+        suite.join("scenes/scene2_01_diffuse.txt"),
+    )
+    .unwrap();
+    std::fs::write(
+        suite.join("COMMANDS.txt"),
+        "raytracer -input scene2_01_diffuse.txt -size 40 40 -output a.tga\n",
+    )
+    .unwrap();
+    let cache = dir.path().join("cache");
+    let run = || {
+        let output = Command::new(RAYCAST)
+            .args(["check", suite.to_str().unwrap(), "--renderer", RAYCAST])
+            .env("RAYCAST_CACHE_DIR", &cache)
+            .output()
+            .unwrap();
+        text(&output)
+    };
+    assert!(run().contains("pass   a"), "{}", run());
+    let kept: Vec<PathBuf> = walk(&cache)
+        .into_iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "png"))
+        .collect();
+    assert_eq!(kept.len(), 1, "{kept:?}");
+    // The next run reads the kept render: blackened, the picture fails against it.
+    let black = image::RgbImage::new(40, 40);
+    black.save(&kept[0]).unwrap();
+    assert!(run().contains("FAIL   a"), "{}", run());
+    // A changed scene is another key: rendered anew, it passes again.
+    let scene = suite.join("scenes/scene2_01_diffuse.txt");
+    let text_of_scene = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(&scene, text_of_scene + "\n").unwrap();
+    assert!(run().contains("pass   a"), "{}", run());
+}

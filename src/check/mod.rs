@@ -2,6 +2,7 @@
 //! lines and reference images, and names the likely cause of each mismatch; `raycast diff`: the
 //! same comparison for two image files.
 
+mod cache;
 mod cage;
 pub mod class;
 pub mod diagnose;
@@ -571,8 +572,11 @@ fn references_of(suite: &Suite, line: &Line) -> References {
             |(k, (_, name))| match suite.reference(&suite::image_name(name)) {
                 Some(path) => (read_image(&path), false),
                 None => {
-                    let pictures =
-                        own.get_or_init(|| simulate::course_pictures(line, &suite.scenes));
+                    let pictures = own.get_or_init(|| {
+                        cache::pictures(line, &suite.scenes, || {
+                            simulate::course_pictures(line, &suite.scenes)
+                        })
+                    });
                     let picture = match pictures {
                         Ok(pictures) => pictures
                             .get(k)
