@@ -447,3 +447,47 @@ fn raycasts_own_references_are_made_once_and_kept_for_the_next_run() {
     std::fs::write(&scene, text_of_scene + "\n").unwrap();
     assert!(run().contains("pass   a"), "{}", run());
 }
+
+#[test]
+fn the_gradescope_example_grades_a_submission_laid_out_as_gradescope_lays_it_out() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let root = tempfile::tempdir().unwrap();
+    let source = root.path().join("source");
+    std::fs::create_dir_all(&source).unwrap();
+    suite(&source, &conformance, 2);
+    // The student's renderer: raycast itself, as their program.
+    let submission = root.path().join("submission");
+    std::fs::create_dir_all(&submission).unwrap();
+    std::fs::copy(RAYCAST, submission.join("raytracer")).unwrap();
+    open_to_all(root.path());
+    std::fs::set_permissions(
+        submission.join("raytracer"),
+        std::fs::Permissions::from_mode(0o755),
+    )
+    .unwrap();
+    let script =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/examples/gradescope/run_autograder");
+    let output = Command::new("bash")
+        .arg(&script)
+        .env("AUTOGRADER_ROOT", root.path())
+        .env("RAYCAST", RAYCAST)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", text(&output));
+    let results = root.path().join("results/results.json");
+    let summary = python(
+        "import json, sys\n\
+         r = json.load(open(sys.argv[1]))\n\
+         print(r['score'], len(r['tests']), all(t['status'] == 'passed' for t in r['tests']))",
+        &[&results],
+    );
+    // Two pictures: output2_01 worth 3 points (the suite's POINTS), output2_02 one.
+    assert_eq!(
+        summary.trim(),
+        "4.0 2 True",
+        "{}",
+        std::fs::read_to_string(root.path().join("check.log")).unwrap_or_default()
+    );
+}
