@@ -389,6 +389,61 @@ fn shards_merge_into_the_report_one_run_makes() {
             );
         }
     }
+    // One renderer's lines in three shards, merged: the report one run makes.
+    let renderer = roster.join("ben/raytracer.in");
+    let run_lines = |report: &Path, shard: Option<&str>| {
+        let mut args = vec![
+            suite.to_str().unwrap(),
+            "--renderer",
+            renderer.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+        ];
+        if let Some(shard) = shard {
+            args.extend(["--shard", shard]);
+        }
+        check(&args)
+    };
+    let whole_lines = dir.path().join("whole-lines");
+    run_lines(&whole_lines, None);
+    let parts: Vec<PathBuf> = (1..=3)
+        .map(|k| {
+            let part = dir.path().join(format!("lines{k}"));
+            run_lines(&part, Some(&format!("{k}/3")));
+            part
+        })
+        .collect();
+    let merged_lines = dir.path().join("merged-lines");
+    let output = Command::new(RAYCAST)
+        .args(["check", "merge"])
+        .arg(&merged_lines)
+        .args(&parts)
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", text(&output));
+    assert!(
+        text(&output).contains("0 passed, 4 failed"),
+        "{}",
+        text(&output)
+    );
+    assert_eq!(files(&merged_lines), files(&whole_lines));
+    for file in files(&whole_lines) {
+        if file.extension().is_some_and(|e| e == "png") {
+            assert_eq!(
+                std::fs::read(merged_lines.join(&file)).unwrap(),
+                std::fs::read(whole_lines.join(&file)).unwrap(),
+                "{}",
+                file.display()
+            );
+        } else {
+            assert_eq!(
+                without_times(&merged_lines.join(&file)),
+                without_times(&whole_lines.join(&file)),
+                "{}",
+                file.display()
+            );
+        }
+    }
     // A shard given twice is refused.
     let output = Command::new(RAYCAST)
         .args(["check", "merge"])

@@ -87,6 +87,7 @@ impl Finding {
                     .iter()
                     .map(|&(name, value)| (name.to_string(), json!(value)))
                     .collect::<serde_json::Map<_, _>>(),
+                "parameter_order": m.parameters.iter().map(|&(name, _)| name).collect::<Vec<_>>(),
                 "match": m.bad_fraction,
                 "assignment": m.faults.iter().map(|f| f.assignment).collect::<Vec<_>>(),
                 "sentence": m.faults.iter().map(|f| f.sentence).collect::<Vec<_>>().join(" "),
@@ -99,6 +100,52 @@ impl Finding {
             }),
         }
     }
+}
+
+impl Finding {
+    /// A finding as [`Finding::json`] wrote it (a shard's `summary.json`); `None` for a code
+    /// this raycast does not know.
+    pub fn from_json(value: &Value) -> Option<Finding> {
+        let code = value["code"].as_str()?;
+        if value["kind"] != "fault" {
+            return Diagnosis::all()
+                .find(|d| d.code() == code)
+                .map(Finding::Diagnosis);
+        }
+        let faults = value["faults"]
+            .as_array()?
+            .iter()
+            .map(|name| super::faults::fault(name.as_str()?))
+            .collect::<Option<Vec<_>>>()?;
+        let parameters = value["parameter_order"]
+            .as_array()?
+            .iter()
+            .map(|name| {
+                let name = name.as_str()?;
+                Some((static_name(name), value["parameters"][name].as_f64()?))
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(Finding::Fault(FaultMatch {
+            faults,
+            parameters,
+            bad_fraction: value["match"].as_f64()?,
+        }))
+    }
+}
+
+/// A parameter's name read back, as the `&'static str` a fault names it by: each distinct name
+/// is kept once for the life of the process (a merge reads a handful).
+fn static_name(name: &str) -> &'static str {
+    static NAMES: std::sync::Mutex<Vec<&'static str>> = std::sync::Mutex::new(Vec::new());
+    let mut names = NAMES
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    if let Some(known) = names.iter().find(|&&known| known == name) {
+        return known;
+    }
+    let kept: &'static str = Box::leak(name.to_string().into_boxed_str());
+    names.push(kept);
+    kept
 }
 
 /// The fault matches among `findings`, in their order.

@@ -10,6 +10,7 @@ pub mod faults;
 mod finding;
 pub mod formats;
 mod guard;
+pub mod merge;
 mod output;
 mod report;
 mod rule;
@@ -140,6 +141,13 @@ pub struct Graded {
     pub pictures: Pictures,
     /// What a pass is worth (the suite's `POINTS`; one by default).
     pub points: f64,
+    /// The suite's line that makes it (its number, from 0) and which of the line's pictures
+    /// it is.
+    pub line: (usize, usize),
+    /// Where the verdict took the first of its findings from (it puts first the fault that
+    /// explains the most pictures), so that shards' findings can be put back in the order
+    /// simulation found them.
+    pub moved_from: Option<usize>,
 }
 
 /// The pixel where a failing picture differs most from its reference, and what raycast's
@@ -377,9 +385,7 @@ pub fn grade_renderer(
                 let (mut graded, confinement) =
                     grade_line(options, &caged, suite, line, references.clone(), &folder);
                 match &staging {
-                    Some(staging) => {
-                        staging.keep_pictures(number, &mut graded, options.rule.tolerance)
-                    }
+                    Some(staging) => staging.keep_pictures(&mut graded, options.rule.tolerance),
                     // Nothing needs the pixels once the line is graded.
                     None => graded.iter_mut().for_each(|g| {
                         g.actual = None;
@@ -423,6 +429,8 @@ pub fn not_built(prepared: &Prepared, why: &str, staging: Option<Staging>) -> Ch
                 let image_name = suite::image_name(name);
                 Graded {
                     points: prepared.suite.points(&image_name),
+                    line: (line.number, k),
+                    moved_from: None,
                     name: image_name,
                     command: line.command.clone(),
                     status: Status::Error,
@@ -746,6 +754,8 @@ fn grade(
         worst_pixel: None,
         pictures: Pictures::default(),
         points: 1.0,
+        line: (line.number, index),
+        moved_from: None,
     };
     let reference = match reference {
         Ok(image) => image,
@@ -1007,6 +1017,15 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
             "stderr": last_lines(&g.stderr, 20),
             "seconds": g.seconds,
             "points": g.points,
+            "line": g.line.0,
+            "output": g.line.1,
+            "picture": g.picture.option(),
+            "pictures": {
+                "actual": g.pictures.actual,
+                "reference": g.pictures.reference,
+                "diff": g.pictures.diff,
+            },
+            "verdict_moved_from": g.moved_from,
             "worst_pixel": g.worst_pixel.as_ref().map(|w| serde_json::json!({
                 "x": w.x, "y": w.y, "difference": w.difference, "ray_tree": w.ray_tree,
             })),

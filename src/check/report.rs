@@ -103,11 +103,13 @@ impl Staging {
         ))
     }
 
-    /// Writes the pictures of line `line` (its own, the references and the heat maps) and
-    /// names them in each `Graded`; their pixels are dropped either way.
-    pub fn keep_pictures(&self, line: usize, graded: &mut [Graded], tolerance: u8) {
-        for (k, g) in graded.iter_mut().enumerate() {
-            let name = |kind: &str| format!("{line:03}-{k}-{}-{kind}.png", safe(&g.name));
+    /// Writes the pictures of one line (its own, the references and the heat maps) and names
+    /// them in each `Graded`; their pixels are dropped either way.
+    pub fn keep_pictures(&self, graded: &mut [Graded], tolerance: u8) {
+        for g in graded.iter_mut() {
+            // Named by the suite's line, which a shard keeps: shards' pictures never collide.
+            let name =
+                |kind: &str| format!("{:03}-{}-{}-{kind}.png", g.line.0, g.line.1, safe(&g.name));
             let write = |kind: &str, image: &crate::shade::Image| -> Option<String> {
                 let file = name(kind);
                 let bytes = image_io::encode(image, ImageFormat::Png);

@@ -13,6 +13,8 @@ pub struct Line {
     pub args: Vec<String>,
     /// The images it writes: the argument's index and the file name given.
     pub outputs: Vec<(usize, String)>,
+    /// Its place among the suite's command lines, from 0 (a shard keeps the suite's numbers).
+    pub number: usize,
 }
 
 /// The options that only drive the course's OpenGL preview, with how many values each takes:
@@ -43,6 +45,32 @@ pub fn without_preview_options(args: &[String]) -> Vec<String> {
         }
     }
     kept
+}
+
+impl PictureKind {
+    /// The option that writes it, as `summary.json` names the kind.
+    pub fn option(self) -> &'static str {
+        match self {
+            PictureKind::Image => "-output",
+            PictureKind::Normals => "-normals",
+            PictureKind::Depth => "-depth",
+            PictureKind::Samples => "-render_samples",
+            PictureKind::Filter => "-render_filter",
+        }
+    }
+
+    /// The kind [`PictureKind::option`] names.
+    pub fn of_option(option: &str) -> Option<PictureKind> {
+        [
+            PictureKind::Image,
+            PictureKind::Normals,
+            PictureKind::Depth,
+            PictureKind::Samples,
+            PictureKind::Filter,
+        ]
+        .into_iter()
+        .find(|k| k.option() == option)
+    }
 }
 
 /// What kind of picture an option writes, which decides the advice a guess gives.
@@ -142,7 +170,10 @@ impl Suite {
             ));
         }
         let references = root.join("reference");
-        let lines: Vec<Line> = text.lines().filter_map(parse_line).collect();
+        let mut lines: Vec<Line> = text.lines().filter_map(parse_line).collect();
+        for (number, line) in lines.iter_mut().enumerate() {
+            line.number = number;
+        }
         if lines.len() > MAX_LINES {
             return Err(format!(
                 "{}: {} command lines, more than the {MAX_LINES} a suite may have",
@@ -278,6 +309,7 @@ pub fn parse_line(text: &str) -> Option<Line> {
         return None;
     }
     Some(Line {
+        number: 0,
         command: format!("raytracer {}", args.join(" ")),
         args,
         outputs,

@@ -52,6 +52,7 @@ pub fn verdict(graded: &mut [Graded]) -> Vec<Group> {
         if let Some(best) = best.filter(|&k| k > 0) {
             let chosen = g.findings.remove(best);
             g.findings.insert(0, chosen);
+            g.moved_from = Some(best);
             g.explanation = super::finding::explain(&g.findings, g.picture);
         }
     }

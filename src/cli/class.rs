@@ -13,8 +13,8 @@ fn fail(message: &str) -> ExitCode {
     ExitCode::from(2)
 }
 
-/// `raycast check merge OUT DIR...`: the reports of shards of a class (`--shard K/N`) joined
-/// into the report one run over the whole class makes.
+/// `raycast check merge OUT DIR...`: the reports of shards (`--shard K/N`) of a class, or of
+/// one renderer's lines, joined into the report one run makes.
 pub fn run_merge(args: &[String]) -> ExitCode {
     let Some((out, shards)) = args.split_first().filter(|(_, shards)| !shards.is_empty()) else {
         return fail(
@@ -25,6 +25,47 @@ pub fn run_merge(args: &[String]) -> ExitCode {
         Ok(staging) => staging,
         Err(message) => return fail(&message),
     };
+    if !check::merge::is_class(std::path::Path::new(&shards[0])) {
+        // The shards of one renderer's lines.
+        let shards: Vec<std::path::PathBuf> = shards.iter().map(std::path::PathBuf::from).collect();
+        let (checked, groups, rule) = match check::merge::merge(staging, &shards) {
+            Ok(merged) => merged,
+            Err(message) => return fail(&message),
+        };
+        let mut out_text = std::io::stdout().lock();
+        for line in check::verdict_lines(&groups) {
+            let _ = writeln!(out_text, "{line}");
+        }
+        for g in &checked.graded {
+            let _ = writeln!(out_text, "{}", check::verdict(g));
+        }
+        let passed = checked
+            .graded
+            .iter()
+            .filter(|g| g.status == check::Status::Pass)
+            .count();
+        let _ = writeln!(
+            out_text,
+            "{passed} passed, {} failed",
+            checked.graded.len() - passed
+        );
+        let mut checked = checked;
+        let written = match checked.staging.take() {
+            Some(staging) => check::write_report(staging, &checked, &groups, rule),
+            None => Err("no report was begun".to_string()),
+        };
+        return match written {
+            Ok(()) => {
+                let _ = writeln!(
+                    out_text,
+                    "report: {}",
+                    std::path::Path::new(out).join("index.html").display()
+                );
+                ExitCode::SUCCESS
+            }
+            Err(message) => fail(&format!("cannot write the report: {message}")),
+        };
+    }
     let mut rows = Vec::new();
     let mut partial = false;
     for shard in shards {

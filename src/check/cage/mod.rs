@@ -203,7 +203,7 @@ impl Confinement {
         })
     }
 
-    fn from_json(value: &serde_json::Value) -> Option<Confinement> {
+    pub(crate) fn from_json(value: &serde_json::Value) -> Option<Confinement> {
         Some(Confinement {
             user: value["user"].as_str()?.to_string(),
             landlock: value["landlock"].as_str()?.to_string(),
