@@ -37,6 +37,7 @@ impl World {
             0 => {}
             1 => self.packet_item(0, None, rays, t_min, nearest, tally),
             _ => {
+                let spread = Spread::of(rays);
                 for (part, around) in CoherentParts::new(Portable, rays) {
                     let (rays, nearest) = (&rays[part.clone()], &mut nearest[part]);
                     let Some(around) = around else {
@@ -56,7 +57,14 @@ impl World {
                         start,
                         |first, count, bounds| {
                             for item in first..first + count {
-                                self.packet_item(item, Some(bounds), rays, t_min, nearest, tally);
+                                self.packet_item(
+                                    item,
+                                    Some((bounds, spread)),
+                                    rays,
+                                    t_min,
+                                    nearest,
+                                    tally,
+                                );
                             }
                             nearest
                                 .iter()
@@ -72,13 +80,14 @@ impl World {
         }
     }
 
-    /// Item `i` against the rays of a packet that meet `bounds` (its box in the top-level
-    /// tree; `None` when there is no tree, and every ray tests it). A mesh is searched by the
-    /// packet; a sphere ray by ray.
+    /// Item `i` against the rays of a packet that meet `placed`'s box (the item's in the
+    /// top-level tree, with the packet's spread; `None` when there is no tree, and every ray
+    /// tests it). A mesh is searched by the packet where the packet is narrow beside it,
+    /// otherwise ray by ray, as a sphere is.
     fn packet_item<T: Tally>(
         &self,
         i: u32,
-        bounds: Option<&Aabb>,
+        placed: Option<(&Aabb, Spread)>,
         rays: &[Ray],
         t_min: f32,
         nearest: &mut [Option<Nearest>],
@@ -89,7 +98,7 @@ impl World {
         for ((ray, nearest), limit) in rays.iter().zip(nearest.iter()).zip(limits.iter_mut()) {
             let t_max = search_limit(nearest);
             // A ray that misses the item's box never tests it.
-            if bounds.is_none_or(|b| ray_meets_box(ray, b, t_min, t_max)) {
+            if placed.is_none_or(|(b, _)| ray_meets_box(ray, b, t_min, t_max)) {
                 *limit = t_max;
             }
         }
@@ -97,25 +106,33 @@ impl World {
         match *item {
             Item::Mesh {
                 mesh, transform, ..
-            } => {
-                // Under a Transform, the packet is carried into the mesh's space ray by ray,
-                // just as each ray alone would be; the bounds are then put around the carried
-                // rays, and t still counts along the world's rays.
-                let mut carried: ArrayVec<Ray, PACKET> = ArrayVec::new();
-                let rays = match transform {
-                    Item::WORLD_SPACE => rays,
-                    t => {
-                        let transform = &self.transforms[t as usize];
-                        carried.extend(rays.iter().map(|ray| transform.ray_to_object(ray)));
-                        &carried[..]
-                    }
+            } if placed.is_none_or(|(b, spread)| spread.narrow_beside(b)) => {
+                // Only the rays that meet the item's box go on: the bounds of the mesh's walk
+                // are put around them alone (an instance's box is often met by part of a
+                // packet), and only they are carried into its space.
+                let active: ArrayVec<u8, PACKET> = (0..rays.len() as u8)
+                    .filter(|&k| limits[k as usize] != ASKS_NOTHING)
+                    .collect();
+                if active.is_empty() {
+                    return;
+                }
+                // Under a Transform, each ray is carried into the mesh's space just as it alone
+                // would be; t still counts along the world's rays.
+                let carry = |ray: &Ray| match transform {
+                    Item::WORLD_SPACE => *ray,
+                    t => self.transforms[t as usize].ray_to_object(ray),
                 };
+                let carried: ArrayVec<Ray, PACKET> =
+                    active.iter().map(|&k| carry(&rays[k as usize])).collect();
+                let mut asked: ArrayVec<f32, PACKET> =
+                    active.iter().map(|&k| limits[k as usize]).collect();
                 let mut found = [None; PACKET];
-                let found = &mut found[..rays.len()];
-                self.meshes[mesh as usize].intersect_packet(rays, t_min, limits, found, tally);
-                for (found, nearest) in found.iter().zip(nearest) {
+                let found = &mut found[..active.len()];
+                self.meshes[mesh as usize]
+                    .intersect_packet(&carried, t_min, &mut asked, found, tally);
+                for (&k, found) in active.iter().zip(found.iter()) {
                     if let Some((t, triangle)) = *found {
-                        Nearest::item(t, i, triangle).replaces(nearest);
+                        Nearest::item(t, i, triangle).replaces(&mut nearest[k as usize]);
                     }
                 }
             }
@@ -130,5 +147,79 @@ impl World {
                 }
             }
         }
+    }
+}
+
+/// How far apart a packet's rays run: the largest distance between the first ray's unit
+/// direction and another's (about the angle between them, in radians), and the first ray's
+/// origin.
+#[derive(Clone, Copy)]
+struct Spread {
+    angle: f32,
+    origin: glam::Vec3A,
+}
+
+impl Spread {
+    /// A packet whose rays, where they reach a mesh, lie further apart than this share of the
+    /// mesh's box's diagonal is searched ray by ray: its rays' walks through the mesh's tree
+    /// share too little for the packet's common walk to pay (measured on 100 bunnies at
+    /// 1024²: the packet's walk took 2.9 times the rays' own; on one bunny filling the view,
+    /// the rays' own took 1.6 times the packet's).
+    const WIDEST: f32 = 0.03;
+
+    fn of(rays: &[Ray]) -> Spread {
+        let first = rays[0].direction.normalize_or_zero();
+        let angle = rays
+            .iter()
+            .map(|ray| (ray.direction.normalize_or_zero() - first).length())
+            .fold(0.0, f32::max);
+        Spread {
+            angle,
+            origin: rays[0].origin,
+        }
+    }
+
+    /// Whether the packet is narrow beside a mesh whose world box is `bounds`: its rays'
+    /// spread where they reach the box's centre is within [`Spread::WIDEST`] of its diagonal.
+    fn narrow_beside(self, bounds: &Aabb) -> bool {
+        let distance = ((bounds.min + bounds.max) * 0.5 - self.origin).length();
+        self.angle * distance <= Spread::WIDEST * (bounds.max - bounds.min).length()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3A;
+
+    #[test]
+    fn a_packet_is_narrow_beside_a_mesh_its_rays_reach_close_together() {
+        // Eight rays from the origin, 0.01 apart at unit distance (the widest 0.02).
+        let rays: Vec<Ray> = (0..8)
+            .map(|k| {
+                Ray::new(
+                    Vec3A::ZERO,
+                    Vec3A::new(0.01 * (k % 2) as f32, 0.01 * (k / 2 % 2) as f32, 1.0),
+                )
+            })
+            .collect();
+        let spread = Spread::of(&rays);
+        assert!(
+            (spread.angle - 0.01 * 2f32.sqrt()).abs() < 1e-4,
+            "{}",
+            spread.angle
+        );
+        // A box of diagonal 1.732 at distance 10: the rays are 0.14 apart there, 8 % of it.
+        let far = Aabb {
+            min: Vec3A::new(-0.5, -0.5, 9.5),
+            max: Vec3A::new(0.5, 0.5, 10.5),
+        };
+        assert!(!spread.narrow_beside(&far));
+        // The same box at distance 1: 0.014 apart, 0.8 % of it.
+        let near = Aabb {
+            min: Vec3A::new(-0.5, -0.5, 0.5),
+            max: Vec3A::new(0.5, 0.5, 1.5),
+        };
+        assert!(spread.narrow_beside(&near));
     }
 }
