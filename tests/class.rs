@@ -340,55 +340,7 @@ fn shards_merge_into_the_report_one_run_makes() {
         .unwrap();
     assert_eq!(output.status.code(), Some(0), "{}", text(&output));
     // The same files, the same contents apart from times.
-    let without_times = |path: &Path| -> String {
-        let text = std::fs::read_to_string(path).unwrap_or_default();
-        text.lines()
-            .filter(|l| !l.contains("seconds") && !l.contains("duration") && !l.contains("time"))
-            .map(|l| {
-                // class.csv's seconds column (one assignment: the ninth), class.html's cells.
-                if path.extension().is_some_and(|e| e == "csv") {
-                    l.split(',').take(8).collect::<Vec<_>>().join(",")
-                } else if l.contains("<td class=\"seconds\">") {
-                    let mut parts = l.split("<td class=\"seconds\">");
-                    let first = parts.next().unwrap_or("").to_string();
-                    first
-                        + &parts
-                            .map(|part| part.split_once("</td>").map_or(part, |(_, rest)| rest))
-                            .collect::<String>()
-                } else {
-                    l.to_string()
-                }
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
-    };
-    let files = |root: &Path| -> Vec<PathBuf> {
-        let mut files: Vec<PathBuf> = walk(root)
-            .into_iter()
-            .filter(|p| p.is_file())
-            .map(|p| p.strip_prefix(root).unwrap().to_path_buf())
-            .collect();
-        files.sort();
-        files
-    };
-    assert_eq!(files(&merged), files(&whole));
-    for file in files(&whole) {
-        if file.extension().is_some_and(|e| e == "png") {
-            assert_eq!(
-                std::fs::read(merged.join(&file)).unwrap(),
-                std::fs::read(whole.join(&file)).unwrap(),
-                "{}",
-                file.display()
-            );
-        } else {
-            assert_eq!(
-                without_times(&merged.join(&file)),
-                without_times(&whole.join(&file)),
-                "{}",
-                file.display()
-            );
-        }
-    }
+    assert_same_report(&merged, &whole);
     // One renderer's lines in three shards, merged: the report one run makes.
     let renderer = roster.join("ben/raytracer.in");
     let run_lines = |report: &Path, shard: Option<&str>| {
@@ -426,24 +378,7 @@ fn shards_merge_into_the_report_one_run_makes() {
         "{}",
         text(&output)
     );
-    assert_eq!(files(&merged_lines), files(&whole_lines));
-    for file in files(&whole_lines) {
-        if file.extension().is_some_and(|e| e == "png") {
-            assert_eq!(
-                std::fs::read(merged_lines.join(&file)).unwrap(),
-                std::fs::read(whole_lines.join(&file)).unwrap(),
-                "{}",
-                file.display()
-            );
-        } else {
-            assert_eq!(
-                without_times(&merged_lines.join(&file)),
-                without_times(&whole_lines.join(&file)),
-                "{}",
-                file.display()
-            );
-        }
-    }
+    assert_same_report(&merged_lines, &whole_lines);
     // A shard given twice is refused.
     let output = Command::new(RAYCAST)
         .args(["check", "merge"])
@@ -456,6 +391,60 @@ fn shards_merge_into_the_report_one_run_makes() {
         "{}",
         text(&output)
     );
+}
+
+/// Asserts that two report folders hold the same files, the same pictures, and the same text
+/// apart from times.
+fn assert_same_report(merged: &Path, whole: &Path) {
+    let without_times = |path: &Path| -> String {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        text.lines()
+            .filter(|l| !l.contains("seconds") && !l.contains("duration") && !l.contains("time"))
+            .map(|l| {
+                // class.csv's seconds column (one assignment: the ninth), class.html's cells.
+                if path.extension().is_some_and(|e| e == "csv") {
+                    l.split(',').take(8).collect::<Vec<_>>().join(",")
+                } else if l.contains("<td class=\"seconds\">") {
+                    let mut parts = l.split("<td class=\"seconds\">");
+                    let first = parts.next().unwrap_or("").to_string();
+                    first
+                        + &parts
+                            .map(|part| part.split_once("</td>").map_or(part, |(_, rest)| rest))
+                            .collect::<String>()
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let files = |root: &Path| -> Vec<PathBuf> {
+        let mut files: Vec<PathBuf> = walk(root)
+            .into_iter()
+            .filter(|p| p.is_file())
+            .map(|p| p.strip_prefix(root).unwrap().to_path_buf())
+            .collect();
+        files.sort();
+        files
+    };
+    assert_eq!(files(merged), files(whole));
+    for file in files(whole) {
+        if file.extension().is_some_and(|e| e == "png") {
+            assert_eq!(
+                std::fs::read(merged.join(&file)).unwrap(),
+                std::fs::read(whole.join(&file)).unwrap(),
+                "{}",
+                file.display()
+            );
+        } else {
+            assert_eq!(
+                without_times(&merged.join(&file)),
+                without_times(&whole.join(&file)),
+                "{}",
+                file.display()
+            );
+        }
+    }
 }
 
 #[test]

@@ -63,21 +63,28 @@ pub fn xml(checked: &Checked) -> String {
     xml
 }
 
-/// Text made safe in XML, in an element or an attribute; characters XML 1.0 cannot hold
-/// (controls other than tab and line breaks) become U+FFFD.
+/// Text made safe in XML, in an element or an attribute: the report's HTML escape (its five
+/// entities are XML's too), after the characters XML 1.0 cannot hold (controls other than tab
+/// and line breaks) become U+FFFD.
 fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            '\t' | '\n' | '\r' => out.push(c),
-            c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => out.push('\u{FFFD}'),
-            c => out.push(c),
-        }
+    let allowed: String = text
+        .chars()
+        .map(|c| match c {
+            '\t' | '\n' | '\r' => c,
+            c if (c as u32) < 0x20 || c == '\u{FFFE}' || c == '\u{FFFF}' => '\u{FFFD}',
+            c => c,
+        })
+        .collect();
+    crate::check::report::escape(&allowed)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn text_is_escaped_for_xml_and_controls_replaced() {
+        assert_eq!(
+            super::escape("a<b&\"'\u{1}\tc\n"),
+            "a&lt;b&amp;&quot;&#39;\u{FFFD}\tc\n"
+        );
     }
-    out
 }
