@@ -535,3 +535,46 @@ fn the_gradescope_example_grades_a_submission_laid_out_as_gradescope_lays_it_out
         std::fs::read_to_string(root.path().join("check.log")).unwrap_or_default()
     );
 }
+
+#[test]
+fn class_usage_mistakes_are_one_clear_error() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let suite = conformance.to_str().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &[
+                "check",
+                suite,
+                "--class",
+                "/no/such/roster",
+                "--renderer",
+                "./r",
+            ],
+            "--class /no/such/roster: No such file or directory",
+        ),
+        (
+            &["check", suite, "--renderer", "/bin/true", "--build", "make"],
+            "--build and --budget grade a class: give --class DIR too",
+        ),
+        (
+            &["check", suite, "--renderer", "/bin/true", "--shard", "3/2"],
+            "--shard needs K/N with 1 <= K <= N (this run's share), found '3/2'",
+        ),
+        (
+            &["check", "merge", "/tmp/raycast-merge-out"],
+            "merge needs OUT and the shards' report folders",
+        ),
+        (
+            &["check", "merge", "/tmp/raycast-merge-out", "/no/such/shard"],
+            "/no/such/shard: no report of raycast check there",
+        ),
+    ];
+    for (args, said) in cases {
+        let output = Command::new(RAYCAST).args(args).output().unwrap();
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
+        assert!(text(&output).contains(said), "{args:?}: {}", text(&output));
+    }
+    assert!(!Path::new("/tmp/raycast-merge-out").exists());
+}
