@@ -669,3 +669,51 @@ fn a_suite_past_its_bounds_is_one_error_before_anything_runs() {
         "{said}"
     );
 }
+
+#[test]
+fn folders_the_renderer_locks_are_still_removed() {
+    let Some(w) = world() else { return };
+    // Its scratch in a folder of the test's, so that what is left there can be seen; check
+    // runs as an ordinary user where the test is root (root removes anything anyway).
+    let tmp = w.report.parent().unwrap().join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    std::fs::set_permissions(
+        w.report.parent().unwrap(),
+        std::fs::Permissions::from_mode(0o777),
+    )
+    .unwrap();
+    std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o777)).unwrap();
+    let locker = w.renderer(
+        "locker.sh",
+        &format!(
+            "mkdir -p locked/inner && touch locked/inner/x && chmod 000 locked/inner locked\n{}",
+            render()
+        ),
+    );
+    let mut command = if rustix_is_root() {
+        let mut command = Command::new("setpriv");
+        command.args(["--reuid=65534", "--regid=65534", "--clear-groups", RAYCAST]);
+        command
+    } else {
+        Command::new(RAYCAST)
+    };
+    let output = command
+        .args(["check", w.suite.to_str().unwrap(), "--renderer", &locker])
+        .args([
+            "--allow-read",
+            Path::new(RAYCAST).parent().unwrap().to_str().unwrap(),
+        ])
+        .env("TMPDIR", &tmp)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&output.stdout).into_owned()
+        + &String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    assert!(!out.contains("could not be removed"), "{out}");
+    let left: Vec<_> = std::fs::read_dir(&tmp)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}

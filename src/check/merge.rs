@@ -128,6 +128,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
         graded,
         confinement,
         cage_note,
+        cleanup: None,
         partial,
         staging: Some(staging),
         build: None,

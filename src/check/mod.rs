@@ -31,6 +31,7 @@ pub use finding::Finding;
 pub use output::{MAX_IMAGE_BYTES, read_image};
 pub use report::{Pictures, Staging, write_report};
 pub use rule::{Comparison, Rule, compare};
+pub use run::remove_scratch;
 pub use simulate::FaultMatch;
 pub use suite::{Line, PictureKind, Suite};
 pub use verdict::{
@@ -239,6 +240,8 @@ pub struct Checked {
     pub confinement: Option<Confinement>,
     /// Why the renderer kept check's own user, when check ran as root.
     pub cage_note: Option<String>,
+    /// What of its scratch check could not remove, if anything.
+    pub cleanup: Option<String>,
     /// Whether check was interrupted: some lines did not run (their pictures are errors).
     pub partial: bool,
     /// The report being built, its pictures written, when one was asked for.
@@ -406,10 +409,12 @@ pub fn grade_renderer(
     if !changed.is_empty() {
         void(&mut graded, &changed);
     }
+    let cleanup = run::remove_scratch(scratch).err();
     Ok(Checked {
         graded,
         confinement,
         cage_note,
+        cleanup,
         partial: stop.load(Ordering::Relaxed),
         staging,
         build: None,
@@ -454,6 +459,7 @@ pub fn not_built(prepared: &Prepared, why: &str, staging: Option<Staging>) -> Ch
         graded,
         confinement: None,
         cage_note: None,
+        cleanup: None,
         partial: false,
         staging,
         build: None,
@@ -997,6 +1003,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
         .as_ref()
         .map_or(serde_json::json!({}), Confinement::json);
     cage["note"] = serde_json::json!(checked.cage_note);
+    cage["cleanup"] = serde_json::json!(checked.cleanup);
     serde_json::json!({
         "raycast": env!("CARGO_PKG_VERSION"),
         "rule": { "tolerance": rule.tolerance, "max_bad": rule.max_bad },

@@ -301,7 +301,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             &format!("raycast: check: warning: {}", confinement.summary()),
         );
     }
-    if let Some(note) = &checked.cage_note {
+    for note in [&checked.cage_note, &checked.cleanup].into_iter().flatten() {
         say(
             std::io::stderr(),
             &format!("raycast: check: warning: {note}"),

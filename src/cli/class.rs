@@ -208,6 +208,9 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
+    if let Err(message) = check::remove_scratch(scratch) {
+        eprintln!("raycast: check: warning: {message}");
+    }
     let partial = stop.load(Ordering::Relaxed);
     let mut out = std::io::stdout().lock();
     let _ = write!(out, "{}", table::terminal(&rows));
