@@ -578,3 +578,39 @@ fn class_usage_mistakes_are_one_clear_error() {
     }
     assert!(!Path::new("/tmp/raycast-merge-out").exists());
 }
+
+#[test]
+fn the_prairielearn_example_grades_a_submission_laid_out_as_prairielearn_lays_it_out() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let root = tempfile::tempdir().unwrap();
+    let tests = root.path().join("tests");
+    std::fs::create_dir_all(&tests).unwrap();
+    suite(&tests, &conformance, 2);
+    let student = root.path().join("student");
+    std::fs::create_dir_all(&student).unwrap();
+    std::fs::copy(RAYCAST, student.join("raytracer")).unwrap();
+    open_to_all(root.path());
+    std::fs::set_permissions(
+        student.join("raytracer"),
+        std::fs::Permissions::from_mode(0o755),
+    )
+    .unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/examples/prairielearn/grade.sh");
+    let output = Command::new("bash")
+        .arg(&script)
+        .env("GRADE_ROOT", root.path())
+        .env("RAYCAST", RAYCAST)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", text(&output));
+    let summary = python(
+        "import json, sys\n\
+         r = json.load(open(sys.argv[1]))\n\
+         print(r['gradable'], r['score'], [t['points'] for t in r['tests']])",
+        &[&root.path().join("results/results.json")],
+    );
+    // Two pictures, both passing: output2_01 worth 3 points (the suite's POINTS), output2_02 one.
+    assert_eq!(summary.trim(), "True 1.0 [3.0, 1.0]");
+}
