@@ -996,3 +996,31 @@ fn a_hostile_renderer_cannot_forge_its_grade_or_hang_the_check() {
         "the renderer's child ran on after the check"
     );
 }
+
+#[test]
+fn a_script_named_from_checks_folder_is_found_from_each_lines_folder() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite_with_own_reference(dir.path(), &conformance);
+    std::fs::write(
+        dir.path().join("my tracer.sh"),
+        format!("exec {} \"$@\"\n", env!("CARGO_BIN_EXE_raycast")),
+    )
+    .unwrap();
+    // `bash 'my tracer.sh'`, named from the folder check runs in; each line runs in its own.
+    let output = Command::new(env!("CARGO_BIN_EXE_raycast"))
+        .args(["check", suite.to_str().unwrap()])
+        .args(["--renderer", "bash 'my tracer.sh'"])
+        .args(renderers_may_run_raycast(&["check", "--renderer"]))
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
+    assert!(
+        stdout(&output).contains("pass   output2_01"),
+        "{}",
+        stdout(&output)
+    );
+}

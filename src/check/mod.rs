@@ -321,6 +321,15 @@ pub fn check(
     let executable = run::check_program(&options.renderer)?;
     let mut command = options.renderer.clone();
     command[0] = executable.display().to_string();
+    // A word naming a file or folder here (`python3 tracer.py`) names it from the renderer's
+    // own folder too, which is each line's: made absolute.
+    for word in command.iter_mut().skip(1) {
+        if Path::new(word.as_str()).is_relative()
+            && let Ok(absolute) = std::fs::canonicalize(word.as_str())
+        {
+            *word = absolute.display().to_string();
+        }
+    }
     let readable = submission(
         &options.renderer,
         &executable,

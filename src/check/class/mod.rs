@@ -163,6 +163,14 @@ pub fn grade_student(
     });
     let mut command = options.renderer.clone();
     command[0] = in_submission(&command[0], &copy);
+    // A word naming a file or folder of the submission (`python3 tracer.py`) names it from
+    // each line's own folder too: made absolute, inside the copy.
+    for word in command.iter_mut().skip(1) {
+        let inside = copy.join(word.as_str());
+        if Path::new(word.as_str()).is_relative() && inside.exists() {
+            *word = inside.display().to_string();
+        }
+    }
     let staging = report.map(Staging::new).transpose()?;
     let renderer = Renderer {
         command: &command,
