@@ -614,3 +614,24 @@ fn the_prairielearn_example_grades_a_submission_laid_out_as_prairielearn_lays_it
     // Two pictures, both passing: output2_01 worth 3 points (the suite's POINTS), output2_02 one.
     assert_eq!(summary.trim(), "True 1.0 [3.0, 1.0]");
 }
+
+#[test]
+fn a_renderers_words_that_name_files_of_the_submission_are_found_inside_it() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &conformance, 1);
+    let roster = roster(dir.path(), &[("zoe", "correct")]);
+    // `sh raytracer.in`: the interpreter from the PATH, the script inside the submission.
+    let output = check(&[
+        suite.to_str().unwrap(),
+        "--class",
+        roster.to_str().unwrap(),
+        "--renderer",
+        "sh raytracer.in",
+    ]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    assert!(out.contains("zoe            1/1          3/3"), "{out}");
+}
