@@ -492,17 +492,14 @@ fn raycasts_own_references_are_made_once_and_kept_for_the_next_run() {
     assert!(run().contains("pass   a"), "{}", run());
 }
 
-#[test]
-fn the_gradescope_example_grades_a_submission_laid_out_as_gradescope_lays_it_out() {
-    let Some(conformance) = conformance_dir() else {
-        return;
-    };
+/// A platform's layout in a new folder: a two-line suite in `suite_in/suite`, and a
+/// submission in `submission_in` whose renderer is raycast itself, as the student's program.
+fn platform_layout(conformance: &Path, suite_in: &str, submission_in: &str) -> tempfile::TempDir {
     let root = tempfile::tempdir().unwrap();
-    let source = root.path().join("source");
-    std::fs::create_dir_all(&source).unwrap();
-    suite(&source, &conformance, 2);
-    // The student's renderer: raycast itself, as their program.
-    let submission = root.path().join("submission");
+    let suite_folder = root.path().join(suite_in);
+    std::fs::create_dir_all(&suite_folder).unwrap();
+    suite(&suite_folder, conformance, 2);
+    let submission = root.path().join(submission_in);
     std::fs::create_dir_all(&submission).unwrap();
     std::fs::copy(RAYCAST, submission.join("raytracer")).unwrap();
     open_to_all(root.path());
@@ -511,6 +508,15 @@ fn the_gradescope_example_grades_a_submission_laid_out_as_gradescope_lays_it_out
         std::fs::Permissions::from_mode(0o755),
     )
     .unwrap();
+    root
+}
+
+#[test]
+fn the_gradescope_example_grades_a_submission_laid_out_as_gradescope_lays_it_out() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let root = platform_layout(&conformance, "source", "submission");
     let script =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/examples/gradescope/run_autograder");
     let output = Command::new("bash")
@@ -584,19 +590,7 @@ fn the_prairielearn_example_grades_a_submission_laid_out_as_prairielearn_lays_it
     let Some(conformance) = conformance_dir() else {
         return;
     };
-    let root = tempfile::tempdir().unwrap();
-    let tests = root.path().join("tests");
-    std::fs::create_dir_all(&tests).unwrap();
-    suite(&tests, &conformance, 2);
-    let student = root.path().join("student");
-    std::fs::create_dir_all(&student).unwrap();
-    std::fs::copy(RAYCAST, student.join("raytracer")).unwrap();
-    open_to_all(root.path());
-    std::fs::set_permissions(
-        student.join("raytracer"),
-        std::fs::Permissions::from_mode(0o755),
-    )
-    .unwrap();
+    let root = platform_layout(&conformance, "tests", "student");
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/examples/prairielearn/grade.sh");
     let output = Command::new("bash")
         .arg(&script)

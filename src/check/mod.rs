@@ -151,6 +151,32 @@ pub struct Graded {
     pub moved_from: Option<usize>,
 }
 
+impl Graded {
+    /// Picture `k` of `line`, named `name`, before anything is known of it: an error without a
+    /// cause, worth one point.
+    fn blank(line: &Line, k: usize, name: &str) -> Graded {
+        Graded {
+            name: name.to_string(),
+            command: line.command.clone(),
+            status: Status::Error,
+            bad_fraction: None,
+            findings: Vec::new(),
+            explanation: String::new(),
+            actual: None,
+            reference: None,
+            stderr: String::new(),
+            seconds: 0.0,
+            against_raycast: false,
+            picture: line.picture_kind(k),
+            worst_pixel: None,
+            pictures: Pictures::default(),
+            points: 1.0,
+            line: (line.number, k),
+            moved_from: None,
+        }
+    }
+}
+
 /// The pixel where a failing picture differs most from its reference, and what raycast's
 /// tracer did there.
 #[derive(Debug, Clone, PartialEq)]
@@ -443,22 +469,9 @@ pub fn not_built(prepared: &Prepared, why: &str, staging: Option<Staging>) -> Ch
                 let image_name = suite::image_name(name);
                 Graded {
                     points: prepared.suite.points(&image_name),
-                    line: (line.number, k),
-                    moved_from: None,
-                    name: image_name,
-                    command: line.command.clone(),
-                    status: Status::Error,
-                    bad_fraction: None,
                     findings: vec![Finding::Diagnosis(Diagnosis::BUILD_FAILED)],
                     explanation: explanation.clone(),
-                    actual: None,
-                    reference: None,
-                    stderr: String::new(),
-                    seconds: 0.0,
-                    against_raycast: false,
-                    picture: line.picture_kind(k),
-                    worst_pixel: None,
-                    pictures: Pictures::default(),
+                    ..Graded::blank(line, k, &image_name)
                 }
             })
         })
@@ -754,23 +767,12 @@ fn grade(
     reference: Result<Image, String>,
 ) -> Graded {
     let graded = |status, findings: Vec<Finding>, explanation: String| Graded {
-        name: name.to_string(),
-        command: line.command.clone(),
         status,
-        bad_fraction: None,
         findings,
         explanation,
-        actual: None,
-        reference: None,
         stderr: ran.stderr.clone(),
         seconds: ran.seconds,
-        against_raycast: false,
-        picture: line.picture_kind(index),
-        worst_pixel: None,
-        pictures: Pictures::default(),
-        points: 1.0,
-        line: (line.number, index),
-        moved_from: None,
+        ..Graded::blank(line, index, name)
     };
     let reference = match reference {
         Ok(image) => image,

@@ -150,14 +150,13 @@ pub struct Pictures {
     pub diff: Option<String>,
 }
 
-/// Writes `summary.json` and `index.html` beside the pictures, and puts the report in its
-/// place.
-pub fn write_report(
-    staging: Staging,
-    checked: &Checked,
-    groups: &[Group],
-    rule: Rule,
-) -> Result<(), String> {
+/// Writes `summary.json` and `index.html` beside the pictures `checked` kept in the report it
+/// began (its staging, taken), and puts the report in its place.
+pub fn write_report(checked: &mut Checked, groups: &[Group], rule: Rule) -> Result<(), String> {
+    let staging = checked
+        .staging
+        .take()
+        .ok_or("no report was begun (check was run without --report)")?;
     write_into(staging.path(), checked, groups, rule)?;
     staging.place()
 }

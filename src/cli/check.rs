@@ -245,6 +245,25 @@ fn parse_check_args(
     Ok(Some((options, Some(class))))
 }
 
+/// Prints the verdict (what to fix first, for all the lines at once), a line per picture and
+/// the count; returns how many failed.
+pub(super) fn print_grades(
+    out: &mut impl Write,
+    groups: &[check::Group],
+    graded: &[check::Graded],
+) -> usize {
+    for line in check::verdict_lines(groups) {
+        let _ = writeln!(out, "{line}");
+    }
+    for g in graded {
+        let _ = writeln!(out, "{}", check::verdict(g));
+    }
+    let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
+    let failed = graded.len() - passed;
+    let _ = writeln!(out, "{passed} passed, {failed} failed");
+    failed
+}
+
 /// A flag that Ctrl-C, SIGTERM and SIGHUP set: the renderers running end, and what was graded
 /// so far is reported, marked partial.
 pub(super) fn stop_on_signals() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
@@ -322,22 +341,9 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     let groups = check::renderer_verdict(&mut checked.graded);
     let graded = &checked.graded;
     let mut out = std::io::stdout().lock();
-    // The verdict first: what to fix first, for all the lines at once.
-    for line in check::verdict_lines(&groups) {
-        let _ = writeln!(out, "{line}");
-    }
-    for g in graded {
-        let _ = writeln!(out, "{}", check::verdict(g));
-    }
-    let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
-    let failed = graded.len() - passed;
-    let _ = writeln!(out, "{passed} passed, {failed} failed");
+    let failed = print_grades(&mut out, &groups, graded);
     if let Some(dir) = &options.report {
-        let written = match checked.staging.take() {
-            Some(staging) => check::write_report(staging, &checked, &groups, options.rule),
-            None => Err("no report was begun".to_string()),
-        };
-        if let Err(message) = written {
+        if let Err(message) = check::write_report(&mut checked, &groups, options.rule) {
             say(
                 std::io::stderr(),
                 &format!("raycast: check: cannot write the report: {message}"),

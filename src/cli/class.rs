@@ -28,33 +28,13 @@ pub fn run_merge(args: &[String]) -> ExitCode {
     if !check::merge::is_class(std::path::Path::new(&shards[0])) {
         // The shards of one renderer's lines.
         let shards: Vec<std::path::PathBuf> = shards.iter().map(std::path::PathBuf::from).collect();
-        let (checked, groups, rule) = match check::merge::merge(staging, &shards) {
+        let (mut checked, groups, rule) = match check::merge::merge(staging, &shards) {
             Ok(merged) => merged,
             Err(message) => return fail(&message),
         };
         let mut out_text = std::io::stdout().lock();
-        for line in check::verdict_lines(&groups) {
-            let _ = writeln!(out_text, "{line}");
-        }
-        for g in &checked.graded {
-            let _ = writeln!(out_text, "{}", check::verdict(g));
-        }
-        let passed = checked
-            .graded
-            .iter()
-            .filter(|g| g.status == check::Status::Pass)
-            .count();
-        let _ = writeln!(
-            out_text,
-            "{passed} passed, {} failed",
-            checked.graded.len() - passed
-        );
-        let mut checked = checked;
-        let written = match checked.staging.take() {
-            Some(staging) => check::write_report(staging, &checked, &groups, rule),
-            None => Err("no report was begun".to_string()),
-        };
-        return match written {
+        super::check::print_grades(&mut out_text, &groups, &checked.graded);
+        return match check::write_report(&mut checked, &groups, rule) {
             Ok(()) => {
                 let _ = writeln!(
                     out_text,

@@ -45,8 +45,9 @@ impl Built {
     fn of(ran: &Ran) -> Built {
         let ending = match &ran.ending {
             Ending::Success => "built".to_string(),
-            Ending::Failed { status } => format!("the build exited with status {status}"),
-            Ending::Signaled { signal } => format!("the build was killed by signal {signal}"),
+            Ending::Failed { .. } | Ending::Signaled { .. } => {
+                format!("the build {}", super::how_it_ended(&ran.ending))
+            }
             Ending::TimedOut(limit) => {
                 format!("the build did not finish within {} s", limit.as_secs_f64())
             }
@@ -186,8 +187,8 @@ pub fn grade_student(
     checked.build = built.as_ref().map(Built::json);
     let groups = super::renderer_verdict(&mut checked.graded);
     let summary = super::summary_json(&checked, &groups, options.rule);
-    if let Some(staging) = checked.staging.take() {
-        super::write_report(staging, &checked, &groups, options.rule)?;
+    if checked.staging.is_some() {
+        super::write_report(&mut checked, &groups, options.rule)?;
     }
     if stop.load(Ordering::Relaxed) {
         checked.partial = true;
