@@ -14,7 +14,7 @@ use std::ops::ControlFlow;
 use crate::accel::{Hit, PACKET, Tallies};
 use crate::camera::Camera;
 use crate::geometry::Ray;
-use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surface};
+use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surface, Texture};
 use crate::variant::Exact;
 
 /// How rays are traced and shaded: the seam where a render may trace as a student's tracer
@@ -33,10 +33,10 @@ pub trait TraceSeam: Copy + Send + Sync {
         hit
     }
 
-    /// The material `material` of a hit at `point`, its textures weighed there.
+    /// Weighs `surface`'s textures at `point`.
     #[inline(always)]
-    fn surface<'s>(&self, scene: &'s Scene, material: u32, point: Vec3A) -> Surface<'s> {
-        scene.materials.at(material, point)
+    fn weigh(&self, surface: &mut Surface<'_>, point: Vec3A) {
+        surface.weigh(point, Texture::weight);
     }
 
     /// What a back face shows: black, or shaded as seen from its other side (`-shade_back`).
@@ -426,7 +426,9 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 BackFace::Shaded => {}
                 BackFace::Black => return Vec3A::ZERO,
                 BackFace::Ambient => {
-                    let diffuse = self.variant.surface(scene, hit.material, point).diffuse();
+                    let mut surface = Surface::unweighed(&scene.materials, hit.material);
+                    self.variant.weigh(&mut surface, point);
+                    let diffuse = surface.diffuse();
                     return self
                         .variant
                         .ambient(scene.ambient * diffuse, scene.lights.len());
@@ -434,7 +436,8 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             }
         }
         let normal = if inside { -hit.normal } else { hit.normal };
-        let surface = self.variant.surface(scene, hit.material, point);
+        let mut surface = Surface::unweighed(&scene.materials, hit.material);
+        self.variant.weigh(&mut surface, point);
         // How far the rays this hit sends must clear its surface: once for all of them.
         let clearance = clearance(point, ray.origin);
         let mut colour = self

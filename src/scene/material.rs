@@ -176,6 +176,7 @@ impl Materials {
     }
 
     /// The material at `index`; panics past the end (the parser checks every index).
+    #[inline(always)]
     pub fn get(&self, index: u32) -> &Material {
         &self.list[index as usize]
     }
@@ -183,27 +184,12 @@ impl Materials {
     /// The material at `index` as it is at `point`: every texture's weight on the way to its
     /// Phong materials worked out once, for all the questions one hit asks (the ambient term,
     /// each light, the mirror and glass terms), instead of once a question.
-    #[inline]
+    /// (The tracer weighs a [`Surface::unweighed`] in place instead: a surface holds room
+    /// for every weight a point can visit, a kilobyte, and returning one copied it for each hit.)
     pub fn at(&self, index: u32, point: Vec3A) -> Surface<'_> {
-        self.at_weighing(index, point, Texture::weight)
-    }
-
-    /// [`Materials::at`] with each texture's weight at a point given by `weight` (check's
-    /// faults of textures work it out as a student's tracer would).
-    #[inline]
-    pub fn at_weighing(
-        &self,
-        index: u32,
-        point: Vec3A,
-        weight: impl Fn(&Texture, Vec3A) -> f32,
-    ) -> Surface<'_> {
-        let mut weights = ArrayVec::new();
-        self.weigh(index, point, &weight, &mut weights);
-        Surface {
-            materials: self,
-            index,
-            weights,
-        }
+        let mut surface = Surface::unweighed(self, index);
+        surface.weigh(point, Texture::weight);
+        surface
     }
 
     /// Pushes the weight of each texture that answering at `point` visits, in the order
@@ -245,10 +231,34 @@ pub struct Surface<'a> {
     weights: ArrayVec<f32, MAX_TEXTURES_VISITED>,
 }
 
-impl Surface<'_> {
+impl<'a> Surface<'a> {
+    /// Material `index` with no texture weighed yet: [`Surface::weigh`] it before asking.
+    #[inline(always)]
+    pub fn unweighed(materials: &'a Materials, index: u32) -> Surface<'a> {
+        Surface {
+            materials,
+            index,
+            weights: ArrayVec::new(),
+        }
+    }
+
+    /// Weighs every texture on the way to the Phong materials at `point`, with each texture's
+    /// weight given by `weight` (check's faults of textures work it out as a student's tracer
+    /// would); the common untextured material skips the recursive walk.
+    #[inline(always)]
+    pub fn weigh(&mut self, point: Vec3A, weight: impl Fn(&Texture, Vec3A) -> f32) {
+        self.weights.clear();
+        if let Material::Texture(_) = self.materials.get(self.index) {
+            self.materials
+                .weigh(self.index, point, &weight, &mut self.weights);
+        }
+    }
     /// `ask` of the material: for a texture, its two materials' answers interpolated.
-    #[inline]
+    #[inline(always)]
     fn blend(&self, ask: &impl Fn(&Phong) -> Vec3A) -> Vec3A {
+        if let Material::Phong(phong) = self.materials.get(self.index) {
+            return ask(phong);
+        }
         self.blend_from(self.index, &mut 0, ask)
     }
 

@@ -24,7 +24,7 @@ use crate::geometry::Ray;
 use crate::job::Options;
 use crate::parse::description::SceneDescription;
 use crate::sample::{Filter, SampleSeam, Sampler};
-use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surface};
+use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surface, Texture};
 use crate::shade::PictureSeam;
 use crate::trace::{BackFace, TraceSeam};
 
@@ -347,12 +347,10 @@ impl TraceSeam for Plant {
             .fold(hit, |hit, h| h.found(scene, ray, t_min, hit))
     }
 
-    fn surface<'s>(&self, scene: &'s Scene, material: u32, point: Vec3A) -> Surface<'s> {
+    fn weigh(&self, surface: &mut Surface<'_>, point: Vec3A) {
         match self.textures().next() {
-            Some(fault) => scene
-                .materials
-                .at_weighing(material, point, |t, p| fault.weight(t, p)),
-            None => scene.materials.at(material, point),
+            Some(fault) => surface.weigh(point, |t, p| fault.weight(t, p)),
+            None => surface.weigh(point, Texture::weight),
         }
     }
 
