@@ -357,6 +357,52 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+
+    /// Shadow rays cast together answer as each alone: the packets of the strategy above, each
+    /// ray over a range of its own, and the shadow rays that the points a packet hits send
+    /// toward a directional light and toward a point light (the tracer's use).
+    #[test]
+    fn a_packet_of_shadow_rays_is_answered_as_each_ray_alone(
+        root in prop::collection::vec((0u32..3, node()), 1..8),
+        packets in prop::collection::vec(packet(), 4),
+        with_plane in any::<bool>(),
+        light in [-6.0f32..6.0, -6.0f32..6.0, -6.0f32..6.0],
+    ) {
+        let (text, scene) = generated_scene(&root, with_plane)?;
+        let light = Vec3A::from(light);
+        for (_, rays) in packets {
+            let rays: Vec<Ray> = rays
+                .iter()
+                .map(|&(o, d)| Ray::new(Vec3A::from(o), Vec3A::from(d)))
+                .collect();
+            let hits: Vec<Vec3A> = rays
+                .iter()
+                .filter_map(|ray| Some(ray.at(scene.world.intersect(ray, 0.0)?.t)))
+                .collect();
+            let toward_sun: Vec<Ray> = hits.iter().map(|&p| Ray::new(p, light)).collect();
+            let toward_lamp: Vec<Ray> = hits.iter().map(|&p| Ray::new(p, light - p)).collect();
+            for rays in [&rays, &toward_sun, &toward_lamp] {
+                let n = rays.len();
+                let t_min: Vec<f32> = (0..n).map(|k| [0.0, 1e-4, 1e-2, 0.3][k % 4]).collect();
+                let t_max: Vec<f32> = (0..n)
+                    .map(|k| [f32::INFINITY, 1.0 - 1e-3, 0.5, f32::MAX, 4.0][k % 5])
+                    .collect();
+                let mut together = vec![false; n];
+                scene.world.occluded_packet_with(rays, &t_min, &t_max, &mut together, &mut ());
+                for (k, ray) in rays.iter().enumerate() {
+                    let alone = scene.world.occluded(ray, t_min[k], t_max[k]);
+                    prop_assert_eq!(
+                        together[k], alone,
+                        "shadow ray {:?} over [{}, {}] in scene\n{}", ray, t_min[k], t_max[k], text
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// Every scene of the course, seen through its own camera at 64×64: each 8×8 packet of rays
 /// searched as a packet find what each finds alone (the pictures' pixels, before shading).
 #[test]

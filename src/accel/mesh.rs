@@ -113,6 +113,32 @@ impl TriangleMesh {
         });
     }
 
+    /// [`TriangleMesh::occluded`] for up to [`PACKET`] rays at once, with the same answers: ray
+    /// i asks about [`t_min[i]`, `limits[i]`], or nothing where `limits[i]` is
+    /// [`ASKS_NOTHING`]; where it is hit, `blocked[i]` becomes true and `limits[i]`
+    /// [`ASKS_NOTHING`]. Rays that share their directions' signs (shadow rays toward one light
+    /// from neighbouring points) walk the tree together; others each alone.
+    #[inline(always)]
+    pub fn occluded_packet<T: Tally>(
+        &self,
+        rays: &[Ray],
+        t_min: &[f32],
+        limits: &mut [f32],
+        blocked: &mut [bool],
+        tally: &mut T,
+    ) {
+        let n = rays.len();
+        assert!(n <= PACKET && t_min.len() == n && limits.len() == n && blocked.len() == n);
+        dispatch(PacketAnyHit {
+            mesh: self,
+            rays,
+            t_min,
+            limits,
+            blocked,
+            tally,
+        });
+    }
+
     /// Whether any triangle is hit in [t_min, t_max].
     #[inline(always)]
     pub fn occluded<T: Tally>(&self, ray: &Ray, t_min: f32, t_max: f32, tally: &mut T) -> bool {
@@ -352,6 +378,93 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
     }
 }
 
+/// The occlusion search of a packet of rays, as work for [`dispatch`]: ray i asks about
+/// [`t_min[i]`, `limits[i]`]; a ray found blocked asks nothing more.
+struct PacketAnyHit<'a, T> {
+    mesh: &'a TriangleMesh,
+    rays: &'a [Ray],
+    t_min: &'a [f32],
+    limits: &'a mut [f32],
+    blocked: &'a mut [bool],
+    tally: &'a mut T,
+}
+
+impl<T: Tally> WithWide for PacketAnyHit<'_, T> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<K: Wide>(self, wide: K) {
+        let PacketAnyHit {
+            mesh,
+            rays,
+            t_min,
+            limits,
+            blocked,
+            tally,
+        } = self;
+        let mut lanes: [Option<TriangleRayLanes<K>>; PACKET] = std::array::from_fn(|_| None);
+        for (part, around) in CoherentParts::new(wide, rays) {
+            let offset = part.start;
+            let (rays, t_min, limits, blocked) = (
+                &rays[part.clone()],
+                &t_min[part.clone()],
+                &mut limits[part.clone()],
+                &mut blocked[part],
+            );
+            let Some(around) = around else {
+                for (i, ray) in rays.iter().enumerate() {
+                    if limits[i] != ASKS_NOTHING
+                        && mesh.query(ray, t_min[i], limits[i], tally).any_hit(wide)
+                    {
+                        blocked[i] = true;
+                        limits[i] = ASKS_NOTHING;
+                    }
+                }
+                continue;
+            };
+            let start = limits.iter().fold(ASKS_NOTHING, |a, &b| a.max(b));
+            if start == ASKS_NOTHING {
+                continue;
+            }
+            // The packet's box tests start from the earliest of its rays' starts.
+            let least = t_min.iter().fold(f32::INFINITY, |a, &b| a.min(b));
+            mesh.bvh.traverse_packet(
+                wide,
+                &around,
+                least,
+                start,
+                #[inline(always)]
+                |first, count, bounds| {
+                    let mut greatest = ASKS_NOTHING;
+                    for (i, ray) in rays.iter().enumerate() {
+                        let limit = limits[i];
+                        if limit != ASKS_NOTHING
+                            && ray_meets_box(ray, bounds, t_min[i], limit)
+                            && (first..first + count).any(|block| {
+                                mesh.hit_block(
+                                    wide,
+                                    ray,
+                                    &mut lanes[offset + i],
+                                    block,
+                                    t_min[i],
+                                    limit,
+                                    tally,
+                                )
+                                .is_some()
+                            })
+                        {
+                            blocked[i] = true;
+                            limits[i] = ASKS_NOTHING;
+                        }
+                        greatest = greatest.max(limits[i]);
+                    }
+                    greatest
+                },
+            );
+        }
+    }
+}
+
 /// A closest-hit query, as work for [`dispatch`].
 struct Nearest<'a, T>(Query<'a, T>);
 
@@ -466,6 +579,68 @@ mod tests {
     }
 
     type Hits = Option<(f32, u32)>;
+
+    #[test]
+    fn shadow_packets_answer_what_each_ray_answers_alone_on_both_paths() {
+        let (mesh, _) = TriangleMesh::new(bumpy_sphere(24));
+        let mut blocked_rays = 0;
+        for (k, centre) in rays().iter().enumerate().take(400) {
+            // Shadow rays from a patch of points near the surface along one direction (toward a
+            // sun), or from one patch toward one point (a lamp), each over a range of its own.
+            let spread = [0.0, 1e-3, 3e-2, 0.4][k % 4];
+            let across = centre.direction.any_orthonormal_vector();
+            let up = centre.direction.cross(across);
+            let lamp = centre.origin + centre.direction * 6.0;
+            let packet: Vec<Ray> = (0..PACKET)
+                .map(|i| {
+                    let offset = ((i % 8) as f32 * across + (i / 8) as f32 * up) * spread;
+                    let origin = centre.origin + centre.direction * 2.0 + offset;
+                    if k % 8 < 4 {
+                        Ray::new(origin, centre.direction)
+                    } else {
+                        Ray::new(origin, lamp - origin)
+                    }
+                })
+                .collect();
+            let t_min: Vec<f32> = (0..PACKET).map(|i| [0.0, 1e-3, 0.2][i % 3]).collect();
+            let start: Vec<f32> = (0..PACKET)
+                .map(|i| [f32::INFINITY, 0.9, ASKS_NOTHING, 0.3][i % 4])
+                .collect();
+            let alone: Vec<bool> = packet
+                .iter()
+                .enumerate()
+                .map(|(i, ray)| {
+                    start[i] != ASKS_NOTHING
+                        && mesh
+                            .query(ray, t_min[i], start[i], &mut ())
+                            .any_hit(Portable)
+                })
+                .collect();
+            let run = |job: &dyn Fn(&mut [f32], &mut [bool])| {
+                let (mut limits, mut blocked) = (start.clone(), vec![false; PACKET]);
+                job(&mut limits, &mut blocked);
+                assert_eq!(blocked, alone, "packet around {centre:?}");
+                for i in 0..PACKET {
+                    let asks_still = start[i] != ASKS_NOTHING && !alone[i];
+                    assert_eq!(limits[i] != ASKS_NOTHING, asks_still);
+                }
+            };
+            run(&|limits, blocked| mesh.occluded_packet(&packet, &t_min, limits, blocked, &mut ()));
+            run(&|limits, blocked| {
+                PacketAnyHit {
+                    mesh: &mesh,
+                    rays: &packet,
+                    t_min: &t_min,
+                    limits,
+                    blocked,
+                    tally: &mut (),
+                }
+                .run(Portable)
+            });
+            blocked_rays += alone.iter().filter(|&&b| b).count();
+        }
+        assert!(blocked_rays > 1000, "only {blocked_rays} blocked");
+    }
 
     #[test]
     fn packets_find_what_each_ray_finds_alone_on_both_paths() {

@@ -5,7 +5,8 @@
 //!   planes and the transforms, the top-level tree over the items, and its sizes for `-stats`;
 //! - the nearest-hit search of one ray (`nearest.rs`), and of a packet of camera rays
 //!   (`packet.rs`), through the trees;
-//! - the shadow search (`shadow.rs`): whether anything is hit at all in a range;
+//! - the shadow search of one ray (`shadow.rs`): whether anything is hit at all in a range;
+//!   and of a packet of shadow rays toward one light (`shadow_packet.rs`);
 //! - the grid search (`grid_search.rs`): both questions through the course's grid instead of
 //!   the trees, under `-grid`;
 //! - the brute-force twins (`brute_force.rs`): both questions with no tree, which the tests
@@ -18,6 +19,7 @@ mod grid_search;
 mod nearest;
 mod packet;
 mod shadow;
+mod shadow_packet;
 
 use glam::Vec3A;
 

@@ -154,7 +154,7 @@ impl World {
 /// direction and another's (about the angle between them, in radians), and the first ray's
 /// origin.
 #[derive(Clone, Copy)]
-struct Spread {
+pub(super) struct Spread {
     angle: f32,
     origin: glam::Vec3A,
 }
@@ -167,7 +167,7 @@ impl Spread {
     /// the rays' own took 1.6 times the packet's).
     const WIDEST: f32 = 0.03;
 
-    fn of(rays: &[Ray]) -> Spread {
+    pub(super) fn of(rays: &[Ray]) -> Spread {
         let first = rays[0].direction.normalize_or_zero();
         let angle = rays
             .iter()
@@ -181,7 +181,7 @@ impl Spread {
 
     /// Whether the packet is narrow beside a mesh whose world box is `bounds`: its rays'
     /// spread where they reach the box's centre is within [`Spread::WIDEST`] of its diagonal.
-    fn narrow_beside(self, bounds: &Aabb) -> bool {
+    pub(super) fn narrow_beside(self, bounds: &Aabb) -> bool {
         let distance = ((bounds.min + bounds.max) * 0.5 - self.origin).length();
         self.angle * distance <= Spread::WIDEST * (bounds.max - bounds.min).length()
     }

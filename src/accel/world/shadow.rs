@@ -49,17 +49,40 @@ impl World {
             });
             return blocked;
         }
-        let mut test = |i: u32| {
-            let item = &self.items[i as usize];
-            self.in_item_space(item, ray, |local| {
-                self.occluded_local(item, local, t_min, t_max, tally)
-            })
-        };
+        self.occluded_by_items(ray, t_min, t_max, tally)
+    }
+
+    /// Whether an item (not a plane) is hit in [t_min, t_max], through the trees.
+    #[inline(always)]
+    pub(super) fn occluded_by_items<T: Tally>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> bool {
+        let mut test = |i: u32| self.occluded_item(i, ray, t_min, t_max, tally);
         match self.items.len() {
             0 => false,
             1 => test(0),
             _ => self.top.occluded(Portable, ray, t_min, t_max, test),
         }
+    }
+
+    /// Whether item `i` is hit in [t_min, t_max].
+    #[inline(always)]
+    pub(super) fn occluded_item<T: Tally>(
+        &self,
+        i: u32,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        tally: &mut T,
+    ) -> bool {
+        let item = &self.items[i as usize];
+        self.in_item_space(item, ray, |local| {
+            self.occluded_local(item, local, t_min, t_max, tally)
+        })
     }
 
     #[inline(always)]

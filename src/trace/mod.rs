@@ -7,9 +7,13 @@
 //! sum, in bounded native stack however large `-bounces` is, and with the list reused from ray
 //! to ray instead of allocated for each.
 
+mod shadow_batch;
+
 use glam::Vec3A;
 
 use std::ops::ControlFlow;
+
+use shadow_batch::ShadowBatch;
 
 use crate::accel::{Hit, PACKET, Tallies};
 use crate::camera::Camera;
@@ -201,6 +205,8 @@ impl std::ops::Add for RayCounts {
 #[derive(Debug, Default)]
 pub struct Scratch {
     pending: Vec<Pending>,
+    /// A packet's camera hits' shadow rays, put off to be cast together.
+    batch: ShadowBatch,
     /// The rays cast with this scratch; the pixel loop sums those of every band at the end.
     pub counts: RayCounts,
 }
@@ -308,6 +314,12 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         } else {
             world.intersect_packet_with(rays, t_min, hits, &mut ());
         }
+        if colour && self.settings.shadows {
+            for (hit, ray) in hits.iter_mut().zip(rays) {
+                *hit = self.variant.found(self.scene, ray, t_min, *hit);
+            }
+            return self.shade_packet(rays, hits, scratch, each);
+        }
         for (i, (ray, &hit)) in rays.iter().zip(hits.iter()).enumerate() {
             let hit = self.variant.found(self.scene, ray, t_min, hit);
             each(i, self.seen(ray, hit.as_ref(), colour, scratch), hit);
@@ -389,12 +401,21 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
     /// The colour seen along `ray`, given what it hits (the camera's rays are cast by the
     /// caller, which also wants the hit for the normal and depth pictures). Unclamped.
     pub fn colour(&self, ray: &Ray, hit: Option<&Hit>, scratch: &mut Scratch) -> Vec3A {
-        let from_camera = Branch {
+        let colour = self.visit(ray, self.camera_branch(), hit, scratch, None);
+        self.follow_pending(colour, scratch)
+    }
+
+    /// A camera ray's place in the ray tree: every bounce left, weight 1.
+    fn camera_branch(&self) -> Branch {
+        Branch {
             bounces_left: self.variant.bounces(self.settings.bounces),
             weight: 1.0,
             throughput: Vec3A::ONE,
-        };
-        let mut colour = self.visit(ray, from_camera, hit, scratch);
+        }
+    }
+
+    /// `colour` plus what the pending mirror and glass rays (and those they spawn) bring back.
+    fn follow_pending(&self, mut colour: Vec3A, scratch: &mut Scratch) -> Vec3A {
         let mut traced = 0;
         while let Some(next) = scratch.pending.pop() {
             traced += 1;
@@ -404,16 +425,25 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             }
             scratch.counts.secondary += 1;
             let hit = self.intersect(&next.ray, next.t_min, scratch);
-            colour +=
-                next.branch.throughput * self.visit(&next.ray, next.branch, hit.as_ref(), scratch);
+            colour += next.branch.throughput
+                * self.visit(&next.ray, next.branch, hit.as_ref(), scratch, None);
         }
         colour
     }
 
     /// The light `ray` brings back from `hit` itself (ambient, then each light), queueing the
-    /// mirror and glass rays it spawns.
+    /// mirror and glass rays it spawns. With `defer`, the number of a camera ray in its packet,
+    /// the lights behind shadow rays are left out and their shadow rays put in the packet's
+    /// batch (see [`Tracer::shade_packet`]).
     #[inline(always)]
-    fn visit(&self, ray: &Ray, branch: Branch, hit: Option<&Hit>, scratch: &mut Scratch) -> Vec3A {
+    fn visit(
+        &self,
+        ray: &Ray,
+        branch: Branch,
+        hit: Option<&Hit>,
+        scratch: &mut Scratch,
+        defer: Option<usize>,
+    ) -> Vec3A {
         let scene = self.scene;
         let Some(hit) = hit else {
             return scene.background;
@@ -443,7 +473,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         let mut colour = self
             .variant
             .ambient(scene.ambient * surface.diffuse(), scene.lights.len());
-        for light in &scene.lights {
+        for (light_index, light) in scene.lights.iter().enumerate() {
             let Some(light) = self.variant.illuminate(light, point) else {
                 continue;
             };
@@ -472,6 +502,12 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 let shadow = Ray::new(point, light.to_light);
                 let near = self.variant.start_t(clearance, light.to_light, normal);
                 let far = self.variant.shadow_end(light.distance);
+                if let Some(camera_ray) = defer {
+                    scratch
+                        .batch
+                        .defer(camera_ray, light_index, shadow, near, far, shaded);
+                    continue;
+                }
                 if self.occluded(&shadow, near, far, scratch) {
                     continue;
                 }
