@@ -1,23 +1,28 @@
-//! Eight lanes of `f32` for the tree's box test and the triangle blocks, in two implementations
-//! chosen once at run time: AVX (one 256-bit register) where the CPU has it, and a portable one
-//! (two of glam's `Vec4`, SSE2 on x86-64) everywhere else.
+//! Eight lanes of `f32` for the tree's box test and the triangle blocks, in three paths chosen
+//! once at run time: AVX-512 where the CPU has it (the eight lanes in one 256-bit register, the
+//! work compiled for AVX-512: twice the vector registers, so the traversal's working set stays
+//! in them, and comparisons into mask registers), AVX (the same lanes, compiled for AVX), and a
+//! portable one (two of glam's `Vec4`, SSE2 on x86-64) everywhere else. `RAYCAST_SIMD` set to
+//! `portable`, `avx` or `avx512` caps the choice (for tests and comparisons: see [`Path`]).
 //!
-//! Both perform the same IEEE operations in the same order, lane by lane, so they give the same
-//! bits: additions, subtractions, multiplications and divisions are exactly rounded on both; no
-//! fused multiply-add is used (it would round once where the other path rounds twice);
-//! `min`/`max` keep SSE's rule (the second operand when either is NaN) on both; comparisons are
-//! the same predicates (ordered, except `ne`, which is true for NaN on both).
+//! All perform the same IEEE operations in the same order, lane by lane, so they give the same
+//! bits: additions, subtractions, multiplications and divisions are exactly rounded on all; no
+//! fused multiply-add is used (it would round once where another path rounds twice, and Rust
+//! never fuses on its own); `min`/`max` keep SSE's rule (the second operand when either is NaN)
+//! on all; comparisons are the same predicates (ordered, except `ne`, which is true for NaN).
 //!
 //! This is the crate's one module with `unsafe` code. The invariant every `unsafe` block here
-//! rests on: **a value of type [`Avx`] or [`Avx8`] exists only after
-//! `is_x86_feature_detected!("avx")` said yes** ([`Avx`] has a private field and one
-//! constructor, [`Avx::detect`]; every [`Avx8`] is made from an [`Avx`] or from other
-//! [`Avx8`]s). So the AVX intrinsics called on them run on a CPU that has AVX, which is all
-//! that their `unsafe` asks.
+//! rests on: **a value of type [`Avx`], [`Avx512`] or [`Avx8`] exists only after
+//! `is_x86_feature_detected!` said yes to the features it names** ([`Avx`] and [`Avx512`]
+//! have a private field and one constructor each, [`Path::detect`]'s; every [`Avx8`] is made
+//! from one of them or from other [`Avx8`]s, and AVX-512 implies AVX). So the intrinsics called
+//! on them, and the work compiled for their features, run on a CPU that has those features,
+//! which is all that their `unsafe` asks.
 
 #![allow(unsafe_code)]
 
 use std::ops::{Add, Div, Mul, Sub};
+use std::sync::OnceLock;
 
 use glam::Vec4;
 
@@ -64,22 +69,143 @@ pub trait WithWide {
     fn run<K: Wide>(self, wide: K) -> Self::Output;
 }
 
-/// Runs `job` with AVX where the CPU has it (compiled for AVX: the job's inlined code is
-/// vectorised 256 bits wide), and with the portable lanes otherwise. Both give the same result.
+/// Runs `job` on the widest path the CPU has (and `RAYCAST_SIMD` allows): compiled for
+/// AVX-512 or for AVX (the job's inlined code vectorised with those instructions), or with the
+/// portable lanes. All give the same result.
 #[inline(always)]
 pub fn dispatch<J: WithWide>(job: J) -> J::Output {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(avx) = Avx::detect() {
-        // SAFETY: `run` needs AVX, and `avx` exists only where the CPU has it.
-        return unsafe { run_with_avx(job, avx) };
+    match Path::detect() {
+        #[cfg(target_arch = "x86_64")]
+        Token::Avx512(avx512) => {
+            // SAFETY: `run_with_avx512` needs AVX-512 F, VL, DQ and BW, and `avx512` exists only
+            // where the CPU has them.
+            unsafe { run_with_avx512(job, avx512) }
+        }
+        #[cfg(target_arch = "x86_64")]
+        Token::Avx(avx) => {
+            // SAFETY: `run_with_avx` needs AVX, and `avx` exists only where the CPU has it.
+            unsafe { run_with_avx(job, avx) }
+        }
+        Token::Portable => job.run(Portable),
     }
-    job.run(Portable)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx,popcnt")]
 fn run_with_avx<J: WithWide>(job: J, avx: Avx) -> J::Output {
     job.run(avx)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512dq,avx512bw,avx2,avx,popcnt")]
+fn run_with_avx512<J: WithWide>(job: J, avx512: Avx512) -> J::Output {
+    job.run(avx512)
+}
+
+/// A way through [`dispatch`], widest last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Path {
+    /// glam's `Vec4` pairs: every CPU.
+    Portable,
+    /// AVX: x86-64 CPUs since 2011.
+    Avx,
+    /// AVX-512 (F, VL, DQ and BW): x86-64 server and recent desktop CPUs.
+    Avx512,
+}
+
+/// What [`Path::detect`] hands [`dispatch`]: the path, with its proof where it needs one.
+#[derive(Debug, Clone, Copy)]
+enum Token {
+    Portable,
+    #[cfg(target_arch = "x86_64")]
+    Avx(Avx),
+    #[cfg(target_arch = "x86_64")]
+    Avx512(Avx512),
+}
+
+impl Path {
+    /// The names `RAYCAST_SIMD` takes, in the order of [`Path`].
+    pub const NAMES: [&'static str; 3] = ["portable", "avx", "avx512"];
+
+    /// The path named `name` (one of [`Path::NAMES`]).
+    pub fn from_name(name: &str) -> Option<Path> {
+        let index = Path::NAMES.iter().position(|&n| n == name)?;
+        Some([Path::Portable, Path::Avx, Path::Avx512][index])
+    }
+
+    /// The path's name, as `RAYCAST_SIMD` takes it.
+    pub fn name(self) -> &'static str {
+        Path::NAMES[self as usize]
+    }
+
+    /// The cap `RAYCAST_SIMD` puts on the path: none where it is unset; an error naming the
+    /// value where it names no path.
+    pub fn requested() -> Result<Option<Path>, String> {
+        let Some(value) = std::env::var_os("RAYCAST_SIMD") else {
+            return Ok(None);
+        };
+        let value = value.to_string_lossy();
+        Path::from_name(&value).map(Some).ok_or_else(|| {
+            format!(
+                "RAYCAST_SIMD must be one of {}, found '{value}'",
+                Path::NAMES.join(", ")
+            )
+        })
+    }
+
+    /// Every path this CPU has, narrowest first.
+    pub fn available() -> Vec<Path> {
+        let mut paths = vec![Path::Portable];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if cpu_has_avx() {
+                paths.push(Path::Avx);
+            }
+            if cpu_has_avx512() {
+                paths.push(Path::Avx512);
+            }
+        }
+        paths
+    }
+
+    /// The path [`dispatch`] takes: the widest this CPU has, within `RAYCAST_SIMD`'s cap (a
+    /// value that names no path caps nothing here; the command line refuses it first).
+    pub fn chosen() -> Path {
+        let cap = Path::requested().ok().flatten().unwrap_or(Path::Avx512);
+        Path::available()
+            .into_iter()
+            .filter(|&path| path <= cap)
+            .max()
+            .unwrap_or(Path::Portable)
+    }
+
+    /// The chosen path with its proof, worked out once.
+    #[inline(always)]
+    fn detect() -> Token {
+        static CHOSEN: OnceLock<Path> = OnceLock::new();
+        match *CHOSEN.get_or_init(Path::chosen) {
+            #[cfg(target_arch = "x86_64")]
+            Path::Avx512 => Token::Avx512(Avx512(Avx(()))),
+            #[cfg(target_arch = "x86_64")]
+            Path::Avx => Token::Avx(Avx(())),
+            _ => Token::Portable,
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+fn cpu_has_avx() -> bool {
+    std::is_x86_feature_detected!("avx") && std::is_x86_feature_detected!("popcnt")
+}
+
+#[cfg(target_arch = "x86_64")]
+fn cpu_has_avx512() -> bool {
+    cpu_has_avx()
+        && std::is_x86_feature_detected!("avx2")
+        && std::is_x86_feature_detected!("avx512f")
+        && std::is_x86_feature_detected!("avx512vl")
+        && std::is_x86_feature_detected!("avx512dq")
+        && std::is_x86_feature_detected!("avx512bw")
 }
 
 /// The portable lanes: two of glam's `Vec4` (SSE2 on x86-64, plain `f32` elsewhere).
@@ -158,33 +284,48 @@ impl Lanes for Portable8 {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub use avx::{Avx, Avx8};
+pub use avx::{Avx, Avx8, Avx512};
 
 #[cfg(target_arch = "x86_64")]
 mod avx {
     use std::arch::x86_64::*;
     use std::ops::{Add, Div, Mul, Sub};
-    use std::sync::OnceLock;
 
-    use super::{Lanes, Wide};
+    use super::{Lanes, Path, Token, Wide};
 
-    /// Proof that the CPU has AVX: made only by [`Avx::detect`].
+    /// Proof that the CPU has AVX (and POPCNT, which every AVX CPU has): made only where
+    /// [`Path::detect`] found them.
     #[derive(Debug, Clone, Copy)]
-    pub struct Avx(());
+    pub struct Avx(pub(super) ());
+
+    /// Proof that the CPU has AVX-512 F, VL, DQ and BW (and so AVX): made only where
+    /// [`Path::detect`] found them. Its lanes are [`Avx8`]'s; what differs is the code the
+    /// work around them is compiled to.
+    #[derive(Debug, Clone, Copy)]
+    pub struct Avx512(pub(super) Avx);
 
     impl Avx {
-        /// `Some` where the CPU has AVX (and POPCNT, which every AVX CPU has), unless the
-        /// environment variable `RAYCAST_SIMD` is `portable`.
-        #[inline(always)]
+        /// `Some` where [`dispatch`](super::dispatch) takes AVX or AVX-512 (for tests that
+        /// compare the paths).
         pub fn detect() -> Option<Avx> {
-            static ALLOWED: OnceLock<bool> = OnceLock::new();
-            let allowed = *ALLOWED.get_or_init(|| {
-                std::env::var_os("RAYCAST_SIMD").is_none_or(|choice| choice != "portable")
-            });
-            (allowed
-                && std::is_x86_feature_detected!("avx")
-                && std::is_x86_feature_detected!("popcnt"))
-            .then_some(Avx(()))
+            match Path::detect() {
+                Token::Avx(avx) | Token::Avx512(Avx512(avx)) => Some(avx),
+                Token::Portable => None,
+            }
+        }
+    }
+
+    impl Wide for Avx512 {
+        type F = Avx8;
+
+        #[inline(always)]
+        fn splat(self, value: f32) -> Avx8 {
+            self.0.splat(value)
+        }
+
+        #[inline(always)]
+        fn load(self, values: &[f32; 8]) -> Avx8 {
+            self.0.load(values)
         }
     }
 

@@ -722,36 +722,71 @@ fn one_thread_and_two_threads_give_identical_images() {
     assert!(colour.pixels().filter(|&&p| p != background).count() > 500);
 }
 
+/// Every kernel path this machine has (portable, AVX, AVX-512) renders the same bytes, for a
+/// course mesh with shadows (packets of camera and shadow rays) and for meshes under nested
+/// transforms; `-stats` names the path taken, and a value of `RAYCAST_SIMD` that names none is
+/// refused.
 #[test]
-fn the_avx_and_portable_kernels_render_identical_images() {
+fn every_kernel_path_renders_identical_images() {
     let Some(scenes) = course_scenes() else {
         return;
     };
     let out = tempfile::tempdir().unwrap();
-    let render = |simd: Option<&str>| -> Vec<u8> {
+    let render = |scene: &str, simd: Option<&str>| -> Vec<u8> {
         let name = out.path().join(format!("{}.tga", simd.unwrap_or("auto")));
         let mut command = Command::new(env!("CARGO_BIN_EXE_raycast"));
         command.current_dir(&scenes).args([
             "-input",
-            "scene2_10_bunny_1k.txt",
+            scene,
             "-size",
             "160",
             "160",
             "-output",
             name.to_str().unwrap(),
             "-shadows",
+            "-bounces",
+            "3",
+            "-stats",
         ]);
         if let Some(simd) = simd {
             command.env("RAYCAST_SIMD", simd);
         } else {
             command.env_remove("RAYCAST_SIMD");
         }
-        assert!(command.status().unwrap().success());
+        let output = command.output().unwrap();
+        assert!(output.status.success());
+        let widest = raycast::simd::Path::available().into_iter().max().unwrap();
+        let taken = simd
+            .and_then(raycast::simd::Path::from_name)
+            .unwrap_or(widest);
+        let stats = String::from_utf8_lossy(&output.stderr).into_owned()
+            + &String::from_utf8_lossy(&output.stdout);
+        assert!(
+            stats.contains(&format!("{} kernels", taken.name())),
+            "{stats}"
+        );
         std::fs::read(&name).unwrap()
     };
-    assert!(
-        render(None) == render(Some("portable")),
-        "the AVX kernels and the portable ones rendered different images"
+    let paths = raycast::simd::Path::available();
+    for scene in ["scene2_10_bunny_1k.txt", "scene2_15_crazy_transforms.txt"] {
+        let auto = render(scene, None);
+        for path in &paths {
+            assert!(
+                render(scene, Some(path.name())) == auto,
+                "the {} kernels rendered {scene} differently",
+                path.name()
+            );
+        }
+    }
+    let refused = Command::new(env!("CARGO_BIN_EXE_raycast"))
+        .env("RAYCAST_SIMD", "sse9")
+        .args(["-input", "a.txt", "-size", "8", "8", "-output", "a.tga"])
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&refused.stderr),
+        "raycast: RAYCAST_SIMD must be one of portable, avx, avx512, found 'sse9'\n"
     );
 }
 

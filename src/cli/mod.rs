@@ -22,6 +22,10 @@ use crate::scene::{LoadStats, Loaded, Scene};
 /// Runs the program on its arguments (without the program name); returns the exit status:
 /// 0 done, 1 the scene or a file is at fault, 2 the command line is.
 pub fn run(args: Vec<OsString>) -> ExitCode {
+    if let Err(message) = crate::simd::Path::requested() {
+        say(std::io::stderr(), &format!("raycast: {message}"));
+        return ExitCode::from(2);
+    }
     match args.first().and_then(|a| a.to_str()) {
         Some("check") => return check::run_check(args[1..].to_vec()),
         // A line's supervisor, started by check: not an option a user gives.

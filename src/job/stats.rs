@@ -105,7 +105,7 @@ pub fn print_phase_times(to: impl Write, times: &PhaseTimes, rays: &RayCounts) {
     let text = format!(
         "raycast: parse and load  {:9.2} ms
 raycast: build BVH       {:9.2} ms
-raycast: render          {:9.2} ms  ({all} rays on {threads} thread{}, {:.2} M rays/s)
+raycast: render          {:9.2} ms  ({all} rays on {threads} thread{}, {:.2} M rays/s, {} kernels)
 raycast: rays: {} primary, {} reflected or refracted, {} shadow
 raycast: write images    {:9.2} ms
 raycast: scene: {} triangles stored ({} placed) in {} mesh{}, {} instance{}, {} sphere{}, {} plane{}
@@ -115,6 +115,7 @@ raycast: memory: geometry {:.2} MiB, acceleration {:.2} MiB ({} BVH nodes)",
         ms(*render),
         plural(*threads, "", "s"),
         all as f64 / render.as_secs_f64() / 1e6,
+        crate::simd::Path::chosen().name(),
         rays.primary,
         rays.secondary,
         rays.shadow,
