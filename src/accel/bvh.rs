@@ -233,8 +233,14 @@ impl Bvh {
                     mask &= mask - 1;
                     stack.push((node.child[lane], u32::from(node.count[lane])));
                 }
-            } else if (child..child + count).any(&mut hit) {
-                return true;
+            } else {
+                // A loop, not `any`: its `try_fold` is not always inlined, and the triangle
+                // test behind it then calls each vector instruction out of line.
+                for i in child..child + count {
+                    if hit(i) {
+                        return true;
+                    }
+                }
             }
             match stack.pop() {
                 Some(next) => current = next,
@@ -558,6 +564,95 @@ pub fn ray_meets_box(ray: &Ray, b: &Aabb, t_min: f32, t_max: f32) -> bool {
     let entry = max(max(nx, ny), max(nz, t_min));
     let exit = min(min(fx, fy), min(fz, t_max));
     entry <= exit
+}
+
+/// The rays of a packet's part (rays whose directions share their signs), eight to a set of
+/// lanes, for testing a leaf's box against all of them at once: bit for bit
+/// [`ray_meets_box`] for each, since every lane does its operations, in its order.
+pub struct PartLanes {
+    /// Per set of eight rays, per axis: their origins' coordinates.
+    origin: [[[f32; 8]; 3]; PACKET / 8],
+    /// Per set, per axis: their reciprocal directions.
+    inv: [[[f32; 8]; 3]; PACKET / 8],
+    /// Per set: their least t.
+    t_min: [[f32; 8]; PACKET / 8],
+    /// Per axis, which of a box's bounds is the near side for every ray (0: min, 1: max).
+    near_side: [usize; 3],
+    len: usize,
+}
+
+impl PartLanes {
+    /// The lanes of `rays` (at most [`PACKET`], their directions of the same signs), ray i
+    /// starting at `t_min(i)`.
+    #[inline(always)]
+    pub fn new(rays: &[Ray], t_min: impl Fn(usize) -> f32) -> PartLanes {
+        debug_assert!(rays.len() <= PACKET);
+        let mut lanes = PartLanes {
+            origin: [[[0.0; 8]; 3]; PACKET / 8],
+            inv: [[[0.0; 8]; 3]; PACKET / 8],
+            t_min: [[0.0; 8]; PACKET / 8],
+            near_side: [0, 1, 2].map(|axis| {
+                rays.first()
+                    .map_or(0, |ray| usize::from(ray.inv_direction[axis] < 0.0))
+            }),
+            len: rays.len(),
+        };
+        for (i, ray) in rays.iter().enumerate() {
+            let (set, lane) = (i / 8, i % 8);
+            for axis in 0..3 {
+                lanes.origin[set][axis][lane] = ray.origin[axis];
+                lanes.inv[set][axis][lane] = ray.inv_direction[axis];
+            }
+            lanes.t_min[set][lane] = t_min(i);
+        }
+        lanes
+    }
+
+    /// Bit i set where ray i asks (`limits[i]` is not `asks_nothing`) and meets `b` within
+    /// [its t_min, `limits[i]`].
+    ///
+    /// (No closures or `map`: they are not always inlined, which leaves the vector
+    /// instructions behind calls compiled without the path's features.)
+    #[inline(always)]
+    pub fn meeting<K: Wide>(&self, wide: K, b: &Aabb, limits: &[f32], asks_nothing: f32) -> u64 {
+        let sides = [b.min, b.max];
+        let mut near = [wide.splat(0.0); 3];
+        let mut far = [wide.splat(0.0); 3];
+        for axis in 0..3 {
+            let side = self.near_side[axis];
+            near[axis] = wide.splat(sides[side & 1][axis]);
+            far[axis] = wide.splat(sides[(side ^ 1) & 1][axis]);
+        }
+        let mut meeting = 0;
+        for set in 0..self.len.div_ceil(8) {
+            let mut limit = [asks_nothing; 8];
+            let mut asks = 0_u32;
+            let end = self.len.min(set * 8 + 8);
+            for lane in 0..end - set * 8 {
+                let l = limits[set * 8 + lane];
+                limit[lane] = l;
+                asks |= u32::from(l != asks_nothing) << lane;
+            }
+            if asks == 0 {
+                continue;
+            }
+            let origin = &self.origin[set];
+            let inv = &self.inv[set];
+            let (ox, oy, oz) = (
+                wide.load(&origin[0]),
+                wide.load(&origin[1]),
+                wide.load(&origin[2]),
+            );
+            let (ix, iy, iz) = (wide.load(&inv[0]), wide.load(&inv[1]), wide.load(&inv[2]));
+            let (nx, fx) = ((near[0] - ox) * ix, (far[0] - ox) * ix);
+            let (ny, fy) = ((near[1] - oy) * iy, (far[1] - oy) * iy);
+            let (nz, fz) = ((near[2] - oz) * iz, (far[2] - oz) * iz);
+            let entry = nx.max(ny).max(nz.max(wide.load(&self.t_min[set])));
+            let exit = fx.min(fy).min(fz.min(wide.load(&limit)));
+            meeting |= u64::from(entry.le(exit) & asks) << (set * 8);
+        }
+        meeting
+    }
 }
 
 /// What the eight-wide box test asks of a ray, or of a packet's bounds: on an axis, for each of
@@ -1114,6 +1209,64 @@ mod tests {
         });
         assert_eq!(closest, Some(49));
         assert_eq!(t, 100.0 - 49.25);
+    }
+
+    #[test]
+    fn a_part_tests_a_box_against_each_ray_as_the_ray_alone_would() {
+        let mut seed = 7_u64;
+        let mut next = move || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 40) as f32 / (1_u64 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut met = 0;
+        for k in 0..2000 {
+            // Rays from around a point along directions of one sign per axis (one part), some
+            // with a zero component (a reciprocal of ±f32::MAX), against boxes near and far,
+            // flat ones and points included.
+            let base = Vec3A::new(next(), next(), next()) * 4.0;
+            let centre = Vec3A::new(next(), next(), next()) * 6.0;
+            let half = Vec3A::new(next(), next(), next()).abs() * [0.0, 0.5, 3.0][k % 3];
+            // Toward the box, give or take, so that about half the rays meet it.
+            let toward = centre - base;
+            let sign = toward.signum();
+            let len = [64, 61, 9, 1][k % 4];
+            let rays: Vec<Ray> = (0..len)
+                .map(|i| {
+                    let wobble = Vec3A::new(next(), next(), next()).abs() * 0.3;
+                    let mut d = (toward.abs() * (1.0 - 0.15) + wobble * toward.length()) * sign;
+                    if i % 7 == 3 {
+                        d.x = 0.0_f32.copysign(sign.x);
+                    }
+                    Ray::new(base + Vec3A::new(next(), next(), next()) * 0.3, d)
+                })
+                .collect();
+            let b = Aabb {
+                min: centre - half,
+                max: centre + half,
+            };
+            let t_min: Vec<f32> = (0..len)
+                .map(|i| [0.0, f32::NEG_INFINITY, 0.5, 2.0][(i + k) % 4])
+                .collect();
+            let limits: Vec<f32> = (0..len)
+                .map(|i| [f32::INFINITY, f32::NEG_INFINITY, 3.0, 0.25, 9.0][(i * 3 + k) % 5])
+                .collect();
+            let lanes = PartLanes::new(&rays, |i| t_min[i]);
+            let meeting = lanes.meeting(Portable, &b, &limits, f32::NEG_INFINITY);
+            for (i, ray) in rays.iter().enumerate() {
+                let alone =
+                    limits[i] != f32::NEG_INFINITY && ray_meets_box(ray, &b, t_min[i], limits[i]);
+                assert_eq!(
+                    meeting >> i & 1 == 1,
+                    alone,
+                    "ray {i} of {ray:?} against {b:?}"
+                );
+                met += usize::from(alone);
+            }
+            assert_eq!(meeting.checked_shr(len as u32).unwrap_or(0), 0);
+        }
+        assert!(met > 5000, "only {met} rays met their boxes");
     }
 
     #[test]

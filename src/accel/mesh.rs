@@ -4,7 +4,7 @@
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
-use super::bvh::{CoherentParts, PACKET, ray_meets_box};
+use super::bvh::{CoherentParts, PACKET, PartLanes};
 use super::{Bvh, LeafSize, Tally};
 use crate::geometry::{
     Aabb, Ray, TRIANGLE_BLOCK, Triangle8, TriangleRayLanes, intersect_triangle, triangle_normal,
@@ -342,6 +342,7 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
             if start == ASKS_NOTHING {
                 continue;
             }
+            let part_lanes = PartLanes::new(rays, |_| t_min);
             mesh.bvh.traverse_packet(
                 wide,
                 &around,
@@ -349,29 +350,26 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
                 start,
                 #[inline(always)]
                 |first, count, bounds| {
-                    let mut greatest = ASKS_NOTHING;
-                    for (i, ray) in rays.iter().enumerate() {
-                        let asks = limits[i] != ASKS_NOTHING;
-                        if asks && ray_meets_box(ray, bounds, t_min, limits[i]) {
-                            for block in first..first + count {
-                                let hit = mesh.hit_block(
-                                    wide,
-                                    ray,
-                                    &mut lanes[offset + i],
-                                    block,
-                                    t_min,
-                                    limits[i],
-                                    tally,
-                                );
-                                if let Some(t) = hit.and_then(|hit| keep_nearer(&mut found[i], hit))
-                                {
-                                    limits[i] = t;
-                                }
+                    let mut meeting = part_lanes.meeting(wide, bounds, limits, ASKS_NOTHING);
+                    while meeting != 0 {
+                        let i = meeting.trailing_zeros() as usize;
+                        meeting &= meeting - 1;
+                        for block in first..first + count {
+                            let hit = mesh.hit_block(
+                                wide,
+                                &rays[i],
+                                &mut lanes[offset + i],
+                                block,
+                                t_min,
+                                limits[i],
+                                tally,
+                            );
+                            if let Some(t) = hit.and_then(|hit| keep_nearer(&mut found[i], hit)) {
+                                limits[i] = t;
                             }
                         }
-                        greatest = greatest.max(limits[i]);
                     }
-                    greatest
+                    limits.iter().fold(ASKS_NOTHING, |a, &b| a.max(b))
                 },
             );
         }
@@ -428,6 +426,7 @@ impl<T: Tally> WithWide for PacketAnyHit<'_, T> {
             }
             // The packet's box tests start from the earliest of its rays' starts.
             let least = t_min.iter().fold(f32::INFINITY, |a, &b| a.min(b));
+            let part_lanes = PartLanes::new(rays, |i| t_min[i]);
             mesh.bvh.traverse_packet(
                 wide,
                 &around,
@@ -435,30 +434,25 @@ impl<T: Tally> WithWide for PacketAnyHit<'_, T> {
                 start,
                 #[inline(always)]
                 |first, count, bounds| {
-                    let mut greatest = ASKS_NOTHING;
-                    for (i, ray) in rays.iter().enumerate() {
-                        let limit = limits[i];
-                        if limit != ASKS_NOTHING
-                            && ray_meets_box(ray, bounds, t_min[i], limit)
-                            && (first..first + count).any(|block| {
-                                mesh.hit_block(
-                                    wide,
-                                    ray,
-                                    &mut lanes[offset + i],
-                                    block,
-                                    t_min[i],
-                                    limit,
-                                    tally,
-                                )
+                    let mut meeting = part_lanes.meeting(wide, bounds, limits, ASKS_NOTHING);
+                    while meeting != 0 {
+                        let i = meeting.trailing_zeros() as usize;
+                        meeting &= meeting - 1;
+                        // (A loop, not `any`: its closure is not always inlined.)
+                        for block in first..first + count {
+                            let lanes = &mut lanes[offset + i];
+                            let (ray, limit) = (&rays[i], limits[i]);
+                            if mesh
+                                .hit_block(wide, ray, lanes, block, t_min[i], limit, tally)
                                 .is_some()
-                            })
-                        {
-                            blocked[i] = true;
-                            limits[i] = ASKS_NOTHING;
+                            {
+                                blocked[i] = true;
+                                limits[i] = ASKS_NOTHING;
+                                break;
+                            }
                         }
-                        greatest = greatest.max(limits[i]);
                     }
-                    greatest
+                    limits.iter().fold(ASKS_NOTHING, |a, &b| a.max(b))
                 },
             );
         }

@@ -6,7 +6,7 @@ pub mod grid;
 mod mesh;
 mod world;
 
-pub use bvh::{Bvh, LeafSize, PACKET, PacketBounds, ray_meets_box};
+pub use bvh::{Bvh, LeafSize, PACKET, PacketBounds, PartLanes, ray_meets_box};
 pub use grid::{Grid, GridError};
 pub use mesh::{ASKS_NOTHING, TriangleMesh};
 pub use world::{Hit, Item, World, WorldStats};

@@ -20,6 +20,7 @@ mod nearest;
 mod packet;
 mod shadow;
 mod shadow_packet;
+mod spread;
 
 use glam::Vec3A;
 

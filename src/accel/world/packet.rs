@@ -2,6 +2,7 @@
 
 use arrayvec::ArrayVec;
 
+use super::spread::Spread;
 use super::{Hit, Item, Nearest, World, search_limit};
 use crate::accel::bvh::{CoherentParts, PACKET, ray_meets_box};
 use crate::accel::{ASKS_NOTHING, Tally};
@@ -116,6 +117,18 @@ impl World {
                 if active.is_empty() {
                     return;
                 }
+                let mut found = [None; PACKET];
+                if transform == Item::WORLD_SPACE && active.len() == rays.len() {
+                    // The whole packet, as it is (a scene of one big mesh): no copies.
+                    let found = &mut found[..rays.len()];
+                    self.meshes[mesh as usize].intersect_packet(rays, t_min, limits, found, tally);
+                    for (nearest, found) in nearest.iter_mut().zip(found.iter()) {
+                        if let Some((t, triangle)) = *found {
+                            Nearest::item(t, i, triangle).replaces(nearest);
+                        }
+                    }
+                    return;
+                }
                 // Under a Transform, each ray is carried into the mesh's space just as it alone
                 // would be; t still counts along the world's rays.
                 let carry = |ray: &Ray| match transform {
@@ -126,7 +139,6 @@ impl World {
                     active.iter().map(|&k| carry(&rays[k as usize])).collect();
                 let mut asked: ArrayVec<f32, PACKET> =
                     active.iter().map(|&k| limits[k as usize]).collect();
-                let mut found = [None; PACKET];
                 let found = &mut found[..active.len()];
                 self.meshes[mesh as usize]
                     .intersect_packet(&carried, t_min, &mut asked, found, tally);
@@ -147,79 +159,5 @@ impl World {
                 }
             }
         }
-    }
-}
-
-/// How far apart a packet's rays run: the largest distance between the first ray's unit
-/// direction and another's (about the angle between them, in radians), and the first ray's
-/// origin.
-#[derive(Clone, Copy)]
-pub(super) struct Spread {
-    angle: f32,
-    origin: glam::Vec3A,
-}
-
-impl Spread {
-    /// A packet whose rays, where they reach a mesh, lie further apart than this share of the
-    /// mesh's box's diagonal is searched ray by ray: its rays' walks through the mesh's tree
-    /// share too little for the packet's common walk to pay (measured on 100 bunnies at
-    /// 1024²: the packet's walk took 2.9 times the rays' own; on one bunny filling the view,
-    /// the rays' own took 1.6 times the packet's).
-    const WIDEST: f32 = 0.03;
-
-    pub(super) fn of(rays: &[Ray]) -> Spread {
-        let first = rays[0].direction.normalize_or_zero();
-        let angle = rays
-            .iter()
-            .map(|ray| (ray.direction.normalize_or_zero() - first).length())
-            .fold(0.0, f32::max);
-        Spread {
-            angle,
-            origin: rays[0].origin,
-        }
-    }
-
-    /// Whether the packet is narrow beside a mesh whose world box is `bounds`: its rays'
-    /// spread where they reach the box's centre is within [`Spread::WIDEST`] of its diagonal.
-    pub(super) fn narrow_beside(self, bounds: &Aabb) -> bool {
-        let distance = ((bounds.min + bounds.max) * 0.5 - self.origin).length();
-        self.angle * distance <= Spread::WIDEST * (bounds.max - bounds.min).length()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::Vec3A;
-
-    #[test]
-    fn a_packet_is_narrow_beside_a_mesh_its_rays_reach_close_together() {
-        // Eight rays from the origin, 0.01 apart at unit distance (the widest 0.02).
-        let rays: Vec<Ray> = (0..8)
-            .map(|k| {
-                Ray::new(
-                    Vec3A::ZERO,
-                    Vec3A::new(0.01 * (k % 2) as f32, 0.01 * (k / 2 % 2) as f32, 1.0),
-                )
-            })
-            .collect();
-        let spread = Spread::of(&rays);
-        assert!(
-            (spread.angle - 0.01 * 2f32.sqrt()).abs() < 1e-4,
-            "{}",
-            spread.angle
-        );
-        // A box of diagonal 1.732 at distance 10: the rays are 0.14 apart there, 8 % of it.
-        let far = Aabb {
-            min: Vec3A::new(-0.5, -0.5, 9.5),
-            max: Vec3A::new(0.5, 0.5, 10.5),
-        };
-        assert!(!spread.narrow_beside(&far));
-        // The same box at distance 1: 0.014 apart, 0.8 % of it.
-        let near = Aabb {
-            min: Vec3A::new(-0.5, -0.5, 0.5),
-            max: Vec3A::new(0.5, 0.5, 1.5),
-        };
-        assert!(spread.narrow_beside(&near));
     }
 }

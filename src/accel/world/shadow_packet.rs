@@ -3,7 +3,7 @@
 
 use arrayvec::ArrayVec;
 
-use super::packet::Spread;
+use super::spread::Spread;
 use super::{Item, World};
 use crate::accel::bvh::{CoherentParts, PACKET, ray_meets_box};
 use crate::accel::{ASKS_NOTHING, Tally};
@@ -46,11 +46,11 @@ impl World {
                 limits[i] = t_max[i];
             }
         }
+        let spread = Spread::of(rays);
         match self.items.len() {
             0 => {}
-            1 => self.packet_item_occluded(0, None, rays, t_min, limits, blocked, tally),
+            1 => self.packet_item_occluded(0, None, spread, rays, t_min, limits, blocked, tally),
             _ => {
-                let spread = Spread::of(rays);
                 for (part, around) in CoherentParts::new(Portable, rays) {
                     let (rays, t_min, limits, blocked) = (
                         &rays[part.clone()],
@@ -83,7 +83,8 @@ impl World {
                             for item in first..first + count {
                                 self.packet_item_occluded(
                                     item,
-                                    Some((bounds, spread)),
+                                    Some(bounds),
+                                    spread,
                                     rays,
                                     t_min,
                                     limits,
@@ -100,15 +101,16 @@ impl World {
     }
 
     /// Item `i` against the rays of a packet that still ask (`limits[k]` not
-    /// [`ASKS_NOTHING`]) and meet `placed`'s box (the item's in the top-level tree, with the
-    /// packet's spread; `None` when there is no tree, and every ray asks it). A ray it blocks
-    /// asks nothing more. A mesh is searched by the packet where the packet is narrow beside
-    /// it, otherwise ray by ray, as a sphere is.
+    /// [`ASKS_NOTHING`]) and meet `placed`, the item's box in the top-level tree (`None` when
+    /// there is no tree, and every ray asks it). A ray it blocks asks nothing more. A mesh is
+    /// searched by the packet where the packet (of `spread`) is narrow beside it, otherwise ray
+    /// by ray, as a sphere is: shadow rays leave from points that may lie far apart.
     #[allow(clippy::too_many_arguments)]
     fn packet_item_occluded<T: Tally>(
         &self,
         i: u32,
-        placed: Option<(&Aabb, Spread)>,
+        placed: Option<&Aabb>,
+        spread: Spread,
         rays: &[Ray],
         t_min: &[f32],
         limits: &mut [f32],
@@ -119,16 +121,17 @@ impl World {
             .filter(|&k| {
                 let k = k as usize;
                 limits[k] != ASKS_NOTHING
-                    && placed.is_none_or(|(b, _)| ray_meets_box(&rays[k], b, t_min[k], limits[k]))
+                    && placed.is_none_or(|b| ray_meets_box(&rays[k], b, t_min[k], limits[k]))
             })
             .collect();
         if active.is_empty() {
             return;
         }
+        let world_box = placed.copied().unwrap_or_else(|| self.top.bounds());
         match self.items[i as usize] {
             Item::Mesh {
                 mesh, transform, ..
-            } if placed.is_none_or(|(b, spread)| spread.narrow_beside(b)) => {
+            } if spread.narrow_beside(&world_box) => {
                 // Each ray carried into the mesh's space just as it alone would be.
                 let carried: ArrayVec<Ray, PACKET> = active
                     .iter()
