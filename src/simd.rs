@@ -12,10 +12,11 @@
 //! on all; comparisons are the same predicates (ordered, except `ne`, which is true for NaN).
 //!
 //! This is the crate's one module with `unsafe` code. The invariant every `unsafe` block here
-//! rests on: **a value of type [`Avx`], [`Avx512`] or [`Avx8`] exists only after
+//! rests on: **a value of type [`Avx`], [`Avx512`], [`Avx8`] or [`Avx16`] exists only after
 //! `is_x86_feature_detected!` said yes to the features it names** ([`Avx`] and [`Avx512`]
 //! have a private field and one constructor each, [`Path::detect`]'s; every [`Avx8`] is made
-//! from one of them or from other [`Avx8`]s, and AVX-512 implies AVX). So the intrinsics called
+//! from one of them or from other [`Avx8`]s, every [`Avx16`] from an [`Avx512`] or other
+//! [`Avx16`]s, and AVX-512 implies AVX). So the intrinsics called
 //! on them, and the work compiled for their features, run on a CPU that has those features,
 //! which is all that their `unsafe` asks.
 
@@ -29,18 +30,33 @@ use glam::Vec4;
 /// A way of doing eight-lane arithmetic: a token saying which instructions may be used.
 pub trait Wide: Copy {
     /// Eight `f32` lanes.
-    type F: Lanes;
+    type F: Lanes<Array = [f32; 8]>;
+    /// Sixteen lanes, two sets of eight side by side, where the path has registers that wide
+    /// (AVX-512): two rays against one block of eight triangles at once. [`Unpaired`] where it
+    /// has not.
+    type Pair: Lanes<Array = [f32; 16]>;
+    /// Whether [`Wide::join`] gives sixteen lanes (a constant, so that code for pairs vanishes
+    /// from the paths without them).
+    const PAIRS: bool;
     /// `value` in every lane.
     fn splat(self, value: f32) -> Self::F;
     /// Eight values from memory.
     fn load(self, values: &[f32; 8]) -> Self::F;
+    /// `a`'s lanes, then `b`'s; `None` where the path does not pair.
+    fn join(self, a: Self::F, b: Self::F) -> Option<Self::Pair>;
+    /// Eight values from memory, twice over; `None` where the path does not pair.
+    fn load_twice(self, values: &[f32; 8]) -> Option<Self::Pair>;
 }
 
-/// Eight `f32` lanes and the lane-wise operations the kernels use. Comparisons return a bit
-/// mask: bit k for lane k.
+/// Lanes of `f32` and the lane-wise operations the kernels use. Comparisons return a bit mask:
+/// bit k for lane k.
 pub trait Lanes:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
 {
+    /// The lanes as an array.
+    type Array;
+    /// `value` in every lane (of as many lanes as `self` has).
+    fn splat_like(self, value: f32) -> Self;
     /// Lane-wise `if self < other { self } else { other }` (so `other` when either is NaN).
     fn min(self, other: Self) -> Self;
     /// Lane-wise `if self > other { self } else { other }` (so `other` when either is NaN).
@@ -58,7 +74,61 @@ pub trait Lanes:
     /// `self != other` (true for NaN).
     fn ne(self, other: Self) -> u32;
     /// The lanes, in order.
-    fn to_array(self) -> [f32; 8];
+    fn to_array(self) -> Self::Array;
+}
+
+/// The pair type of paths without sixteen-lane registers: it has no values, so nothing is
+/// ever done with it.
+#[derive(Debug, Clone, Copy)]
+pub enum Unpaired {}
+
+macro_rules! unpaired_op {
+    ($trait:ident, $method:ident) => {
+        impl $trait for Unpaired {
+            type Output = Unpaired;
+            fn $method(self, _: Unpaired) -> Unpaired {
+                match self {}
+            }
+        }
+    };
+}
+unpaired_op!(Add, add);
+unpaired_op!(Sub, sub);
+unpaired_op!(Mul, mul);
+unpaired_op!(Div, div);
+
+impl Lanes for Unpaired {
+    type Array = [f32; 16];
+    fn splat_like(self, _: f32) -> Unpaired {
+        match self {}
+    }
+    fn min(self, _: Unpaired) -> Unpaired {
+        match self {}
+    }
+    fn max(self, _: Unpaired) -> Unpaired {
+        match self {}
+    }
+    fn le(self, _: Unpaired) -> u32 {
+        match self {}
+    }
+    fn lt(self, _: Unpaired) -> u32 {
+        match self {}
+    }
+    fn gt(self, _: Unpaired) -> u32 {
+        match self {}
+    }
+    fn ge(self, _: Unpaired) -> u32 {
+        match self {}
+    }
+    fn eq(self, _: Unpaired) -> u32 {
+        match self {}
+    }
+    fn ne(self, _: Unpaired) -> u32 {
+        match self {}
+    }
+    fn to_array(self) -> [f32; 16] {
+        match self {}
+    }
 }
 
 /// Work that runs with whichever [`Wide`] the CPU allows (see [`dispatch`]).
@@ -218,6 +288,18 @@ pub struct Portable8([Vec4; 2]);
 
 impl Wide for Portable {
     type F = Portable8;
+    type Pair = Unpaired;
+    const PAIRS: bool = false;
+
+    #[inline(always)]
+    fn join(self, _: Portable8, _: Portable8) -> Option<Unpaired> {
+        None
+    }
+
+    #[inline(always)]
+    fn load_twice(self, _: &[f32; 8]) -> Option<Unpaired> {
+        None
+    }
 
     #[inline(always)]
     fn splat(self, value: f32) -> Portable8 {
@@ -261,6 +343,13 @@ macro_rules! portable_compare {
 }
 
 impl Lanes for Portable8 {
+    type Array = [f32; 8];
+
+    #[inline(always)]
+    fn splat_like(self, value: f32) -> Portable8 {
+        Portable8([Vec4::splat(value); 2])
+    }
+
     #[inline(always)]
     fn min(self, other: Portable8) -> Portable8 {
         Portable8([self.0[0].min(other.0[0]), self.0[1].min(other.0[1])])
@@ -284,7 +373,7 @@ impl Lanes for Portable8 {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub use avx::{Avx, Avx8, Avx512};
+pub use avx::{Avx, Avx8, Avx16, Avx512};
 
 #[cfg(target_arch = "x86_64")]
 mod avx {
@@ -315,8 +404,37 @@ mod avx {
         }
     }
 
+    impl Avx512 {
+        /// `Some` where [`dispatch`](super::dispatch) takes AVX-512 (for tests that compare
+        /// the paths).
+        pub fn detect() -> Option<Avx512> {
+            match Path::detect() {
+                Token::Avx512(avx512) => Some(avx512),
+                _ => None,
+            }
+        }
+    }
+
     impl Wide for Avx512 {
         type F = Avx8;
+        type Pair = Avx16;
+        const PAIRS: bool = true;
+
+        #[inline(always)]
+        fn join(self, a: Avx8, b: Avx8) -> Option<Avx16> {
+            // SAFETY: `self` exists, so the CPU has AVX-512 F and DQ.
+            Some(Avx16(unsafe {
+                _mm512_insertf32x8::<1>(_mm512_castps256_ps512(a.0), b.0)
+            }))
+        }
+
+        #[inline(always)]
+        fn load_twice(self, values: &[f32; 8]) -> Option<Avx16> {
+            // SAFETY: AVX-512 F and DQ as above; `values` is eight readable f32 (unaligned).
+            Some(Avx16(unsafe {
+                _mm512_broadcast_f32x8(_mm256_loadu_ps(values.as_ptr()))
+            }))
+        }
 
         #[inline(always)]
         fn splat(self, value: f32) -> Avx8 {
@@ -335,6 +453,18 @@ mod avx {
 
     impl Wide for Avx {
         type F = Avx8;
+        type Pair = super::Unpaired;
+        const PAIRS: bool = false;
+
+        #[inline(always)]
+        fn join(self, _: Avx8, _: Avx8) -> Option<super::Unpaired> {
+            None
+        }
+
+        #[inline(always)]
+        fn load_twice(self, _: &[f32; 8]) -> Option<super::Unpaired> {
+            None
+        }
 
         #[inline(always)]
         fn splat(self, value: f32) -> Avx8 {
@@ -379,6 +509,14 @@ mod avx {
     }
 
     impl Lanes for Avx8 {
+        type Array = [f32; 8];
+
+        #[inline(always)]
+        fn splat_like(self, value: f32) -> Avx8 {
+            // SAFETY: an `Avx8` exists only where the CPU has AVX.
+            Avx8(unsafe { _mm256_set1_ps(value) })
+        }
+
         #[inline(always)]
         fn min(self, other: Avx8) -> Avx8 {
             // SAFETY: as above. `_mm256_min_ps` keeps `_mm_min_ps`'s NaN rule.
@@ -403,6 +541,76 @@ mod avx {
             let mut out = [0.0; 8];
             // SAFETY: as above; `out` is eight writable f32 (unaligned store).
             unsafe { _mm256_storeu_ps(out.as_mut_ptr(), self.0) };
+            out
+        }
+    }
+
+    /// Sixteen lanes in one AVX-512 register (two rays' eight side by side); made only from an
+    /// [`Avx512`] (or other `Avx16`s).
+    #[derive(Debug, Clone, Copy)]
+    pub struct Avx16(__m512);
+
+    macro_rules! avx16_op {
+        ($trait:ident, $method:ident, $intrinsic:ident) => {
+            impl $trait for Avx16 {
+                type Output = Avx16;
+                #[inline(always)]
+                fn $method(self, other: Avx16) -> Avx16 {
+                    // SAFETY: an `Avx16` exists only where the CPU has AVX-512 F.
+                    Avx16(unsafe { $intrinsic(self.0, other.0) })
+                }
+            }
+        };
+    }
+    avx16_op!(Add, add, _mm512_add_ps);
+    avx16_op!(Sub, sub, _mm512_sub_ps);
+    avx16_op!(Mul, mul, _mm512_mul_ps);
+    avx16_op!(Div, div, _mm512_div_ps);
+
+    macro_rules! avx16_compare {
+        ($($name:ident => $predicate:ident),*) => {
+            $(
+                #[inline(always)]
+                fn $name(self, other: Avx16) -> u32 {
+                    // SAFETY: an `Avx16` exists only where the CPU has AVX-512 F.
+                    u32::from(unsafe { _mm512_cmp_ps_mask::<$predicate>(self.0, other.0) })
+                }
+            )*
+        };
+    }
+
+    impl Lanes for Avx16 {
+        type Array = [f32; 16];
+
+        #[inline(always)]
+        fn splat_like(self, value: f32) -> Avx16 {
+            // SAFETY: an `Avx16` exists only where the CPU has AVX-512 F.
+            Avx16(unsafe { _mm512_set1_ps(value) })
+        }
+
+        #[inline(always)]
+        fn min(self, other: Avx16) -> Avx16 {
+            // SAFETY: as above. `_mm512_min_ps` keeps `_mm_min_ps`'s NaN rule.
+            Avx16(unsafe { _mm512_min_ps(self.0, other.0) })
+        }
+
+        #[inline(always)]
+        fn max(self, other: Avx16) -> Avx16 {
+            // SAFETY: as above.
+            Avx16(unsafe { _mm512_max_ps(self.0, other.0) })
+        }
+
+        // The predicates of `Avx8`'s comparisons.
+        avx16_compare!(
+            le => _CMP_LE_OS, lt => _CMP_LT_OS, gt => _CMP_GT_OS, ge => _CMP_GE_OS,
+            eq => _CMP_EQ_OQ, ne => _CMP_NEQ_UQ
+        );
+
+        #[inline(always)]
+        fn to_array(self) -> [f32; 16] {
+            let mut out = [0.0; 16];
+            // SAFETY: as above; `out` is sixteen writable f32 (unaligned store).
+            unsafe { _mm512_storeu_ps(out.as_mut_ptr(), self.0) };
             out
         }
     }

@@ -277,6 +277,41 @@ impl TriangleMesh {
         let (t, lane) = block.intersect(wide, ray, lanes, t_min, t_max)?;
         Some((t, block.index[lane]))
     }
+
+    /// [`TriangleMesh::hit_block`] for two rays, ray k over [`t_min[k]`, `t_max[k]`]: at once
+    /// on a path that pairs, one after the other on others.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn hit_block_pair<K: Wide, T: Tally>(
+        &self,
+        wide: K,
+        rays: [&Ray; 2],
+        lanes: [&mut Option<TriangleRayLanes<K>>; 2],
+        block: u32,
+        t_min: [f32; 2],
+        t_max: [f32; 2],
+        tally: &mut T,
+    ) -> [Option<(f32, u32)>; 2] {
+        let block = &self.blocks[block as usize];
+        tally.tested(2 * block.len());
+        let [a, b] = lanes;
+        let a = match a {
+            Some(lanes) => lanes,
+            None => a.insert(TriangleRayLanes::new(wide, rays[0])),
+        };
+        let b = match b {
+            Some(lanes) => lanes,
+            None => b.insert(TriangleRayLanes::new(wide, rays[1])),
+        };
+        let found = match block.intersect_pair(wide, rays, [a, b], t_min, t_max) {
+            Some(found) => found,
+            None => [
+                block.intersect(wide, rays[0], a, t_min[0], t_max[0]),
+                block.intersect(wide, rays[1], b, t_min[1], t_max[1]),
+            ],
+        };
+        found.map(|hit| hit.map(|(t, lane)| (t, block.index[lane])))
+    }
 }
 
 /// Keeps `hit` if it is nearer than `found`, or as near and of a lower triangle: a rule that
@@ -354,6 +389,32 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
                     while meeting != 0 {
                         let i = meeting.trailing_zeros() as usize;
                         meeting &= meeting - 1;
+                        // Two rays at a time against each block, where the path pairs.
+                        if K::PAIRS && meeting != 0 {
+                            let j = meeting.trailing_zeros() as usize;
+                            meeting &= meeting - 1;
+                            for block in first..first + count {
+                                let (low, high) = lanes.split_at_mut(offset + j);
+                                let pair = [&mut low[offset + i], &mut high[0]];
+                                let hits = mesh.hit_block_pair(
+                                    wide,
+                                    [&rays[i], &rays[j]],
+                                    pair,
+                                    block,
+                                    [t_min; 2],
+                                    [limits[i], limits[j]],
+                                    tally,
+                                );
+                                for (k, hit) in [i, j].into_iter().zip(hits) {
+                                    if let Some(t) =
+                                        hit.and_then(|hit| keep_nearer(&mut found[k], hit))
+                                    {
+                                        limits[k] = t;
+                                    }
+                                }
+                            }
+                            continue;
+                        }
                         for block in first..first + count {
                             let hit = mesh.hit_block(
                                 wide,

@@ -58,22 +58,105 @@ impl<K: Wide> RayLanes<K> {
 /// One vertex of each lane's triangle in the ray's frame: row i of the matrix, one entry per
 /// lane-wide multiplication, as `Mat3A * Vec3A` does.
 #[inline(always)]
-fn to_ray_space<K: Wide>(
-    wide: K,
-    lanes: &RayLanes<K>,
-    vertex: &[[f32; BLOCK]; 3],
-) -> (K::F, K::F, K::F) {
+fn to_ray_space<F: Lanes>(vertex: [F; 3], origin: &[F; 3], rows: &[[F; 3]; 3]) -> [F; 3] {
     let d = [
-        wide.load(&vertex[0]) - lanes.origin[0],
-        wide.load(&vertex[1]) - lanes.origin[1],
-        wide.load(&vertex[2]) - lanes.origin[2],
+        vertex[0] - origin[0],
+        vertex[1] - origin[1],
+        vertex[2] - origin[2],
     ];
-    let [r0, r1, r2] = &lanes.rows;
-    (
+    let [r0, r1, r2] = rows;
+    [
         r0[0] * d[0] + r0[1] * d[1] + r0[2] * d[2],
         r1[0] * d[0] + r1[1] * d[1] + r1[2] * d[2],
         r2[0] * d[0] + r2[1] * d[1] + r2[2] * d[2],
-    )
+    ]
+}
+
+/// The lane-wise part of the watertight test, for lanes of any width (eight triangles against
+/// one ray, or against two rays side by side): the lanes whose edge functions are not all
+/// non-zero (a ray through an edge or vertex, which the scalar test settles), the lanes hit
+/// within [t_min, t_max] otherwise, and each lane's t.
+struct LaneVerdict<F> {
+    on_edge: u32,
+    hit: u32,
+    t: F,
+}
+
+#[inline(always)]
+fn watertight<F: Lanes>(
+    vertices: [[F; 3]; 3],
+    origin: &[F; 3],
+    rows: &[[F; 3]; 3],
+    t_min: F,
+    t_max: F,
+) -> LaneVerdict<F> {
+    let [p0x, p0y, p0z] = to_ray_space(vertices[0], origin, rows);
+    let [p1x, p1y, p1z] = to_ray_space(vertices[1], origin, rows);
+    let [p2x, p2y, p2z] = to_ray_space(vertices[2], origin, rows);
+    let e0 = p1x * p2y - p1y * p2x;
+    let e1 = p2x * p0y - p2y * p0x;
+    let e2 = p0x * p1y - p0y * p1x;
+    let zero = t_min.splat_like(0.0);
+    let on_edge = e0.eq(zero) | e1.eq(zero) | e2.eq(zero);
+    let negative = e0.lt(zero) | e1.lt(zero) | e2.lt(zero);
+    let positive = e0.gt(zero) | e1.gt(zero) | e2.gt(zero);
+    let det = e0 + e1 + e2;
+    let t = (e0 * p0z + e1 * p1z + e2 * p2z) / det;
+    let inside = !(negative & positive) & det.ne(zero);
+    let in_range = t.ge(t_min) & t.le(t_max);
+    LaneVerdict {
+        on_edge,
+        hit: inside & in_range,
+        t,
+    }
+}
+
+/// A vertex's three coordinates of eight triangles, in lanes.
+#[inline(always)]
+fn load3<K: Wide>(wide: K, vertex: &[[f32; BLOCK]; 3]) -> [K::F; 3] {
+    [
+        wide.load(&vertex[0]),
+        wide.load(&vertex[1]),
+        wide.load(&vertex[2]),
+    ]
+}
+
+/// [`load3`], twice side by side, where the path pairs.
+#[inline(always)]
+fn load3_twice<K: Wide>(wide: K, vertex: &[[f32; BLOCK]; 3]) -> Option<[K::Pair; 3]> {
+    Some([
+        wide.load_twice(&vertex[0])?,
+        wide.load_twice(&vertex[1])?,
+        wide.load_twice(&vertex[2])?,
+    ])
+}
+
+/// Three sets of lanes of one ray beside the same of another, where the path pairs.
+#[inline(always)]
+fn join3<K: Wide>(wide: K, a: &[K::F; 3], b: &[K::F; 3]) -> Option<[K::Pair; 3]> {
+    Some([
+        wide.join(a[0], b[0])?,
+        wide.join(a[1], b[1])?,
+        wide.join(a[2], b[2])?,
+    ])
+}
+
+/// The nearest of the lanes in `hit` (bit k for lane k of `t`), ties to the lowest lane.
+#[inline(always)]
+fn nearest_lane(mut hit: u32, t: &[f32]) -> Option<(f32, usize)> {
+    if hit == 0 {
+        return None;
+    }
+    let mut best = hit.trailing_zeros() as usize;
+    hit &= hit - 1;
+    while hit != 0 {
+        let lane = hit.trailing_zeros() as usize;
+        hit &= hit - 1;
+        if t[lane] < t[best] {
+            best = lane;
+        }
+    }
+    Some((t[best], best))
 }
 
 /// Eight triangles' vertices in structure-of-arrays form; unused lanes hold a zero-area
@@ -127,40 +210,60 @@ impl Triangle8 {
         t_min: f32,
         t_max: f32,
     ) -> Option<(f32, usize)> {
-        let (p0x, p0y, p0z) = to_ray_space(wide, lanes, &self.vertices[0]);
-        let (p1x, p1y, p1z) = to_ray_space(wide, lanes, &self.vertices[1]);
-        let (p2x, p2y, p2z) = to_ray_space(wide, lanes, &self.vertices[2]);
-        let e0 = p1x * p2y - p1y * p2x;
-        let e1 = p2x * p0y - p2y * p0x;
-        let e2 = p0x * p1y - p0y * p1x;
-        let zero = wide.splat(0.0);
+        let v = &self.vertices;
+        let vertices = [load3(wide, &v[0]), load3(wide, &v[1]), load3(wide, &v[2])];
+        let (low, high) = (wide.splat(t_min), wide.splat(t_max));
+        let verdict = watertight(vertices, &lanes.origin, &lanes.rows, low, high);
         // (Empty lanes have every edge function zero; they must not send each block that has
         // one down the slow path.)
-        if (e0.eq(zero) | e1.eq(zero) | e2.eq(zero)) & self.used != 0 {
+        if verdict.on_edge & self.used != 0 {
             // A ray through an edge or vertex: the scalar test settles it in f64, lane by lane.
             return self.intersect_each(ray, &lanes.frame, t_min, t_max);
         }
-        let negative = e0.lt(zero) | e1.lt(zero) | e2.lt(zero);
-        let positive = e0.gt(zero) | e1.gt(zero) | e2.gt(zero);
-        let det = e0 + e1 + e2;
-        let t = (e0 * p0z + e1 * p1z + e2 * p2z) / det;
-        let inside = !(negative & positive) & det.ne(zero);
-        let in_range = t.ge(wide.splat(t_min)) & t.le(wide.splat(t_max));
-        let mut mask = inside & in_range;
-        if mask == 0 {
-            return None;
+        nearest_lane(verdict.hit, &verdict.t.to_array())
+    }
+
+    /// [`Triangle8::intersect`] for two rays at once, on a path with sixteen-lane registers
+    /// (`None` on others): each ray's lanes side by side, the same operations lane by lane, so
+    /// the same answers; ray k searches [`t_min[k]`, `t_max[k]`].
+    #[inline(always)]
+    pub fn intersect_pair<K: Wide>(
+        &self,
+        wide: K,
+        rays: [&Ray; 2],
+        lanes: [&RayLanes<K>; 2],
+        t_min: [f32; 2],
+        t_max: [f32; 2],
+    ) -> Option<[Option<(f32, usize)>; 2]> {
+        // (Helpers marked inline, no closures: a closure left out of line would call each
+        // vector instruction behind it.)
+        let [a, b] = lanes;
+        let origin = join3(wide, &a.origin, &b.origin)?;
+        let rows = [
+            join3(wide, &a.rows[0], &b.rows[0])?,
+            join3(wide, &a.rows[1], &b.rows[1])?,
+            join3(wide, &a.rows[2], &b.rows[2])?,
+        ];
+        let v = &self.vertices;
+        let vertices = [
+            load3_twice(wide, &v[0])?,
+            load3_twice(wide, &v[1])?,
+            load3_twice(wide, &v[2])?,
+        ];
+        let low = wide.join(wide.splat(t_min[0]), wide.splat(t_min[1]))?;
+        let high = wide.join(wide.splat(t_max[0]), wide.splat(t_max[1]))?;
+        let verdict = watertight(vertices, &origin, &rows, low, high);
+        let t = verdict.t.to_array();
+        let mut found = [None; 2];
+        for (k, found) in found.iter_mut().enumerate() {
+            let shift = k * BLOCK;
+            *found = if (verdict.on_edge >> shift) & self.used != 0 {
+                self.intersect_each(rays[k], &lanes[k].frame, t_min[k], t_max[k])
+            } else {
+                nearest_lane((verdict.hit >> shift) & 0xff, &t[shift..shift + BLOCK])
+            };
         }
-        let t = t.to_array();
-        let mut best = mask.trailing_zeros() as usize;
-        mask &= mask - 1;
-        while mask != 0 {
-            let lane = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            if t[lane] < t[best] {
-                best = lane;
-            }
-        }
-        Some((t[best], best))
+        Some(found)
     }
 
     fn intersect_each(
@@ -274,6 +377,72 @@ mod tests {
             hits > 50,
             "only {hits} hits: the test rays miss too often to mean much"
         );
+    }
+
+    /// Two rays at once answer as each alone, where the machine pairs (AVX-512): rays through
+    /// the triangles, beside them, through a shared edge and vertex (the scalar path for one of
+    /// the two), with ranges of their own.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn two_rays_at_once_answer_as_each_alone() {
+        let Some(avx512) = crate::simd::Avx512::detect() else {
+            return;
+        };
+        let triangles: Vec<[Vec3; 3]> = (0..8)
+            .map(|k| {
+                let (x, y) = ((k % 4) as f32 - 2.0, (k / 4) as f32 - 1.0);
+                [
+                    Vec3::new(x, y, -0.1 * k as f32),
+                    Vec3::new(x + 1.0, y, 0.0),
+                    Vec3::new(x, y + 1.0, 0.1),
+                ]
+            })
+            .collect();
+        let packed = Triangle8::new(&triangles[..7], 0);
+        let rays: Vec<Ray> = (0..300)
+            .map(|i| {
+                let (x, y) = ((i % 20) as f32 / 4.0 - 2.5, (i / 20) as f32 / 6.0 - 1.2);
+                // Every seventh ray straight through a vertex the triangles share.
+                if i % 7 == 0 {
+                    return Ray::new(Vec3A::new(-1.0, 0.0, 4.0), -Vec3A::Z);
+                }
+                Ray::new(Vec3A::new(x, y, 4.0), Vec3A::new(0.01 * x, 0.02, -1.0))
+            })
+            .collect();
+        let mut hits = 0;
+        for (k, pair) in rays.windows(2).enumerate() {
+            let limits = [[f32::INFINITY, 4.0][k % 2], [3.9, f32::INFINITY][k % 2]];
+            let lanes = [
+                RayLanes::new(avx512, &pair[0]),
+                RayLanes::new(avx512, &pair[1]),
+            ];
+            let together = packed
+                .intersect_pair(
+                    avx512,
+                    [&pair[0], &pair[1]],
+                    [&lanes[0], &lanes[1]],
+                    [0.0; 2],
+                    limits,
+                )
+                .expect("an AVX-512 path pairs");
+            for r in 0..2 {
+                let alone = RayLanes::new(Portable, &pair[r]);
+                let expected = packed.intersect(Portable, &pair[r], &alone, 0.0, limits[r]);
+                assert_eq!(
+                    together[r].map(|(t, lane)| (t.to_bits(), lane)),
+                    expected.map(|(t, lane)| (t.to_bits(), lane)),
+                    "ray {:?}",
+                    pair[r]
+                );
+                hits += usize::from(expected.is_some());
+            }
+        }
+        assert!(hits > 50, "only {hits} hits");
+        // Where the path does not pair, there is no answer for two at once.
+        let lanes = RayLanes::new(Portable, &rays[1]);
+        let unpaired = [&rays[1], &rays[1]];
+        let none = packed.intersect_pair(Portable, unpaired, [&lanes, &lanes], [0.0; 2], [1.0; 2]);
+        assert!(none.is_none());
     }
 
     #[test]
