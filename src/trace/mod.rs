@@ -6,6 +6,9 @@
 //! the product of the reflective and transparent colours on its way from the camera: the same
 //! sum, in bounded native stack however large `-bounces` is, and with the list reused from ray
 //! to ray instead of allocated for each.
+//!
+//! A packet of camera rays is shaded together under `-shadows`: its hits' shadow rays toward
+//! each light are cast as a packet (`shadow_batch.rs`), with the same sums as ray by ray.
 
 mod shadow_batch;
 
