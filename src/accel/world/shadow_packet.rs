@@ -132,6 +132,12 @@ impl World {
             Item::Mesh {
                 mesh, transform, ..
             } if spread.narrow_beside(&world_box) => {
+                let mesh = &self.meshes[mesh as usize];
+                if transform == Item::WORLD_SPACE && active.len() == rays.len() {
+                    // The whole packet, as it is (a scene of one big mesh): no copies.
+                    mesh.occluded_packet(rays, t_min, limits, blocked, tally);
+                    return;
+                }
                 // Each ray carried into the mesh's space just as it alone would be.
                 let carried: ArrayVec<Ray, PACKET> = active
                     .iter()
@@ -146,8 +152,7 @@ impl World {
                     active.iter().map(|&k| limits[k as usize]).collect();
                 let mut hit = [false; PACKET];
                 let hit = &mut hit[..active.len()];
-                self.meshes[mesh as usize]
-                    .occluded_packet(&carried, &starts, &mut asked, hit, tally);
+                mesh.occluded_packet(&carried, &starts, &mut asked, hit, tally);
                 for (&k, &hit) in active.iter().zip(hit.iter()) {
                     if hit {
                         blocked[k as usize] = true;

@@ -25,14 +25,18 @@ impl Spread {
     const WIDEST: f32 = 0.03;
 
     pub(super) fn of(rays: &[Ray]) -> Spread {
-        let first = rays[0].direction.normalize_or_zero();
-        let origin = rays[0].origin;
-        let (angle, apart) = rays.iter().fold((0.0_f32, 0.0_f32), |(angle, apart), ray| {
-            (
-                angle.max((ray.direction.normalize_or_zero() - first).length()),
-                apart.max((ray.origin - origin).length()),
-            )
-        });
+        let (direction, origin) = (rays[0].direction, rays[0].origin);
+        let first = direction.normalize_or_zero();
+        let (mut angle, mut apart) = (0.0_f32, 0.0_f32);
+        for ray in rays {
+            // (Shadow rays toward a sun all share one direction: no square roots for them.)
+            if ray.direction != direction {
+                angle = angle.max((ray.direction.normalize_or_zero() - first).length());
+            }
+            if ray.origin != origin {
+                apart = apart.max((ray.origin - origin).length());
+            }
+        }
         Spread {
             angle,
             apart,
