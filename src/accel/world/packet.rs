@@ -34,11 +34,18 @@ impl World {
             *nearest = self.nearest_plane(ray, t_min);
         }
         let nearest = &mut nearest[..rays.len()];
+        // One item in world space needs no top-level tree. One under a Transform goes through
+        // it all the same: its box, met by few of a packet's rays or none, spares carrying the
+        // others into its space.
         match self.items.len() {
             0 => {}
-            1 => self.packet_item(0, None, rays, t_min, nearest, tally),
+            1 if self.items[0].transform() == Item::WORLD_SPACE => {
+                self.packet_item(0, None, rays, t_min, nearest, tally);
+            }
             _ => {
-                let spread = Spread::of(rays);
+                // Worked out when a packet first reaches an item, which many never do.
+                let mut spread = None;
+                let all = rays;
                 for (part, around) in CoherentParts::new(Portable, rays) {
                     let (rays, nearest) = (&rays[part.clone()], &mut nearest[part]);
                     let Some(around) = around else {
@@ -57,6 +64,7 @@ impl World {
                         t_min,
                         start,
                         |first, count, bounds| {
+                            let spread = *spread.get_or_insert_with(|| Spread::of(all));
                             for item in first..first + count {
                                 self.packet_item(
                                     item,

@@ -47,9 +47,12 @@ impl World {
             }
         }
         let spread = Spread::of(rays);
+        // As for camera packets (`packet.rs`): one item under a Transform goes through the tree.
         match self.items.len() {
             0 => {}
-            1 => self.packet_item_occluded(0, None, spread, rays, t_min, limits, blocked, tally),
+            1 if self.items[0].transform() == Item::WORLD_SPACE => {
+                self.packet_item_occluded(0, None, spread, rays, t_min, limits, blocked, tally);
+            }
             _ => {
                 for (part, around) in CoherentParts::new(Portable, rays) {
                     let (rays, t_min, limits, blocked) = (
