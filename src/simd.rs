@@ -14,7 +14,7 @@
 //! This is the crate's one module with `unsafe` code. The invariant every `unsafe` block here
 //! rests on: **a value of type [`Avx`], [`Avx512`], [`Avx8`] or [`Avx16`] exists only after
 //! `is_x86_feature_detected!` said yes to the features it names** ([`Avx`] and [`Avx512`]
-//! have a private field and one constructor each, [`Path::detect`]'s; every [`Avx8`] is made
+//! have a private field and one constructor each, `Path::detect`'s; every [`Avx8`] is made
 //! from one of them or from other [`Avx8`]s, every [`Avx16`] from an [`Avx512`] or other
 //! [`Avx16`]s, and AVX-512 implies AVX). So the intrinsics called
 //! on them, and the work compiled for their features, run on a CPU that has those features,
@@ -183,7 +183,7 @@ pub enum Path {
     Avx512,
 }
 
-/// What [`Path::detect`] hands [`dispatch`]: the path, with its proof where it needs one.
+/// What `Path::detect` hands [`dispatch`]: the path, with its proof where it needs one.
 #[derive(Debug, Clone, Copy)]
 enum Token {
     Portable,
@@ -383,12 +383,12 @@ mod avx {
     use super::{Lanes, Path, Token, Wide};
 
     /// Proof that the CPU has AVX (and POPCNT, which every AVX CPU has): made only where
-    /// [`Path::detect`] found them.
+    /// `Path::detect` found them.
     #[derive(Debug, Clone, Copy)]
     pub struct Avx(pub(super) ());
 
     /// Proof that the CPU has AVX-512 F, VL, DQ and BW (and so AVX): made only where
-    /// [`Path::detect`] found them. Its lanes are [`Avx8`]'s; what differs is the code the
+    /// `Path::detect` found them. Its lanes are [`Avx8`]'s; what differs is the code the
     /// work around them is compiled to.
     #[derive(Debug, Clone, Copy)]
     pub struct Avx512(pub(super) Avx);
