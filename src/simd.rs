@@ -1,8 +1,9 @@
 //! Eight lanes of `f32` for the tree's box test and the triangle blocks, in three paths chosen
 //! once at run time: AVX-512 where the CPU has it (the eight lanes in one 256-bit register, the
 //! work compiled for AVX-512: twice the vector registers, so the traversal's working set stays
-//! in them, and comparisons into mask registers), AVX (the same lanes, compiled for AVX), and a
-//! portable one (two of glam's `Vec4`, SSE2 on x86-64) everywhere else. `RAYCAST_SIMD` set to
+//! in them, and comparisons into mask registers; and sixteen lanes, [`Avx16`], for two rays
+//! against one block of triangles at once), AVX (eight lanes, compiled for AVX), and a portable
+//! one (two of glam's `Vec4`, SSE2 on x86-64) everywhere else. `RAYCAST_SIMD` set to
 //! `portable`, `avx` or `avx512` caps the choice (for tests and comparisons: see [`Path`]).
 //!
 //! All perform the same IEEE operations in the same order, lane by lane, so they give the same
@@ -16,9 +17,9 @@
 //! `is_x86_feature_detected!` said yes to the features it names** ([`Avx`] and [`Avx512`]
 //! have a private field and one constructor each, `Path::detect`'s; every [`Avx8`] is made
 //! from one of them or from other [`Avx8`]s, every [`Avx16`] from an [`Avx512`] or other
-//! [`Avx16`]s, and AVX-512 implies AVX). So the intrinsics called
-//! on them, and the work compiled for their features, run on a CPU that has those features,
-//! which is all that their `unsafe` asks.
+//! [`Avx16`]s, and AVX-512 implies AVX). So the intrinsics called on them, and the work
+//! compiled for their features, run on a CPU that has those features, which is all that their
+//! `unsafe` asks.
 
 #![allow(unsafe_code)]
 
