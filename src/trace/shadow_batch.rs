@@ -149,3 +149,79 @@ impl<V: TraceSeam> Tracer<'_, V> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::camera::pixel_to_screen;
+    use crate::parse::parse_scene;
+    use crate::scene::Scene;
+    use crate::trace::TraceSettings;
+
+    /// Two suns, a lamp, a mirror floor, glass, a mesh under a Transform and spheres, some
+    /// lit from behind: every way a shadow ray can be put off, blocked or not, with mirror and
+    /// glass rays waiting behind the sums.
+    const SCENE: &str = "
+        PerspectiveCamera { center 0 1 6 direction 0 -0.15 -1 up 0 1 0 angle 50 }
+        Lights { numLights 3
+            DirectionalLight { direction -0.4 -1 -0.3 color 0.6 0.6 0.6 }
+            DirectionalLight { direction 0.7 -0.2 0.5 color 0.2 0.3 0.2 }
+            PointLight { position 0.5 2.5 1.5 color 0.7 0.6 0.5 attenuation 1 0 0.05 } }
+        Background { color 0.1 0.1 0.2 ambientLight 0.2 0.2 0.2 }
+        Materials { numMaterials 4
+            Material { diffuseColor 0.8 0.8 0.8 specularColor 0.5 0.5 0.5 exponent 20 }
+            Material { diffuseColor 0.2 0.3 0.2 reflectiveColor 0.5 0.5 0.5 }
+            Material { diffuseColor 0.1 0.1 0.1 transparentColor 0.8 0.8 0.8 indexOfRefraction 1.3 }
+            Material { diffuseColor 0.9 0.4 0.2 } }
+        Group { numObjects 5
+            MaterialIndex 1 Plane { normal 0 1 0 offset -1 }
+            MaterialIndex 0 Sphere { center -1 0 0 radius 0.8 }
+            MaterialIndex 2 Sphere { center 0.8 0 0.8 radius 0.6 }
+            MaterialIndex 3 Transform { Translate 0.5 0.2 -1.5 Scale 0.7 1.2 0.7
+                Group { numObjects 2
+                    Triangle { vertex0 -1 -1 0 vertex1 1 -1 0 vertex2 0 1 0.5 }
+                    Triangle { vertex0 1 -1 0 vertex1 0 -1 -1 vertex2 0 1 0.5 } } }
+            MaterialIndex 0 Triangle { vertex0 -2 -1 -2 vertex1 2 -1 -2 vertex2 0 2 -2.5 } }";
+
+    #[test]
+    fn a_packet_shaded_together_sees_what_each_ray_sees_alone() {
+        let description = parse_scene(Path::new("t.txt"), SCENE).unwrap();
+        let scene = Scene::from_description(&description).unwrap();
+        let size = 48;
+        let mut shadowed = 0;
+        for shade_back in [false, true] {
+            let settings = TraceSettings {
+                shadows: true,
+                shade_back,
+                bounces: 3,
+                ..TraceSettings::default()
+            };
+            let tracer = Tracer::new(&scene, settings);
+            let (mut alone, mut together) = (Scratch::default(), Scratch::default());
+            for (top, left) in
+                (0..size / 8).flat_map(|r| (0..size / 8).map(move |c| (r * 8, c * 8)))
+            {
+                let rays: Vec<Ray> = (0..64)
+                    .map(|k| {
+                        let (u, v) = pixel_to_screen(left + k % 8, top + k / 8, size, size);
+                        scene.camera.ray(u, v)
+                    })
+                    .collect();
+                let mut seen = Vec::new();
+                tracer.camera_rays(&rays, true, &mut together, |i, colour, hit| {
+                    seen.push((i, colour.to_array().map(f32::to_bits), hit));
+                });
+                for (i, ray) in rays.iter().enumerate() {
+                    let (colour, hit) = tracer.camera_ray(ray, true, &mut alone);
+                    assert_eq!(seen[i], (i, colour.to_array().map(f32::to_bits), hit));
+                }
+            }
+            assert_eq!(together.counts.shadow, alone.counts.shadow);
+            assert_eq!(together.counts.secondary, alone.counts.secondary);
+            shadowed += together.counts.shadow;
+        }
+        assert!(shadowed > 2000, "only {shadowed} shadow rays");
+    }
+}
