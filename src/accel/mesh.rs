@@ -377,7 +377,8 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
             if start == ASKS_NOTHING {
                 continue;
             }
-            let part_lanes = PartLanes::new(rays, |_| t_min);
+            // Set up on the first leaf: most packets of a big scene reach none.
+            let mut part_lanes = None;
             mesh.bvh.traverse_packet(
                 wide,
                 &around,
@@ -385,6 +386,10 @@ impl<T: Tally> WithWide for PacketNearest<'_, T> {
                 start,
                 #[inline(always)]
                 |first, count, bounds| {
+                    let part_lanes = match &mut part_lanes {
+                        Some(lanes) => lanes,
+                        None => part_lanes.insert(PartLanes::new(rays, |_| t_min)),
+                    };
                     let mut meeting = part_lanes.meeting(wide, bounds, limits, ASKS_NOTHING);
                     while meeting != 0 {
                         let i = meeting.trailing_zeros() as usize;
@@ -487,7 +492,7 @@ impl<T: Tally> WithWide for PacketAnyHit<'_, T> {
             }
             // The packet's box tests start from the earliest of its rays' starts.
             let least = t_min.iter().fold(f32::INFINITY, |a, &b| a.min(b));
-            let part_lanes = PartLanes::new(rays, |i| t_min[i]);
+            let mut part_lanes = None;
             mesh.bvh.traverse_packet(
                 wide,
                 &around,
@@ -495,6 +500,10 @@ impl<T: Tally> WithWide for PacketAnyHit<'_, T> {
                 start,
                 #[inline(always)]
                 |first, count, bounds| {
+                    let part_lanes = match &mut part_lanes {
+                        Some(lanes) => lanes,
+                        None => part_lanes.insert(PartLanes::new(rays, |i| t_min[i])),
+                    };
                     let mut meeting = part_lanes.meeting(wide, bounds, limits, ASKS_NOTHING);
                     while meeting != 0 {
                         let i = meeting.trailing_zeros() as usize;

@@ -206,6 +206,13 @@ impl World {
         (!self.items.is_empty() && !b.is_empty()).then_some(b)
     }
 
+    /// Whether a packet searches the world's one item directly, with no top-level tree: it is
+    /// alone and in world space. One under a Transform goes through the tree all the same: its
+    /// box, met by few of a packet's rays or none, spares carrying the others into its space.
+    fn packets_skip_top_tree(&self) -> bool {
+        self.items.len() == 1 && self.items[0].transform() == Item::WORLD_SPACE
+    }
+
     /// Calls `f` with the ray in `item`'s own space: the world ray as it is (no copy of it on
     /// the way to the triangles) for an item placed in world space.
     #[inline(always)]

@@ -34,12 +34,9 @@ impl World {
             *nearest = self.nearest_plane(ray, t_min);
         }
         let nearest = &mut nearest[..rays.len()];
-        // One item in world space needs no top-level tree. One under a Transform goes through
-        // it all the same: its box, met by few of a packet's rays or none, spares carrying the
-        // others into its space.
         match self.items.len() {
             0 => {}
-            1 if self.items[0].transform() == Item::WORLD_SPACE => {
+            _ if self.packets_skip_top_tree() => {
                 self.packet_item(0, None, rays, t_min, nearest, tally);
             }
             _ => {

@@ -47,10 +47,9 @@ impl World {
             }
         }
         let spread = Spread::of(rays);
-        // As for camera packets (`packet.rs`): one item under a Transform goes through the tree.
         match self.items.len() {
             0 => {}
-            1 if self.items[0].transform() == Item::WORLD_SPACE => {
+            _ if self.packets_skip_top_tree() => {
                 self.packet_item_occluded(0, None, spread, rays, t_min, limits, blocked, tally);
             }
             _ => {
