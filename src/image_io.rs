@@ -1,15 +1,15 @@
 //! Pictures to files: TGA in the course's exact layout, binary PPM, and PNG, by extension.
 //!
 //! TGA and PPM are written here (a header and the bytes: the course's TGA layout, top-left origin
-//! and BGR, is not what a general encoder picks); PNG goes through the `image` crate. Every file
+//! and BGR, is not what a general encoder picks); PNG goes through the `png` crate. Each is
+//! written row by row as the rows come ([`PictureWriter`]). Every file
 //! is written to a temporary file beside its target and renamed into place only when all of a
 //! run's files are complete, so a failed run leaves no partial image and touches no existing one.
 
-use std::borrow::Cow;
-use std::io::Write;
+use std::cell::RefCell;
+use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
-
-use rayon::prelude::*;
+use std::rc::Rc;
 
 use crate::error::Error;
 use crate::shade::Image;
@@ -21,7 +21,7 @@ pub enum ImageFormat {
     Tga,
     /// Binary PPM (P6).
     Ppm,
-    /// PNG, encoded by the `image` crate.
+    /// PNG (fast compression, each row's filter chosen to suit it).
     Png,
 }
 
@@ -43,85 +43,113 @@ impl ImageFormat {
 
 /// The whole file for `image` in `format`, as one buffer.
 pub fn encode(image: &Image, format: ImageFormat) -> Vec<u8> {
-    encode_parts(image, format).into_vec()
+    let bytes = SharedBytes::default();
+    PictureWriter::new(bytes.clone(), format, image.width, image.height)
+        .and_then(|mut writer| {
+            writer.write_rows(&image.pixels)?;
+            writer.finish()
+        })
+        .expect("writing to memory cannot fail");
+    bytes.0.take()
 }
 
-/// A picture file's bytes, in the pieces they are written in: a PPM's pixels go out straight
-/// from the picture (a 4096² picture is 50 MB, and copying it behind a header took longer than
-/// writing it).
-pub struct Encoded<'a> {
-    parts: [Cow<'a, [u8]>; 2],
-}
+/// Bytes written to memory, still there when the writer that owned them is gone (the PNG
+/// stream keeps its writer to the end).
+#[derive(Clone, Default)]
+struct SharedBytes(Rc<RefCell<Vec<u8>>>);
 
-impl Encoded<'_> {
-    /// The file's length in bytes.
-    pub fn size(&self) -> u64 {
-        self.parts.iter().map(|part| part.len() as u64).sum()
+impl Write for SharedBytes {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.0.borrow_mut().extend_from_slice(bytes);
+        Ok(bytes.len())
     }
 
-    /// Writes the file's bytes to `out`.
-    pub fn write_to(&self, out: &mut impl Write) -> std::io::Result<()> {
-        self.parts.iter().try_for_each(|part| out.write_all(part))
-    }
-
-    /// The file's bytes in one buffer.
-    pub fn into_vec(self) -> Vec<u8> {
-        let [head, rest] = self.parts;
-        let mut bytes = head.into_owned();
-        bytes.extend_from_slice(&rest);
-        bytes
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
     }
 }
 
-/// The file for `image` in `format`. A TGA's sides must be at most [`TGA_MAX_SIDE`] (the
-/// command line sees to that).
-pub fn encode_parts(image: &Image, format: ImageFormat) -> Encoded<'_> {
-    let (w, h) = (image.width, image.height);
-    let parts = match format {
-        ImageFormat::Tga => {
-            let mut header = Vec::with_capacity(18);
-            // Uncompressed true colour (type 2), 24 bits, descriptor 32: rows top to bottom.
-            header.extend_from_slice(&[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
-            header.extend_from_slice(&(w as u16).to_le_bytes());
-            header.extend_from_slice(&(h as u16).to_le_bytes());
-            header.extend_from_slice(&[24, 32]);
-            // Zeroed by the allocator, page by page as the threads fill them.
-            let mut body = vec![0_u8; image.pixels.len() * 3];
-            const ROW: usize = 4096;
-            body.par_chunks_mut(3 * ROW)
-                .zip(image.pixels.par_chunks(ROW))
-                .for_each(|(out, pixels)| {
-                    for (out, &[r, g, b]) in out.chunks_exact_mut(3).zip(pixels) {
-                        out.copy_from_slice(&[b, g, r]);
-                    }
-                });
-            [Cow::Owned(header), Cow::Owned(body)]
+/// A picture file written as its rows come, top to bottom: the header when made, then the rows
+/// in any runs, each a whole number of rows; [`PictureWriter::finish`] after the last. A render
+/// hands its rows on as its bands are finished, so a big picture need never be whole in memory.
+pub struct PictureWriter<W: Write + 'static> {
+    encoder: Encoder<W>,
+}
+
+enum Encoder<W: Write + 'static> {
+    Tga { out: W, bgr: Vec<u8> },
+    Ppm(W),
+    // Boxed: the stream's state is ten times the others', and there is one writer a file.
+    Png(Box<png::StreamWriter<'static, W>>),
+}
+
+/// Pixels turned into a TGA's B, G, R bytes at a time: a run of rows goes out in pieces of
+/// this many pixels, so the copy stays small and in cache.
+const TGA_PIECE: usize = 16 * 1024;
+
+/// A PNG's compressed data goes out in chunks of up to this many bytes.
+const PNG_CHUNK: usize = 1 << 20;
+
+impl<W: Write + 'static> PictureWriter<W> {
+    /// Starts a `width` × `height` picture in `format`, writing its header to `out`. A TGA's
+    /// sides must be at most [`TGA_MAX_SIDE`] (the command line sees to that).
+    pub fn new(
+        mut out: W,
+        format: ImageFormat,
+        width: u32,
+        height: u32,
+    ) -> std::io::Result<PictureWriter<W>> {
+        let encoder = match format {
+            ImageFormat::Tga => {
+                // Uncompressed true colour (type 2), 24 bits, descriptor 32: rows top to bottom.
+                let [w0, w1] = (width as u16).to_le_bytes();
+                let [h0, h1] = (height as u16).to_le_bytes();
+                out.write_all(&[0, 0, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, w0, w1, h0, h1, 24, 32])?;
+                Encoder::Tga {
+                    out,
+                    bgr: Vec::new(),
+                }
+            }
+            ImageFormat::Ppm => {
+                write!(out, "P6\n{width} {height}\n255\n")?;
+                Encoder::Ppm(out)
+            }
+            ImageFormat::Png => {
+                let mut encoder = png::Encoder::new(out, width, height);
+                encoder.set_color(png::ColorType::Rgb);
+                encoder.set_depth(png::BitDepth::Eight);
+                encoder.set_compression(png::Compression::Fast);
+                encoder.set_filter(png::Filter::Adaptive);
+                let writer = encoder.write_header()?;
+                Encoder::Png(Box::new(writer.into_stream_writer_with_size(PNG_CHUNK)?))
+            }
+        };
+        Ok(PictureWriter { encoder })
+    }
+
+    /// The next rows.
+    pub fn write_rows(&mut self, pixels: &[[u8; 3]]) -> std::io::Result<()> {
+        match &mut self.encoder {
+            Encoder::Tga { out, bgr } => {
+                for piece in pixels.chunks(TGA_PIECE) {
+                    bgr.clear();
+                    bgr.extend(piece.iter().flat_map(|&[r, g, b]| [b, g, r]));
+                    out.write_all(bgr)?;
+                }
+                Ok(())
+            }
+            Encoder::Ppm(out) => out.write_all(pixels.as_flattened()),
+            Encoder::Png(stream) => stream.write_all(pixels.as_flattened()),
         }
-        ImageFormat::Ppm => [
-            Cow::Owned(format!("P6\n{w} {h}\n255\n").into_bytes()),
-            Cow::Borrowed(image.pixels.as_flattened()),
-        ],
-        ImageFormat::Png => {
-            use image::ImageEncoder;
-            use image::codecs::png::{CompressionType, FilterType, PngEncoder};
-            let mut bytes = Vec::new();
-            let encoder = PngEncoder::new_with_quality(
-                &mut bytes,
-                CompressionType::Fast,
-                FilterType::Adaptive,
-            );
-            encoder
-                .write_image(
-                    image.pixels.as_flattened(),
-                    w,
-                    h,
-                    image::ExtendedColorType::Rgb8,
-                )
-                .expect("an in-memory PNG of a valid size cannot fail to encode");
-            [Cow::Owned(bytes), Cow::Borrowed(&[][..])]
+    }
+
+    /// Ends the file (a PNG's last chunks) and flushes it.
+    pub fn finish(self) -> std::io::Result<()> {
+        match self.encoder {
+            Encoder::Tga { mut out, .. } | Encoder::Ppm(mut out) => out.flush(),
+            Encoder::Png(stream) => Ok(stream.finish()?),
         }
-    };
-    Encoded { parts }
+    }
 }
 
 /// The folder a file is (to be) in: `.` for a bare file name.
@@ -147,7 +175,8 @@ const _: () = assert!(MAX_SIDE <= TGA_MAX_SIDE);
 /// render starts (so an unwritable folder is found before any work), and renamed into place
 /// together by [`PendingOutputs::commit`]. Dropped uncommitted, they vanish.
 pub struct PendingOutputs {
-    files: Vec<(PathBuf, tempfile::NamedTempFile)>,
+    /// Each file's target, its temporary file, and the bytes reserved for it.
+    files: Vec<(PathBuf, tempfile::NamedTempFile, u64)>,
 }
 
 impl PendingOutputs {
@@ -178,36 +207,85 @@ impl PendingOutputs {
                     format!("cannot create a file in '{}': {e}", folder.display())
                 },
             })?;
-            files.push((path.to_path_buf(), file));
+            files.push((path.to_path_buf(), file, 0));
         }
         Ok(PendingOutputs { files })
     }
 
-    /// Writes each file's bytes (in the order reserved), then renames them all into place.
+    /// Starts every file, in the order reserved: file i a picture of `shapes[i]`'s format and
+    /// size (width, height). Each is written with [`OpenPicture::write_rows`] and ended with
+    /// [`OpenPicture::finish`] before [`PendingOutputs::commit`].
+    pub fn open(&mut self, shapes: &[(ImageFormat, u32, u32)]) -> Result<Vec<OpenPicture>, Error> {
+        assert_eq!(self.files.len(), shapes.len(), "a shape for each file");
+        self.files
+            .iter_mut()
+            .zip(shapes)
+            .map(|((path, file, reserved), &(format, width, height))| {
+                // Room for the raw pixels: a PNG takes less, and gives the rest back when
+                // committed.
+                *reserved = 3 * u64::from(width) * u64::from(height) + 64;
+                reserve_blocks(file.as_file(), *reserved);
+                // A second handle on the file, sharing its place in it: commit reads how far
+                // the writer got.
+                let writer = file
+                    .as_file()
+                    .try_clone()
+                    .and_then(|file| {
+                        PictureWriter::new(BufWriter::new(file), format, width, height)
+                    })
+                    .map_err(|e| write_error(path, e))?;
+                Ok(OpenPicture {
+                    path: path.clone(),
+                    writer,
+                })
+            })
+            .collect()
+    }
+
+    /// Renames every file into place, once all are written.
     ///
     /// No fsync: the rename already guarantees that the process, however it stops, leaves the
     /// old file or the new one, never a mix; only a crash of the whole machine could lose the
     /// new image, and syncing took longer than tracing a million rays.
-    pub fn commit(mut self, contents: &[Encoded]) -> Result<(), Error> {
-        assert_eq!(
-            self.files.len(),
-            contents.len(),
-            "one content for each reserved file"
-        );
-        for ((path, file), encoded) in self.files.iter_mut().zip(contents) {
-            reserve_blocks(file.as_file(), encoded.size());
-            encoded.write_to(file).map_err(|e| Error::Write {
-                path: path.clone(),
-                message: e.to_string(),
-            })?;
-        }
-        for (path, file) in self.files {
-            file.persist(&path).map_err(|e| Error::Write {
-                path,
-                message: e.error.to_string(),
-            })?;
+    pub fn commit(self) -> Result<(), Error> {
+        for (path, mut file, reserved) in self.files {
+            let written = file.stream_position().map_err(|e| write_error(&path, e))?;
+            if written < reserved {
+                file.as_file()
+                    .set_len(written)
+                    .map_err(|e| write_error(&path, e))?;
+            }
+            file.persist(&path)
+                .map_err(|e| write_error(&path, e.error))?;
         }
         Ok(())
+    }
+}
+
+/// One output file being written: a [`PictureWriter`] whose errors name the file.
+pub struct OpenPicture {
+    path: PathBuf,
+    writer: PictureWriter<BufWriter<std::fs::File>>,
+}
+
+impl OpenPicture {
+    /// The next rows (see [`PictureWriter::write_rows`]).
+    pub fn write_rows(&mut self, pixels: &[[u8; 3]]) -> Result<(), Error> {
+        self.writer
+            .write_rows(pixels)
+            .map_err(|e| write_error(&self.path, e))
+    }
+
+    /// Ends the file.
+    pub fn finish(self) -> Result<(), Error> {
+        self.writer.finish().map_err(|e| write_error(&self.path, e))
+    }
+}
+
+fn write_error(path: &Path, error: std::io::Error) -> Error {
+    Error::Write {
+        path: path.to_path_buf(),
+        message: error.to_string(),
     }
 }
 
@@ -258,6 +336,50 @@ mod tests {
         let bytes = encode(&two_by_one(), ImageFormat::Png);
         let decoded = image::load_from_memory(&bytes).unwrap().to_rgb8();
         assert_eq!(decoded.as_raw(), &[1, 2, 3, 4, 5, 6]);
+    }
+
+    #[test]
+    fn a_picture_written_in_runs_of_rows_is_the_picture_written_whole() {
+        let (width, height) = (37, 29);
+        let pixels: Vec<[u8; 3]> = (0..width * height)
+            .map(|i| [(i % 251) as u8, (i * 7 % 256) as u8, (i / 5 % 256) as u8])
+            .collect();
+        let image = Image {
+            width,
+            height,
+            pixels,
+        };
+        for format in [ImageFormat::Tga, ImageFormat::Ppm, ImageFormat::Png] {
+            let bytes = SharedBytes::default();
+            let mut writer = PictureWriter::new(bytes.clone(), format, width, height).unwrap();
+            // Runs of 1, 2, 3 ... rows, as bands of different sizes would come.
+            let mut row = 0;
+            for run in 1.. {
+                if row == height {
+                    break;
+                }
+                let rows = run.min(height - row);
+                let at = (row * width) as usize;
+                writer
+                    .write_rows(&image.pixels[at..at + (rows * width) as usize])
+                    .unwrap();
+                row += rows;
+            }
+            writer.finish().unwrap();
+            let streamed = bytes.0.take();
+            let known = match format {
+                ImageFormat::Tga => image::ImageFormat::Tga,
+                ImageFormat::Ppm => image::ImageFormat::Pnm,
+                ImageFormat::Png => image::ImageFormat::Png,
+            };
+            let decoded = image::load_from_memory_with_format(&streamed, known)
+                .unwrap()
+                .to_rgb8();
+            assert_eq!(decoded.as_raw(), image.pixels.as_flattened(), "{format:?}");
+            if format != ImageFormat::Png {
+                assert_eq!(streamed, encode(&image, format), "{format:?}");
+            }
+        }
     }
 
     #[test]

@@ -1,10 +1,15 @@
-//! The pixel loop: bands of up to 16 rows spread over rayon's threads, each band walked in
-//! tiles 16 pixels wide (neighbouring rays then meet the same nodes while they are in cache),
-//! each pixel one camera ray through its centre, handed to the [`Tracer`] in blocks of 8×8 (or
-//! as many rows as the band has), a packet that searches the scene together. Every pixel is computed the same way whichever thread takes it,
-//! so any thread count gives the same image.
+//! The pixel loop: bands of up to 16 rows, each taken by the next free worker of rayon's pool
+//! (so they finish nearly top to bottom), each band walked in tiles 16 pixels wide (neighbouring
+//! rays then meet the same nodes while they are in cache), each pixel one camera ray through its
+//! centre, handed to the [`Tracer`] in blocks of 8×8 (or as many rows as the band has), a packet
+//! that searches the scene together. The bands are drawn into the whole pictures
+//! ([`render_with`]) or into a worker's own rows and handed on in order ([`render_streamed`]).
+//! Every pixel is computed the same way whichever thread takes it, so any thread count gives the
+//! same image.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::collections::BTreeMap;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use arrayvec::ArrayVec;
@@ -13,6 +18,7 @@ use rayon::prelude::*;
 
 use crate::accel::{Hit, PACKET};
 use crate::camera::CameraSeam;
+use crate::error::Error;
 use crate::geometry::Ray;
 use crate::sample::{Film, FilmSample, SampleSeam, Sampling};
 use crate::scene::Scene;
@@ -88,6 +94,12 @@ impl RenderCounter {
 }
 
 impl RenderSettings {
+    /// Whether the pictures can be rendered a band at a time ([`render_streamed`]): one ray
+    /// through each pixel's centre and no film kept.
+    pub fn streams(&self) -> bool {
+        self.sampling.is_plain() && !self.keep_film
+    }
+
     /// The shaded picture alone, `width` × `height`, with the course's defaults: camera rays
     /// only, one sample at each pixel's centre, no progress bar.
     pub fn new(width: u32, height: u32) -> RenderSettings {
@@ -128,7 +140,7 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
 
 /// [`render`], as `variant` renders.
 pub fn render_with<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V) -> Rendered {
-    if settings.sampling.is_plain() && !settings.keep_film {
+    if settings.streams() {
         render_centres(scene, settings, variant)
     } else {
         render_film(scene, settings, variant)
@@ -138,6 +150,7 @@ pub fn render_with<V: Variant>(scene: &Scene, settings: &RenderSettings, variant
 /// One ray through each pixel's centre, straight to bytes: assignments 1 to 6.
 fn render_centres<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V) -> Rendered {
     let (width, height) = (settings.width, settings.height);
+    let layout = BandLayout::of(settings);
     let pixels = width as usize * height as usize;
     // Only the pictures asked for, each written in place by the bands: no per-pixel record to
     // convert afterwards (at 4096² that was 170 MB of fresh pages, a tenth of the run in page
@@ -146,40 +159,20 @@ fn render_centres<V: Variant>(scene: &Scene, settings: &RenderSettings, variant:
     let mut colour = picture(settings.colour);
     let mut normals = picture(settings.normals);
     let mut depth = picture(settings.depth.is_some());
-    // Bands of TILE rows, thinner when the image is too short to give every thread eight (a
-    // 4096x16 picture would otherwise be one band on one thread, and at 1024² sixteen threads
-    // would get four bands each, too few to even out the bands' different costs).
-    let threads = rayon::current_num_threads() as u32;
-    let band_rows = (height / (8 * threads)).clamp(1, TILE);
-    let band_len = (width as usize * band_rows as usize).max(1);
-    let band_count = pixels.div_ceil(band_len);
-    let split = |picture| split_into_bands(picture, band_len, band_count);
-    let bands: Vec<Band> = split(&mut colour)
+    let split = |picture| split_into_bands(picture, layout.band_len, layout.band_count);
+    let bands: Vec<Mutex<Band>> = split(&mut colour)
         .into_iter()
         .zip(split(&mut normals))
         .zip(split(&mut depth))
-        .map(|((colour, normals), depth)| Band {
-            colour,
-            normals,
-            depth,
+        .map(|((colour, normals), depth)| {
+            Mutex::new(Band {
+                colour,
+                normals,
+                depth,
+            })
         })
         .collect();
-    let background = variant.to_rgb(scene.background);
-    let progress = Progress::new(settings.progress, settings.counter, band_count);
-    let tracer = Tracer::with_variant(scene, settings.trace, variant);
-    let traced = bands
-        .into_par_iter()
-        .enumerate()
-        .map(|(band, mut out)| {
-            let top = band as u32 * band_rows;
-            let rows = band_rows.min(height - top);
-            let rows = top..top + rows;
-            let counts = render_band(&tracer, variant, settings, background, rows, &mut out);
-            progress.advance();
-            counts
-        })
-        .reduce(RayCounts::default, |a, b| a + b);
-    progress.finish();
+    let rays = render_bands(scene, settings, variant, &layout, &InPlace(bands));
 
     let image = |pixels: Option<Vec<[u8; 3]>>| {
         pixels.map(|pixels| Image {
@@ -192,9 +185,247 @@ fn render_centres<V: Variant>(scene: &Scene, settings: &RenderSettings, variant:
         colour: image(colour),
         normals: image(normals),
         depth: image(depth),
-        rays: traced,
+        rays,
         film: None,
     }
+}
+
+/// Takes a render's rows as they are finished, top to bottom (see [`render_streamed`]).
+pub trait RowSink: Send {
+    /// The next rows of each picture asked for; an error stops the render.
+    fn rows(&mut self, rows: &FinishedRows) -> Result<(), Error>;
+}
+
+/// Rows of the pictures, finished: `width × rows` pixels of each picture asked for.
+#[derive(Debug)]
+pub struct FinishedRows<'a> {
+    /// The first of them, counted from the top.
+    pub first_row: u32,
+    /// The shaded picture's rows, if it was asked for.
+    pub colour: Option<&'a [[u8; 3]]>,
+    /// The normals picture's rows, if it was asked for.
+    pub normals: Option<&'a [[u8; 3]]>,
+    /// The depth picture's rows, if it was asked for.
+    pub depth: Option<&'a [[u8; 3]]>,
+}
+
+/// Renders the pictures `settings` asks for, one ray through each pixel's centre, handing their
+/// rows to `sink` top to bottom as they are finished, never holding more than a few bands of
+/// them: a 4096² picture is 50 MB that need not be in memory at once. Only for the plain
+/// sampling ([`RenderSettings::streams`]); the film's filter reaches across rows.
+pub fn render_streamed<V: Variant>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    variant: V,
+    sink: &mut dyn RowSink,
+) -> Result<RayCounts, Error> {
+    assert!(settings.streams(), "a film's pictures are filtered whole");
+    let layout = BandLayout::of(settings);
+    let streamed = Streamed {
+        layout,
+        wanted: [settings.colour, settings.normals, settings.depth.is_some()],
+        in_order: Mutex::new(InOrder {
+            next: 0,
+            waiting: BTreeMap::new(),
+            sink,
+            failed: None,
+        }),
+    };
+    let rays = render_bands(scene, settings, variant, &layout, &streamed);
+    let in_order = streamed
+        .in_order
+        .into_inner()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    match in_order.failed {
+        Some(error) => Err(error),
+        None => Ok(rays),
+    }
+}
+
+/// How a picture is cut into bands: runs of whole rows, the unit a thread takes.
+#[derive(Debug, Clone, Copy)]
+struct BandLayout {
+    width: u32,
+    height: u32,
+    band_rows: u32,
+    /// Pixels in a band (the last may have fewer).
+    band_len: usize,
+    band_count: usize,
+}
+
+impl BandLayout {
+    /// Bands of TILE rows, thinner when the image is too short to give every thread eight (a
+    /// 4096x16 picture would otherwise be one band on one thread, and at 1024² sixteen threads
+    /// would get four bands each, too few to even out the bands' different costs).
+    fn of(settings: &RenderSettings) -> BandLayout {
+        let (width, height) = (settings.width, settings.height);
+        let threads = rayon::current_num_threads() as u32;
+        let band_rows = (height / (8 * threads)).clamp(1, TILE);
+        let band_len = (width as usize * band_rows as usize).max(1);
+        let pixels = width as usize * height as usize;
+        BandLayout {
+            width,
+            height,
+            band_rows,
+            band_len,
+            band_count: pixels.div_ceil(band_len),
+        }
+    }
+
+    /// The rows of band `index`.
+    fn rows(&self, index: usize) -> std::ops::Range<u32> {
+        let top = index as u32 * self.band_rows;
+        top..top + self.band_rows.min(self.height - top)
+    }
+}
+
+/// Where the bands' pixels go.
+trait Bands: Sync {
+    /// What one thread keeps from band to band.
+    type Worker;
+    /// A thread's own, made when it starts.
+    fn worker(&self) -> Self::Worker;
+    /// Band `index`'s pixels, drawn by `draw`; false stops the render.
+    fn band(&self, worker: &mut Self::Worker, index: usize, draw: impl FnOnce(&mut Band)) -> bool;
+}
+
+/// Every band is a run of the whole pictures, drawn where it lies.
+struct InPlace<'a>(Vec<Mutex<Band<'a>>>);
+
+impl Bands for InPlace<'_> {
+    type Worker = ();
+
+    fn worker(&self) {}
+
+    fn band(&self, _: &mut (), index: usize, draw: impl FnOnce(&mut Band)) -> bool {
+        // Each band is taken by one thread only: the lock is never waited for.
+        draw(&mut self.0[index].lock().unwrap_or_else(|p| p.into_inner()));
+        true
+    }
+}
+
+/// Every band drawn in a thread's own rows, then handed on in order.
+struct Streamed<'s> {
+    layout: BandLayout,
+    /// Colour, normals, depth.
+    wanted: [bool; 3],
+    in_order: Mutex<InOrder<'s>>,
+}
+
+/// The bands handed on so far, and those finished early, waiting for the ones before them.
+struct InOrder<'s> {
+    next: usize,
+    waiting: BTreeMap<usize, [Option<Vec<[u8; 3]>>; 3]>,
+    sink: &'s mut dyn RowSink,
+    failed: Option<Error>,
+}
+
+impl InOrder<'_> {
+    /// Hands band `index` on, and after it those that were waiting for it; a band that comes
+    /// early waits as a copy.
+    fn finished(&mut self, layout: &BandLayout, index: usize, pixels: [Option<&[[u8; 3]]>; 3]) {
+        if index != self.next {
+            self.waiting
+                .insert(index, pixels.map(|rows| rows.map(<[[u8; 3]]>::to_vec)));
+            return;
+        }
+        self.hand_on(layout, index, pixels);
+        while let Some(band) = self.waiting.remove(&self.next) {
+            let pixels = [0, 1, 2].map(|i| band[i].as_deref());
+            self.hand_on(layout, self.next, pixels);
+        }
+    }
+
+    fn hand_on(&mut self, layout: &BandLayout, index: usize, pixels: [Option<&[[u8; 3]]>; 3]) {
+        self.next = index + 1;
+        if self.failed.is_some() {
+            return;
+        }
+        let [colour, normals, depth] = pixels;
+        let rows = FinishedRows {
+            first_row: layout.rows(index).start,
+            colour,
+            normals,
+            depth,
+        };
+        if let Err(error) = self.sink.rows(&rows) {
+            self.failed = Some(error);
+        }
+    }
+}
+
+impl Bands for Streamed<'_> {
+    type Worker = [Option<Vec<[u8; 3]>>; 3];
+
+    fn worker(&self) -> Self::Worker {
+        self.wanted
+            .map(|wanted| wanted.then(|| vec![[0_u8; 3]; self.layout.band_len]))
+    }
+
+    fn band(&self, own: &mut Self::Worker, index: usize, draw: impl FnOnce(&mut Band)) -> bool {
+        let len = self.layout.rows(index).len() * self.layout.width as usize;
+        let [colour, normals, depth] = own
+            .each_mut()
+            .map(|rows| rows.as_deref_mut().map(|rows| &mut rows[..len]));
+        draw(&mut Band {
+            colour,
+            normals,
+            depth,
+        });
+        let pixels = [0, 1, 2].map(|i| own[i].as_deref().map(|rows| &rows[..len]));
+        let mut in_order = self.in_order.lock().unwrap_or_else(|p| p.into_inner());
+        in_order.finished(&self.layout, index, pixels);
+        in_order.failed.is_none()
+    }
+}
+
+/// Renders every band on the pool's threads. Each worker takes the next band not yet begun, so
+/// the bands finish nearly in order (what streaming needs: rayon's splitting of a range would
+/// have two threads begin at the top and the middle), and small bands even out their different
+/// costs. There is a worker a thread, as ordinary tasks: where a thread is busy elsewhere (check
+/// renders lines side by side), the others take its share.
+fn render_bands<V: Variant, B: Bands>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    variant: V,
+    layout: &BandLayout,
+    bands: &B,
+) -> RayCounts {
+    let background = variant.to_rgb(scene.background);
+    let progress = Progress::new(settings.progress, settings.counter, layout.band_count);
+    let tracer = Tracer::with_variant(scene, settings.trace, variant);
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let workers = rayon::current_num_threads().min(layout.band_count);
+    let counts = (0..workers).into_par_iter().with_max_len(1).map(|_| {
+        let mut worker = bands.worker();
+        let mut scratch = Scratch::default();
+        loop {
+            let index = next.fetch_add(1, Ordering::Relaxed);
+            if index >= layout.band_count || stop.load(Ordering::Relaxed) {
+                return scratch.counts;
+            }
+            let rows = layout.rows(index);
+            let go_on = bands.band(&mut worker, index, |band| {
+                render_band(
+                    &tracer,
+                    variant,
+                    settings,
+                    background,
+                    rows,
+                    &mut scratch,
+                    band,
+                )
+            });
+            progress.advance();
+            if !go_on {
+                stop.store(true, Ordering::Relaxed);
+            }
+        }
+    });
+    let counts = counts.reduce(RayCounts::default, |a, b| a + b);
+    progress.finish();
+    counts
 }
 
 /// The pixels of rows `rows` (a band, whose first row is the band's first pixel), tile by
@@ -205,11 +436,11 @@ fn render_band<V: Variant>(
     settings: &RenderSettings,
     background: [u8; 3],
     rows: std::ops::Range<u32>,
+    scratch: &mut Scratch,
     out: &mut Band,
-) -> RayCounts {
+) {
     let (width, height) = (settings.width, settings.height);
     let camera = &tracer.scene().camera;
-    let mut scratch = Scratch::default();
     let mut rays: ArrayVec<Ray, PACKET> = ArrayVec::new();
     let mut indices: ArrayVec<usize, PACKET> = ArrayVec::new();
     for tile_left in (0..width).step_by(TILE as usize) {
@@ -227,7 +458,7 @@ fn render_band<V: Variant>(
                         indices.push(((row - rows.start) * width + column) as usize);
                     }
                 }
-                tracer.camera_rays(&rays, settings.colour, &mut scratch, |i, seen, hit| {
+                tracer.camera_rays(&rays, settings.colour, scratch, |i, seen, hit| {
                     out.set(
                         variant, indices[i], settings, background, &rays[i], seen, hit,
                     );
@@ -235,7 +466,6 @@ fn render_band<V: Variant>(
             }
         }
     }
-    scratch.counts
 }
 
 /// A picture (if it was asked for) as `band_count` runs of `band_len` pixels (the last shorter).
@@ -259,7 +489,8 @@ struct Band<'a> {
 
 impl Band<'_> {
     /// Pixel `index` of the band, from what its camera ray saw and hit. Where nothing is hit,
-    /// the normal and depth pictures stay black.
+    /// the normal and depth pictures are black (every pixel is written: a streamed band's
+    /// rows are a thread's own, still holding the band before).
     #[inline]
     #[allow(clippy::too_many_arguments)] // One pixel's inputs, called in the hot loop.
     fn set<V: Variant>(
@@ -276,10 +507,9 @@ impl Band<'_> {
             if let Some(colour) = &mut self.colour {
                 colour[index] = background;
             }
-            if let Some(miss) = variant.picture_miss(background) {
-                for picture in [&mut self.normals, &mut self.depth].into_iter().flatten() {
-                    picture[index] = miss;
-                }
+            let miss = variant.picture_miss(background).unwrap_or([0; 3]);
+            for picture in [&mut self.normals, &mut self.depth].into_iter().flatten() {
+                picture[index] = miss;
             }
             return;
         };
@@ -427,6 +657,98 @@ mod tests {
 
     use super::*;
     use crate::parse::parse_scene;
+
+    fn spheres() -> Scene {
+        let description = parse_scene(
+            Path::new("t.txt"),
+            "PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 angle 30 }
+             Lights { numLights 1 DirectionalLight { direction -1 -1 -1 color 1 1 1 } }
+             Background { color 0.1 0.2 0.3 ambientLight 0.2 0.2 0.2 }
+             Materials { numMaterials 2
+                 Material { diffuseColor 1 0 0 }
+                 Material { diffuseColor 0 1 0 } }
+             Group { numObjects 3
+                 MaterialIndex 0 Sphere { center 0 0 0 radius 1.5 }
+                 MaterialIndex 1 Sphere { center 1.5 1.2 -1 radius 1 }
+                 Sphere { center -1.2 -1.4 1 radius 0.6 } }",
+        )
+        .unwrap();
+        Scene::from_description(&description).unwrap()
+    }
+
+    /// Every row a sink is given, and where it began.
+    #[derive(Default)]
+    struct Collected {
+        first_rows: Vec<u32>,
+        pictures: [Vec<[u8; 3]>; 3],
+        fail_at_call: Option<usize>,
+    }
+
+    impl RowSink for Collected {
+        fn rows(&mut self, rows: &FinishedRows) -> Result<(), Error> {
+            self.first_rows.push(rows.first_row);
+            if Some(self.first_rows.len()) == self.fail_at_call {
+                return Err(Error::Refused("the disk is full".into()));
+            }
+            let rows = [rows.colour, rows.normals, rows.depth];
+            for (picture, rows) in self.pictures.iter_mut().zip(rows) {
+                picture.extend_from_slice(rows.unwrap_or_default());
+            }
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn streamed_rows_come_top_to_bottom_and_make_the_whole_pictures() {
+        let scene = spheres();
+        // Odd sides, and thin bands (67 rows over 3 threads: bands of 2 rows), on more
+        // threads than the machine may have, so that bands finish out of order.
+        let settings = RenderSettings {
+            normals: true,
+            depth: Some((8.0, 12.0)),
+            ..RenderSettings::new(61, 67)
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let whole = pool.install(|| render(&scene, &settings));
+        for _ in 0..5 {
+            let mut sink = Collected::default();
+            let rays = pool
+                .install(|| render_streamed(&scene, &settings, Exact, &mut sink))
+                .unwrap();
+            assert_eq!(rays, whole.rays);
+            let band_rows = sink.first_rows[1];
+            assert!(band_rows < 16, "thin bands: {band_rows} rows");
+            let expected: Vec<u32> = (0..67).step_by(band_rows as usize).collect();
+            assert_eq!(sink.first_rows, expected);
+            let [colour, normals, depth] = sink.pictures;
+            assert_eq!(colour, whole.colour.as_ref().unwrap().pixels);
+            assert_eq!(normals, whole.normals.as_ref().unwrap().pixels);
+            assert_eq!(depth, whole.depth.as_ref().unwrap().pixels);
+        }
+    }
+
+    #[test]
+    fn a_sink_that_fails_stops_the_render_with_its_error() {
+        let scene = spheres();
+        let settings = RenderSettings::new(40, 200);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let mut sink = Collected {
+            fail_at_call: Some(3),
+            ..Collected::default()
+        };
+        let error = pool
+            .install(|| render_streamed(&scene, &settings, Exact, &mut sink))
+            .unwrap_err();
+        assert_eq!(error.to_string(), "the disk is full");
+        // Nothing after the failure reaches the sink.
+        assert_eq!(sink.first_rows.len(), 3);
+    }
 
     #[test]
     fn a_watcher_sees_the_render_through() {

@@ -492,6 +492,39 @@ fn a_failed_run_writes_nothing_and_keeps_old_files() {
 }
 
 #[test]
+fn a_write_that_fails_midway_leaves_no_partial_file_and_keeps_the_old_one() {
+    let dir = workspace();
+    let old = b"not an image, but the user's file";
+    std::fs::write(dir.path().join("old.tga"), old).unwrap();
+    // Files may grow to 10 KiB, and going past that is an error, not a signal: the rows go out
+    // as the bands are finished, and the write fails after some have.
+    let output = Command::new("bash")
+        .arg("-c")
+        .arg("trap '' XFSZ; ulimit -f 10; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_raycast"))
+        .args([
+            "-input",
+            "scene.txt",
+            "-size",
+            "200",
+            "200",
+            "-threads",
+            "2",
+        ])
+        .args(["-output", "old.tga", "-normals", "n.png"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert_eq!(
+        stderr(&output).trim_end(),
+        "old.tga: cannot write image: File too large (os error 27)"
+    );
+    assert_eq!(std::fs::read(dir.path().join("old.tga")).unwrap(), old);
+    assert_dir_holds(dir.path(), "bad.txt old.tga scene.txt");
+}
+
+#[test]
 fn a_missing_output_folder_fails_before_the_scene_is_read() {
     let dir = workspace();
     // The scene is faulty too: the folder's error coming first shows that nothing was loaded or

@@ -16,7 +16,7 @@ use crate::job::{Command, Options, parse_args, usage};
 
 use crate::check::faults::{LineScene, plant_for};
 use crate::error::Error;
-use crate::job::{is_stdio, render_pictures, reserve_outputs, same_file, stats, write_pictures};
+use crate::job::{is_stdio, render_to_files, reserve_outputs, same_file, stats};
 use crate::scene::{LoadStats, Loaded, Scene};
 
 /// Runs the program on its arguments (without the program name); returns the exit status:
@@ -146,9 +146,8 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
             .map_err(|e| Error::Refused(format!("{}: {e}", options.input.display())))?;
         load.build += start.elapsed();
     }
-    let render_start = Instant::now();
-    let rendered = match &options.fault {
-        None => render_pictures(options, &scene, crate::render::Exact),
+    let written = match &options.fault {
+        None => render_to_files(options, &scene, crate::render::Exact, pending)?,
         Some(spec) => {
             let description = if is_stdio(&options.input) {
                 return Err(Error::Refused(
@@ -166,18 +165,15 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
                 plant_for(spec, &line).map_err(|e| Error::Refused(format!("raycast: {e}")))?;
             scene = line.scene;
             match plant {
-                Some(plant) => render_pictures(options, &scene, plant),
-                None => render_pictures(options, &scene, crate::render::Exact),
+                Some(plant) => render_to_files(options, &scene, plant, pending)?,
+                None => render_to_files(options, &scene, crate::render::Exact, pending)?,
             }
         }
     };
-    let render_time = render_start.elapsed();
-    let write_start = Instant::now();
-    write_pictures(options, rendered.pictures, pending)?;
     let times = stats::PhaseTimes {
         load,
-        render: render_time,
-        write: write_start.elapsed(),
+        render: written.render,
+        write: written.write,
         threads: rayon::current_num_threads(),
     };
     if options.stats {
@@ -187,19 +183,19 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
                 std::io::stderr(),
                 options,
                 &scene,
-                &rendered.rays,
-                render_time,
+                &written.rays,
+                written.render,
             );
         } else {
             stats::print_course_statistics(
                 std::io::stdout(),
                 options,
                 &scene,
-                &rendered.rays,
-                render_time,
+                &written.rays,
+                written.render,
             );
         }
-        stats::print_phase_times(std::io::stderr(), &times, &rendered.rays);
+        stats::print_phase_times(std::io::stderr(), &times, &written.rays);
     }
     Ok(())
 }

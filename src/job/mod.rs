@@ -13,10 +13,11 @@ pub use options::{
 };
 
 use std::io::{IsTerminal, Write};
+use std::time::Instant;
 
 use crate::error::Error;
-use crate::image_io::{self, PendingOutputs};
-use crate::render::{RenderSettings, Variant, render_with};
+use crate::image_io::{self, OpenPicture, PendingOutputs};
+use crate::render::{FinishedRows, RenderSettings, RowSink, Variant, render_streamed, render_with};
 use crate::sample;
 use crate::scene::Scene;
 use crate::shade::Image;
@@ -43,19 +44,7 @@ pub fn render_pictures_counted<V: Variant>(
     variant: V,
     counter: Option<&'static crate::render::RenderCounter>,
 ) -> Pictures {
-    let settings = RenderSettings {
-        width: options.width,
-        height: options.height,
-        // The samples picture shows the samples' colours.
-        colour: options.output.is_some() || options.render_samples.is_some(),
-        normals: options.normals.is_some(),
-        depth: options.depth.as_ref().map(|&(near, far, _)| (near, far)),
-        trace: options.trace,
-        sampling: options.sampling,
-        keep_film: options.render_samples.is_some(),
-        progress: std::io::stderr().is_terminal(),
-        counter,
-    };
+    let settings = render_settings(options, counter);
     // Only the filter picture asked for: nothing to trace.
     let traced = options.output.is_some()
         || options.normals.is_some()
@@ -89,6 +78,120 @@ pub fn render_pictures_counted<V: Variant>(
     }
 }
 
+/// The render the options ask for.
+fn render_settings(
+    options: &Options,
+    counter: Option<&'static crate::render::RenderCounter>,
+) -> RenderSettings {
+    RenderSettings {
+        width: options.width,
+        height: options.height,
+        // The samples picture shows the samples' colours.
+        colour: options.output.is_some() || options.render_samples.is_some(),
+        normals: options.normals.is_some(),
+        depth: options.depth.as_ref().map(|&(near, far, _)| (near, far)),
+        trace: options.trace,
+        sampling: options.sampling,
+        keep_film: options.render_samples.is_some(),
+        progress: std::io::stderr().is_terminal(),
+        counter,
+    }
+}
+
+/// How long a job took to render and to write its pictures. Where the rows went to their files
+/// as they were finished, writing them is part of the render, and the write is the files' end.
+pub struct Written {
+    /// The rays cast.
+    pub rays: crate::trace::RayCounts,
+    /// Rendering (and, where streamed, writing the rows).
+    pub render: std::time::Duration,
+    /// Writing what was left and putting the files in place.
+    pub write: std::time::Duration,
+}
+
+/// Renders what the options ask for as `variant` renders and writes the pictures into
+/// `pending`'s files (standard output for `-`). One ray through each pixel's centre into files
+/// only: the rows go to the files as the bands are finished ([`render_streamed`]), so the
+/// pictures are never whole in memory. Otherwise rendered whole, then written.
+pub fn render_to_files<V: Variant>(
+    options: &Options,
+    scene: &Scene,
+    variant: V,
+    mut pending: PendingOutputs,
+) -> Result<Written, Error> {
+    let start = Instant::now();
+    let settings = render_settings(options, None);
+    let streams = settings.streams()
+        && options.render_filter.is_none()
+        && !options.writes_to_stdout()
+        && !options.outputs().is_empty();
+    if !streams {
+        let rendered = render_pictures(options, scene, variant);
+        let render = start.elapsed();
+        write_pictures(options, rendered.pictures, pending)?;
+        return Ok(Written {
+            rays: rendered.rays,
+            render,
+            write: start.elapsed() - render,
+        });
+    }
+    let shapes: Vec<_> = options
+        .outputs()
+        .iter()
+        .map(|&(_, path)| {
+            let format = options
+                .format_of(path)
+                .expect("checked when parsing the command line");
+            (format, options.width, options.height)
+        })
+        .collect();
+    let mut files = pending.open(&shapes)?.into_iter();
+    // Outputs come in the order colour, normals, depth.
+    let mut take = |wanted: bool| wanted.then(|| files.next().expect("a file for each picture"));
+    let mut sink = FileRows {
+        colour: take(options.output.is_some()),
+        normals: take(options.normals.is_some()),
+        depth: take(options.depth.is_some()),
+    };
+    let rays = render_streamed(scene, &settings, variant, &mut sink)?;
+    let render = start.elapsed();
+    for file in [sink.colour, sink.normals, sink.depth]
+        .into_iter()
+        .flatten()
+    {
+        file.finish()?;
+    }
+    pending.commit()?;
+    Ok(Written {
+        rays,
+        render,
+        write: start.elapsed() - render,
+    })
+}
+
+/// The files of the pictures a render streams, each given its rows as they come.
+struct FileRows {
+    colour: Option<OpenPicture>,
+    normals: Option<OpenPicture>,
+    depth: Option<OpenPicture>,
+}
+
+impl RowSink for FileRows {
+    fn rows(&mut self, rows: &FinishedRows) -> Result<(), Error> {
+        let files = [
+            (&mut self.colour, rows.colour),
+            (&mut self.normals, rows.normals),
+            (&mut self.depth, rows.depth),
+        ];
+        for (file, pixels) in files {
+            if let (Some(file), Some(pixels)) = (file, pixels) {
+                file.write_rows(pixels)?;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Reserves the line's output files before any work (a folder that is missing or unwritable
 /// fails the run now, not after the render); standard output needs none.
 pub fn reserve_outputs(options: &Options) -> Result<PendingOutputs, Error> {
@@ -106,26 +209,34 @@ pub fn reserve_outputs(options: &Options) -> Result<PendingOutputs, Error> {
 pub fn write_pictures(
     options: &Options,
     pictures: Vec<Image>,
-    pending: PendingOutputs,
+    mut pending: PendingOutputs,
 ) -> Result<(), Error> {
-    let mut contents = Vec::new();
+    let format = |path| {
+        options
+            .format_of(path)
+            .expect("checked when parsing the command line")
+    };
+    let mut to_files = Vec::new();
     let mut to_stdout = None;
     for (image, (_, path)) in pictures.iter().zip(options.outputs()) {
-        let format = options
-            .format_of(path)
-            .expect("checked when parsing the command line");
-        let encoded = image_io::encode_parts(image, format);
         if is_stdio(path) {
-            to_stdout = Some(encoded);
+            to_stdout = Some(image_io::encode(image, format(path)));
         } else {
-            contents.push(encoded);
+            to_files.push((image, format(path)));
         }
     }
-    pending.commit(&contents)?;
-    if let Some(encoded) = to_stdout {
+    let shapes: Vec<_> = to_files
+        .iter()
+        .map(|&(image, format)| (format, image.width, image.height))
+        .collect();
+    for (mut file, (image, _)) in pending.open(&shapes)?.into_iter().zip(&to_files) {
+        file.write_rows(&image.pixels)?;
+        file.finish()?;
+    }
+    pending.commit()?;
+    if let Some(bytes) = to_stdout {
         let mut out = std::io::stdout().lock();
-        encoded
-            .write_to(&mut out)
+        out.write_all(&bytes)
             .and_then(|()| out.flush())
             .map_err(|e| Error::Write {
                 path: "standard output".into(),
