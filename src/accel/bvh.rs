@@ -153,17 +153,35 @@ struct BinaryNode {
     count: u32,
 }
 
+impl BinaryNode {
+    /// A place held for a node laid out later.
+    const UNSET: BinaryNode = BinaryNode {
+        bounds: Aabb::EMPTY,
+        first: 0,
+        count: 0,
+    };
+}
+
 impl Bvh {
     /// Builds over the given primitive boxes. Returns the tree and the order the primitives must
     /// be stored in for it: leaf ranges index that order, `order[i]` is the input index.
     pub fn build(boxes: &[Aabb], leaf: LeafSize) -> (Bvh, Vec<u32>) {
-        if boxes.is_empty() {
+        Bvh::build_with(boxes.len(), |i| boxes[i], leaf)
+    }
+
+    /// [`Bvh::build`] over `count` primitives whose boxes `box_of` gives (on rayon's threads):
+    /// no array of the boxes beside the build's own.
+    pub fn build_with(
+        count: usize,
+        box_of: impl Fn(usize) -> Aabb + Sync,
+        leaf: LeafSize,
+    ) -> (Bvh, Vec<u32>) {
+        if count == 0 {
             return (Bvh::default(), Vec::new());
         }
-        let mut prims: Vec<(Aabb, u32)> = boxes
-            .par_iter()
-            .copied()
-            .zip(0..boxes.len() as u32)
+        let mut prims: Vec<(Aabb, u32)> = (0..count)
+            .into_par_iter()
+            .map(|i| (box_of(i), i as u32))
             .collect();
         let binary = build_binary(&mut prims, leaf);
         let order = prims.iter().map(|&(_, i)| i).collect();
@@ -749,11 +767,69 @@ impl Extent {
 /// threads; the tree is the same whatever the number of threads.
 fn build_binary(prims: &mut [(Aabb, u32)], leaf: LeafSize) -> Vec<BinaryNode> {
     let root = Extent::of_all(prims);
-    build_subtree(prims, root, 0, 0, leaf)
+    let built = build_subtree(prims, root, 0, 0, leaf);
+    // The parts built apart are laid out once, in one array made at its size: merged level by
+    // level, every level was a copy of the nodes below it into fresh pages.
+    let mut nodes = Vec::with_capacity(built.len());
+    nodes.push(BinaryNode::UNSET);
+    built.lay_out(&mut nodes, 0);
+    nodes
 }
 
 /// Subtrees at least this large are split off to be built in parallel.
 const PARALLEL_MIN: usize = 8192;
+
+/// A subtree as built: one part built alone, or a node whose two sides were built in parallel.
+enum Built {
+    /// Its root at 0, each inner node's children at `first` and `first + 1` of this array.
+    Alone(Vec<BinaryNode>),
+    Split {
+        bounds: Aabb,
+        sides: Box<[Built; 2]>,
+    },
+}
+
+impl Built {
+    /// How many nodes it has.
+    fn len(&self) -> usize {
+        match self {
+            Built::Alone(nodes) => nodes.len(),
+            Built::Split { sides, .. } => 1 + sides[0].len() + sides[1].len(),
+        }
+    }
+
+    /// Puts the root at `nodes[root]` (already there, to be filled) and the rest at the end of
+    /// `nodes`: a node, then its two children side by side, then the rest of each side.
+    fn lay_out(self, nodes: &mut Vec<BinaryNode>, root: usize) {
+        match self {
+            Built::Alone(part) => {
+                // Node i > 0 of the part goes to rest_start + i - 1.
+                let rest_start = nodes.len();
+                let place = |node: &BinaryNode| {
+                    let mut node = *node;
+                    if node.count == 0 {
+                        node.first = (rest_start + node.first as usize - 1) as u32;
+                    }
+                    node
+                };
+                nodes[root] = place(&part[0]);
+                nodes.extend(part[1..].iter().map(place));
+            }
+            Built::Split { bounds, sides } => {
+                let first = nodes.len();
+                nodes[root] = BinaryNode {
+                    bounds,
+                    first: first as u32,
+                    count: 0,
+                };
+                nodes.extend([BinaryNode::UNSET; 2]);
+                let [left, right] = *sides;
+                left.lay_out(nodes, first);
+                right.lay_out(nodes, first + 1);
+            }
+        }
+    }
+}
 
 /// The subtree over `prims` (which start at `offset` in the whole build order).
 fn build_subtree(
@@ -762,50 +838,22 @@ fn build_subtree(
     depth: usize,
     offset: usize,
     leaf: LeafSize,
-) -> Vec<BinaryNode> {
+) -> Built {
     if prims.len() < PARALLEL_MIN || depth >= MAX_SAH_DEPTH {
-        return build_sequential(prims, extent, depth, offset, leaf);
+        return Built::Alone(build_sequential(prims, extent, depth, offset, leaf));
     }
     let Some((mid, left, right)) = split(prims, extent, depth, leaf) else {
-        return build_sequential(prims, extent, depth, offset, leaf);
+        return Built::Alone(build_sequential(prims, extent, depth, offset, leaf));
     };
     let (left_prims, right_prims) = prims.split_at_mut(mid);
-    let (left_nodes, right_nodes) = rayon::join(
+    let sides = rayon::join(
         || build_subtree(left_prims, left, depth + 1, offset, leaf),
         || build_subtree(right_prims, right, depth + 1, offset + mid, leaf),
     );
-    // This node, both subtree roots side by side, then the rest of each subtree.
-    let left_rest = left_nodes.len() - 1;
-    let place = |node: usize, rest_start: usize, root: usize| {
-        if node == 0 {
-            root
-        } else {
-            rest_start + node - 1
-        }
-    };
-    let mut nodes = Vec::with_capacity(left_nodes.len() + right_nodes.len() + 1);
-    nodes.push(BinaryNode {
+    Built::Split {
         bounds: extent.bounds,
-        first: 1,
-        count: 0,
-    });
-    let subtrees = [(&left_nodes, 3, 1), (&right_nodes, 3 + left_rest, 2)];
-    let relocated = |sub: &Vec<BinaryNode>, rest_start: usize, root: usize, i: usize| {
-        let mut node = sub[i];
-        if node.count == 0 {
-            node.first = place(node.first as usize, rest_start, root) as u32;
-        }
-        node
-    };
-    for &(sub, rest_start, root) in &subtrees {
-        nodes.push(relocated(sub, rest_start, root, 0));
+        sides: Box::new(sides.into()),
     }
-    for &(sub, rest_start, root) in &subtrees {
-        for i in 1..sub.len() {
-            nodes.push(relocated(sub, rest_start, root, i));
-        }
-    }
-    nodes
 }
 
 /// How a node is divided: the size of the left part and the extents of both parts, with `items`
@@ -1053,7 +1101,10 @@ impl Bins {
 /// Eight-wide nodes from the binary tree: each takes its binary node's children and keeps
 /// opening the largest inner one among them until it has eight.
 fn collapse(binary: &[BinaryNode]) -> Vec<Node> {
-    let mut nodes = vec![Node::EMPTY];
+    // No more wide nodes than binary inner nodes: room made once (what is not used is never
+    // touched), not grown by doubling into fresh pages.
+    let mut nodes = Vec::with_capacity(binary.len() / 2 + 1);
+    nodes.push(Node::EMPTY);
     // (binary node, wide node to fill)
     let mut pending = vec![(0usize, 0usize)];
     while let Some((source, target)) = pending.pop() {

@@ -2,7 +2,6 @@
 //! it.
 
 use glam::{Vec3, Vec3A};
-use rayon::prelude::*;
 
 use super::bvh::{CoherentParts, PACKET, PartLanes};
 use super::{Bvh, LeafSize, Tally};
@@ -20,16 +19,40 @@ pub struct TriangleMesh {
     bvh: Bvh,
 }
 
+/// Puts `items` in `order` (`items[k]` becomes what was `items[order[k]]`) where they lie,
+/// following each cycle of the permutation: no second array of fresh pages.
+fn permute<T: Copy>(items: &mut [T], order: &[u32]) {
+    let mut placed = vec![false; items.len()];
+    for start in 0..items.len() {
+        if placed[start] {
+            continue;
+        }
+        let first = items[start];
+        let mut k = start;
+        loop {
+            placed[k] = true;
+            let from = order[k] as usize;
+            if from == start {
+                items[k] = first;
+                break;
+            }
+            items[k] = items[from];
+            k = from;
+        }
+    }
+}
+
 impl TriangleMesh {
     /// Builds the BVH. Returns the mesh and, for per-triangle data the caller keeps, the input
     /// index of each stored triangle.
     pub fn new(triangles: Vec<[Vec3; 3]>) -> (TriangleMesh, Vec<u32>) {
-        let boxes: Vec<Aabb> = triangles
-            .par_iter()
-            .map(|t| Aabb::from_points(&[t[0].into(), t[1].into(), t[2].into()]))
-            .collect();
-        let (mut bvh, order) = Bvh::build(&boxes, LeafSize::TRIANGLES);
-        let triangles: Vec<[Vec3; 3]> = order.par_iter().map(|&i| triangles[i as usize]).collect();
+        let box_of = |i: usize| {
+            let t = triangles[i];
+            Aabb::from_points(&[t[0].into(), t[1].into(), t[2].into()])
+        };
+        let (mut bvh, order) = Bvh::build_with(triangles.len(), box_of, LeafSize::TRIANGLES);
+        let mut triangles = triangles;
+        permute(&mut triangles, &order);
         let mut blocks = Vec::with_capacity(triangles.len() / 4);
         bvh.map_leaves(|first, count| {
             let start = blocks.len() as u32;
@@ -556,6 +579,19 @@ impl<T: Tally> WithWide for AnyHit<'_, T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_permutation_puts_each_item_where_the_order_says() {
+        // Cycles of one, two and five, and the identity.
+        let order = [0_u32, 2, 1, 4, 5, 6, 7, 3];
+        let mut items: Vec<u32> = (10..18).collect();
+        permute(&mut items, &order);
+        let expected: Vec<u32> = order.iter().map(|&i| 10 + i).collect();
+        assert_eq!(items, expected);
+        let mut items: Vec<u32> = (0..4).collect();
+        permute(&mut items, &[0, 1, 2, 3]);
+        assert_eq!(items, [0, 1, 2, 3]);
+    }
     use crate::simd::Portable;
     use glam::Vec3A;
 
