@@ -154,6 +154,15 @@ struct BinaryNode {
 }
 
 impl BinaryNode {
+    /// The node of a part whose nodes after its root now start at `rest_start`.
+    fn moved(&self, rest_start: usize) -> BinaryNode {
+        let mut node = *self;
+        if node.count == 0 {
+            node.first = (rest_start + node.first as usize - 1) as u32;
+        }
+        node
+    }
+
     /// A place held for a node laid out later.
     const UNSET: BinaryNode = BinaryNode {
         bounds: Aabb::EMPTY,
@@ -805,15 +814,8 @@ impl Built {
             Built::Alone(part) => {
                 // Node i > 0 of the part goes to rest_start + i - 1.
                 let rest_start = nodes.len();
-                let place = |node: &BinaryNode| {
-                    let mut node = *node;
-                    if node.count == 0 {
-                        node.first = (rest_start + node.first as usize - 1) as u32;
-                    }
-                    node
-                };
-                nodes[root] = place(&part[0]);
-                nodes.extend(part[1..].iter().map(place));
+                nodes[root] = part[0].moved(rest_start);
+                nodes.extend(part[1..].iter().map(|node| node.moved(rest_start)));
             }
             Built::Split { bounds, sides } => {
                 let first = nodes.len();
