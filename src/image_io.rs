@@ -87,8 +87,9 @@ enum Encoder<W: Write + 'static> {
 /// this many pixels, so the copy stays small and in cache.
 const TGA_PIECE: usize = 16 * 1024;
 
-/// A PNG's compressed data goes out in chunks of up to this many bytes.
-const PNG_CHUNK: usize = 1 << 20;
+/// A PNG's compressed data goes out in chunks of up to this many bytes (the encoder's buffer:
+/// a megabyte of it was a megabyte more of memory to clear, for nothing a reader notices).
+const PNG_CHUNK: usize = 64 << 10;
 
 impl<W: Write + 'static> PictureWriter<W> {
     /// Starts a `width` × `height` picture in `format`, writing its header to `out`. A TGA's

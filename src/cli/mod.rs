@@ -113,7 +113,6 @@ fn say(mut to: impl Write, text: &str) {
 
 /// Runs the whole job (loading and tree building too, not only the render) on `-threads` threads.
 fn execute(options: &Options) -> Result<(), Error> {
-    small_pages_only();
     match options.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
@@ -122,17 +121,6 @@ fn execute(options: &Options) -> Result<(), Error> {
             .install(|| execute_on_current_pool(options)),
         None => execute_on_current_pool(options),
     }
-}
-
-/// Transparent huge pages off for a render job (Linux; the setting is the process's, passed to
-/// any child). The allocator asks for them on all its memory, and the kernel clears each 2 MB
-/// page whole when it is first touched: the bunny at 1024² held 40 MB to use 15. With 4 KiB
-/// pages it holds 20 MB, for a few percent more time at 1024² (more, smaller page faults) and
-/// none at 4096², where less memory to clear makes up for them (docs/performance.md). Best
-/// effort: where the kernel refuses, the job runs as it would have.
-fn small_pages_only() {
-    #[cfg(target_os = "linux")]
-    let _ = rustix::thread::disable_transparent_huge_pages(true);
 }
 
 fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
