@@ -1161,6 +1161,7 @@ fn padded(b: Aabb) -> Aabb {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::test_uniform;
     use crate::simd::Portable;
 
     fn unit_box_at(x: f32, y: f32, z: f32) -> Aabb {
@@ -1214,12 +1215,7 @@ mod tests {
     fn a_tree_built_in_parallel_is_whole_and_finds_the_closest_box() {
         // Enough boxes that the top of the tree is built by several rayon tasks.
         let mut seed = 12345u64;
-        let mut next = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 40) as f32 / (1u64 << 24) as f32 * 100.0
-        };
+        let mut next = move || test_uniform(&mut seed) * 100.0;
         let boxes: Vec<Aabb> = (0..3 * PARALLEL_MIN)
             .map(|_| unit_box_at(next(), next(), next()))
             .collect();
@@ -1267,12 +1263,7 @@ mod tests {
     #[test]
     fn a_part_tests_a_box_against_each_ray_as_the_ray_alone_would() {
         let mut seed = 7_u64;
-        let mut next = move || {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 40) as f32 / (1_u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut next = move || test_uniform(&mut seed) * 2.0 - 1.0;
         let mut met = 0;
         for k in 0..2000 {
             // Rays from around a point along directions of one sign per axis (one part), some

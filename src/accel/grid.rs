@@ -366,13 +366,7 @@ fn grid_fill(
 mod tests {
     use super::*;
 
-    /// A small generator for test data.
-    fn lcg(state: &mut u64) -> f32 {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*state >> 40) as f32 / (1u64 << 24) as f32
-    }
+    use crate::accel::test_uniform as lcg;
 
     #[test]
     fn every_cell_a_primitive_touches_lists_it() {

@@ -579,6 +579,7 @@ impl<T: Tally> WithWide for AnyHit<'_, T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::test_uniform;
 
     #[test]
     fn a_permutation_puts_each_item_where_the_order_says() {
@@ -624,12 +625,7 @@ mod tests {
     /// Rays from all around, many of them through the mesh's vertices and edges.
     fn rays() -> Vec<Ray> {
         let mut seed = 99_u64;
-        let mut next = move || {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 40) as f32 / (1_u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut next = move || test_uniform(&mut seed) * 2.0 - 1.0;
         let vertices = bumpy_sphere(24);
         (0..4000)
             .map(|k| {

@@ -6,6 +6,16 @@ pub mod grid;
 mod mesh;
 mod world;
 
+/// Test data for the acceleration structures' tests: the next number in [0, 1) of a small
+/// linear congruential generator whose state is `state`.
+#[cfg(test)]
+pub(crate) fn test_uniform(state: &mut u64) -> f32 {
+    *state = state
+        .wrapping_mul(6_364_136_223_846_793_005)
+        .wrapping_add(1_442_695_040_888_963_407);
+    (*state >> 40) as f32 / (1_u64 << 24) as f32
+}
+
 pub use bvh::{Bvh, LeafSize, PACKET, PacketBounds, PartLanes, ray_meets_box};
 pub use grid::{Grid, GridError};
 pub use mesh::{ASKS_NOTHING, TriangleMesh};

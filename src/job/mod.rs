@@ -138,12 +138,7 @@ pub fn render_to_files<V: Variant>(
     let shapes: Vec<_> = options
         .outputs()
         .iter()
-        .map(|&(_, path)| {
-            let format = options
-                .format_of(path)
-                .expect("checked when parsing the command line");
-            (format, options.width, options.height)
-        })
+        .map(|&(_, path)| (format_of(options, path), options.width, options.height))
         .collect();
     let mut files = pending.open(&shapes)?.into_iter();
     // Outputs come in the order colour, normals, depth.
@@ -204,6 +199,13 @@ pub fn reserve_outputs(options: &Options) -> Result<PendingOutputs, Error> {
     PendingOutputs::reserve(&files)
 }
 
+/// The format of output `path`: its extension's, or `-format`'s.
+fn format_of(options: &Options, path: &std::path::Path) -> image_io::ImageFormat {
+    options
+        .format_of(path)
+        .expect("checked when parsing the command line")
+}
+
 /// Encodes each picture in its file's format and puts the files in place together; the one
 /// named `-` goes to standard output.
 pub fn write_pictures(
@@ -211,11 +213,7 @@ pub fn write_pictures(
     pictures: Vec<Image>,
     mut pending: PendingOutputs,
 ) -> Result<(), Error> {
-    let format = |path| {
-        options
-            .format_of(path)
-            .expect("checked when parsing the command line")
-    };
+    let format = |path| format_of(options, path);
     let mut to_files = Vec::new();
     let mut to_stdout = None;
     for (image, (_, path)) in pictures.iter().zip(options.outputs()) {

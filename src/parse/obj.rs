@@ -48,7 +48,17 @@ const PARALLEL_BYTES: usize = 1 << 20;
 pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
     let threads = rayon::current_num_threads();
     if threads == 1 || bytes.len() < PARALLEL_BYTES {
-        return parse_piece(path, bytes, Start::FILE);
+        // No line makes more than one vertex.
+        let lines = memchr::memchr_iter(b'\n', bytes).count() + 1;
+        return parse_piece(
+            path,
+            bytes,
+            Start::FILE,
+            Room {
+                positions: lines,
+                triangles: lines,
+            },
+        );
     }
     let pieces = split_at_lines(bytes, 4 * threads);
     let counts: Vec<(u32, usize)> = pieces
@@ -70,7 +80,19 @@ pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
     let parsed: Vec<Result<ObjMesh, Diagnostic>> = pieces
         .par_iter()
         .zip(starts)
-        .map(|(piece, start)| parse_piece(path, piece, start))
+        .zip(&counts)
+        .map(|((piece, start), &(lines, vertices))| {
+            // The first pass's counts: the vertices exactly, a triangle a line at most.
+            parse_piece(
+                path,
+                piece,
+                start,
+                Room {
+                    positions: vertices,
+                    triangles: lines as usize + 1,
+                },
+            )
+        })
         .collect();
     let parsed = parsed
         .into_iter()
@@ -101,6 +123,15 @@ impl Start {
         line: 1,
         vertices: 0,
     };
+}
+
+/// The room a piece's arrays are made with: enough that they are rarely grown (each doubling
+/// was a copy into fresh pages). A line makes one triangle unless it is a face of four corners
+/// or more; room left over is never touched.
+#[derive(Debug, Clone, Copy)]
+struct Room {
+    positions: usize,
+    triangles: usize,
 }
 
 /// `bytes` in about `count` pieces of similar length, each (but the last) ending with a newline.
@@ -136,14 +167,10 @@ fn vertex_lines(piece: &[u8]) -> usize {
 /// One function, long: the per-line loop is the reader's hot path (a 100k-triangle mesh in
 /// about 9 ms), with the face buffer and the position in the file kept across lines; each
 /// statement's arms are short and read top to bottom.
-fn parse_piece(path: &Path, bytes: &[u8], start: Start) -> Result<ObjMesh, Diagnostic> {
-    // No line makes more than one vertex, and a line makes one triangle unless it is a face of
-    // four corners or more: arrays this long are rarely grown (each doubling a copy into fresh
-    // pages), and the room left over is never touched.
-    let lines = memchr::memchr_iter(b'\n', bytes).count() + 1;
+fn parse_piece(path: &Path, bytes: &[u8], start: Start, room: Room) -> Result<ObjMesh, Diagnostic> {
     let mut mesh = ObjMesh {
-        positions: Vec::with_capacity(lines),
-        triangles: Vec::with_capacity(lines),
+        positions: Vec::with_capacity(room.positions),
+        triangles: Vec::with_capacity(room.triangles),
     };
     let mut face: Vec<u32> = Vec::new();
     let mut rest = bytes;
