@@ -194,6 +194,8 @@ impl Bvh {
             .collect();
         let binary = build_binary(&mut prims, leaf);
         let order = prims.iter().map(|&(_, i)| i).collect();
+        // Given back before the wide nodes are made, which can then take its pages.
+        drop(prims);
         let nodes = collapse(&binary);
         let bvh = Bvh {
             nodes,
@@ -215,6 +217,18 @@ impl Bvh {
                 }
             }
         }
+    }
+
+    /// How many blocks of `block` primitives the leaves make, each leaf in blocks of its own.
+    pub(crate) fn leaf_blocks(&self, block: u32) -> usize {
+        self.nodes
+            .iter()
+            .flat_map(|node| {
+                (0..WIDTH)
+                    .filter(|&lane| node.lanes & (1 << lane) != 0 && node.count[lane] > 0)
+                    .map(|lane| u32::from(node.count[lane]).div_ceil(block) as usize)
+            })
+            .sum()
     }
 
     /// How many eight-wide nodes the tree has.

@@ -53,7 +53,9 @@ impl TriangleMesh {
         let (mut bvh, order) = Bvh::build_with(triangles.len(), box_of, LeafSize::TRIANGLES);
         let mut triangles = triangles;
         permute(&mut triangles, &order);
-        let mut blocks = Vec::with_capacity(triangles.len() / 4);
+        // Made at its length: room for a guess would take pages of its own, too big for those
+        // the build has just given back.
+        let mut blocks = Vec::with_capacity(bvh.leaf_blocks(TRIANGLE_BLOCK as u32));
         bvh.map_leaves(|first, count| {
             let start = blocks.len() as u32;
             for chunk_start in (first..first + count).step_by(TRIANGLE_BLOCK) {
@@ -298,7 +300,7 @@ impl TriangleMesh {
             None => lanes.insert(TriangleRayLanes::new(wide, ray)),
         };
         let (t, lane) = block.intersect(wide, ray, lanes, t_min, t_max)?;
-        Some((t, block.index[lane]))
+        Some((t, block.index(lane)))
     }
 
     /// [`TriangleMesh::hit_block`] for two rays, ray k over [`t_min[k]`, `t_max[k]`]: at once
@@ -333,7 +335,7 @@ impl TriangleMesh {
                 block.intersect(wide, rays[1], b, t_min[1], t_max[1]),
             ],
         };
-        found.map(|hit| hit.map(|(t, lane)| (t, block.index[lane])))
+        found.map(|hit| hit.map(|(t, lane)| (t, block.index(lane))))
     }
 }
 

@@ -11,7 +11,7 @@ mod triangle8;
 
 pub use aabb::Aabb;
 pub use plane::{Plane, intersect_plane};
-pub use ray::Ray;
+pub use ray::{Ray, RayFrame};
 pub use sphere::{Sphere, intersect_sphere};
 pub use transform::{Transform, unit_normal};
 pub(crate) use triangle::intersect_triangle_in;

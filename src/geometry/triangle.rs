@@ -1,8 +1,8 @@
 //! The watertight ray-triangle test, and the triangle's front-side normal.
 
-use glam::{Mat3A, Vec3, Vec3A};
+use glam::{Vec3, Vec3A};
 
-use super::Ray;
+use super::{Ray, RayFrame};
 
 /// Watertight ray-triangle intersection (Woop, Benthin and Wald 2013, as in pbrt-v4).
 ///
@@ -19,18 +19,15 @@ pub fn intersect_triangle(ray: &Ray, v: &[Vec3; 3], t_min: f32, t_max: f32) -> O
 /// [`intersect_triangle`] with the ray's frame ([`Ray::to_ray_space`]) already worked out.
 #[inline(always)]
 pub(crate) fn intersect_triangle_in(
-    m: &Mat3A,
+    frame: &RayFrame,
     ray: &Ray,
     v: &[Vec3; 3],
     t_min: f32,
     t_max: f32,
 ) -> Option<f32> {
-    let p0 = m * (Vec3A::from(v[0]) - ray.origin);
-    let p1 = m * (Vec3A::from(v[1]) - ray.origin);
-    let p2 = m * (Vec3A::from(v[2]) - ray.origin);
-    let (p0x, p0y, p0z) = (p0.x, p0.y, p0.z);
-    let (p1x, p1y, p1z) = (p1.x, p1.y, p1.z);
-    let (p2x, p2y, p2z) = (p2.x, p2.y, p2.z);
+    let [p0x, p0y, p0z] = frame.apply(Vec3A::from(v[0]) - ray.origin);
+    let [p1x, p1y, p1z] = frame.apply(Vec3A::from(v[1]) - ray.origin);
+    let [p2x, p2y, p2z] = frame.apply(Vec3A::from(v[2]) - ray.origin);
 
     let mut e0 = p1x * p2y - p1y * p2x;
     let mut e1 = p2x * p0y - p2y * p0x;

@@ -2,10 +2,10 @@
 //! lane, with the same operations in the same order, so that it gives bit for bit the same t, on
 //! either of [`crate::simd`]'s paths.
 
-use glam::{Mat3A, Vec3};
+use glam::Vec3;
 
-use super::Ray;
 use super::triangle::intersect_triangle_in;
+use super::{Ray, RayFrame};
 use crate::simd::{Lanes, Wide};
 
 /// How many triangles a block holds.
@@ -15,60 +15,39 @@ pub const BLOCK: usize = 8;
 /// once per block of triangles.
 #[derive(Debug, Clone, Copy)]
 pub struct RayLanes<K: Wide> {
-    frame: Mat3A,
+    frame: RayFrame,
+    /// The origin's coordinates in the frame's order: [o[kx], o[ky], o[kz]].
     origin: [K::F; 3],
-    /// `rows[i][j]`: entry (i, j) of the ray-space matrix.
-    rows: [[K::F; 3]; 3],
+    shear: [K::F; 3],
 }
 
 impl<K: Wide> RayLanes<K> {
     /// The ray's frame, worked out once for every block of triangles the ray meets.
     #[inline(always)]
     pub fn new(wide: K, ray: &Ray) -> RayLanes<K> {
-        let m = ray.to_ray_space();
-        let columns = [m.x_axis, m.y_axis, m.z_axis];
+        let frame = ray.to_ray_space();
+        let origin = ray.origin.to_array();
         RayLanes {
-            frame: m,
-            origin: [
-                wide.splat(ray.origin.x),
-                wide.splat(ray.origin.y),
-                wide.splat(ray.origin.z),
-            ],
-            rows: [
-                [
-                    wide.splat(columns[0][0]),
-                    wide.splat(columns[1][0]),
-                    wide.splat(columns[2][0]),
-                ],
-                [
-                    wide.splat(columns[0][1]),
-                    wide.splat(columns[1][1]),
-                    wide.splat(columns[2][1]),
-                ],
-                [
-                    wide.splat(columns[0][2]),
-                    wide.splat(columns[1][2]),
-                    wide.splat(columns[2][2]),
-                ],
-            ],
+            frame,
+            origin: frame.axes.map(|axis| wide.splat(origin[axis])),
+            shear: frame.shear.map(|s| wide.splat(s)),
         }
     }
 }
 
-/// One vertex of each lane's triangle in the ray's frame: row i of the matrix, one entry per
-/// lane-wide multiplication, as `Mat3A * Vec3A` does.
+/// One vertex of each lane's triangle in the ray's frame, its coordinates already in the
+/// frame's order, as [`RayFrame::apply`] maps it.
 #[inline(always)]
-fn to_ray_space<F: Lanes>(vertex: [F; 3], origin: &[F; 3], rows: &[[F; 3]; 3]) -> [F; 3] {
+fn to_ray_space<F: Lanes>(vertex: [F; 3], origin: &[F; 3], shear: &[F; 3]) -> [F; 3] {
     let d = [
         vertex[0] - origin[0],
         vertex[1] - origin[1],
         vertex[2] - origin[2],
     ];
-    let [r0, r1, r2] = rows;
     [
-        r0[0] * d[0] + r0[1] * d[1] + r0[2] * d[2],
-        r1[0] * d[0] + r1[1] * d[1] + r1[2] * d[2],
-        r2[0] * d[0] + r2[1] * d[1] + r2[2] * d[2],
+        d[0] + shear[0] * d[2],
+        d[1] + shear[1] * d[2],
+        shear[2] * d[2],
     ]
 }
 
@@ -86,13 +65,13 @@ struct LaneVerdict<F> {
 fn watertight<F: Lanes>(
     vertices: [[F; 3]; 3],
     origin: &[F; 3],
-    rows: &[[F; 3]; 3],
+    shear: &[F; 3],
     t_min: F,
     t_max: F,
 ) -> LaneVerdict<F> {
-    let [p0x, p0y, p0z] = to_ray_space(vertices[0], origin, rows);
-    let [p1x, p1y, p1z] = to_ray_space(vertices[1], origin, rows);
-    let [p2x, p2y, p2z] = to_ray_space(vertices[2], origin, rows);
+    let [p0x, p0y, p0z] = to_ray_space(vertices[0], origin, shear);
+    let [p1x, p1y, p1z] = to_ray_space(vertices[1], origin, shear);
+    let [p2x, p2y, p2z] = to_ray_space(vertices[2], origin, shear);
     let e0 = p1x * p2y - p1y * p2x;
     let e1 = p2x * p0y - p2y * p0x;
     let e2 = p0x * p1y - p0y * p1x;
@@ -111,24 +90,28 @@ fn watertight<F: Lanes>(
     }
 }
 
-/// A vertex's three coordinates of eight triangles, in lanes.
+/// A vertex's three coordinates of eight triangles, in lanes, in the order of `axes`.
 #[inline(always)]
-fn load3<K: Wide>(wide: K, vertex: &[[f32; BLOCK]; 3]) -> [K::F; 3] {
-    [
-        wide.load(&vertex[0]),
-        wide.load(&vertex[1]),
-        wide.load(&vertex[2]),
-    ]
+fn load3<K: Wide>(wide: K, vertex: &[[f32; BLOCK]; 3], axes: [usize; 3]) -> [K::F; 3] {
+    axes.map(|axis| wide.load(&vertex[axis]))
 }
 
-/// [`load3`], twice side by side, where the path pairs.
+/// [`load3`] for two rays side by side, where the path pairs: each ray's axes in its half.
 #[inline(always)]
-fn load3_twice<K: Wide>(wide: K, vertex: &[[f32; BLOCK]; 3]) -> Option<[K::Pair; 3]> {
-    Some([
-        wide.load_twice(&vertex[0])?,
-        wide.load_twice(&vertex[1])?,
-        wide.load_twice(&vertex[2])?,
-    ])
+fn load3_pair<K: Wide>(
+    wide: K,
+    vertex: &[[f32; BLOCK]; 3],
+    axes: [[usize; 3]; 2],
+) -> Option<[K::Pair; 3]> {
+    let [a, b] = axes;
+    if a == b {
+        return Some([
+            wide.load_twice(&vertex[a[0]])?,
+            wide.load_twice(&vertex[a[1]])?,
+            wide.load_twice(&vertex[a[2]])?,
+        ]);
+    }
+    join3(wide, &load3(wide, vertex, a), &load3(wide, vertex, b))
 }
 
 /// Three sets of lanes of one ray beside the same of another, where the path pairs.
@@ -166,8 +149,9 @@ fn nearest_lane(mut hit: u32, t: &[f32]) -> Option<(f32, usize)> {
 pub struct Triangle8 {
     /// `vertices[k][axis]`: coordinate `axis` of vertex k of each lane's triangle.
     vertices: [[[f32; BLOCK]; 3]; 3],
-    /// Each lane's triangle, as its index in the mesh.
-    pub index: [u32; BLOCK],
+    /// The mesh's index of lane 0's triangle; lane k holds the one after it k times (a block
+    /// is made of consecutive triangles, so eight indices would say no more: 32 bytes a block).
+    first: u32,
     /// Bit k set when lane k holds a triangle.
     used: u32,
 }
@@ -178,19 +162,24 @@ impl Triangle8 {
         debug_assert!(triangles.len() <= BLOCK);
         let mut packed = Triangle8 {
             vertices: [[[0.0; BLOCK]; 3]; 3],
-            index: [u32::MAX; BLOCK],
+            first,
             used: 0,
         };
-        for (lane, (triangle, i)) in triangles.iter().zip(first..).enumerate() {
+        for (lane, triangle) in triangles.iter().enumerate() {
             for (k, vertex) in triangle.iter().enumerate() {
                 for axis in 0..3 {
                     packed.vertices[k][axis][lane] = vertex[axis];
                 }
             }
-            packed.index[lane] = i;
             packed.used |= 1 << lane;
         }
         packed
+    }
+
+    /// The mesh's index of the triangle in `lane`.
+    #[inline(always)]
+    pub fn index(&self, lane: usize) -> u32 {
+        self.first + lane as u32
     }
 
     /// How many of the eight lanes hold a triangle.
@@ -210,10 +199,14 @@ impl Triangle8 {
         t_min: f32,
         t_max: f32,
     ) -> Option<(f32, usize)> {
-        let v = &self.vertices;
-        let vertices = [load3(wide, &v[0]), load3(wide, &v[1]), load3(wide, &v[2])];
+        let (v, axes) = (&self.vertices, lanes.frame.axes);
+        let vertices = [
+            load3(wide, &v[0], axes),
+            load3(wide, &v[1], axes),
+            load3(wide, &v[2], axes),
+        ];
         let (low, high) = (wide.splat(t_min), wide.splat(t_max));
-        let verdict = watertight(vertices, &lanes.origin, &lanes.rows, low, high);
+        let verdict = watertight(vertices, &lanes.origin, &lanes.shear, low, high);
         // (Empty lanes have every edge function zero; they must not send each block that has
         // one down the slow path.)
         if verdict.on_edge & self.used != 0 {
@@ -239,20 +232,16 @@ impl Triangle8 {
         // vector instruction behind it.)
         let [a, b] = lanes;
         let origin = join3(wide, &a.origin, &b.origin)?;
-        let rows = [
-            join3(wide, &a.rows[0], &b.rows[0])?,
-            join3(wide, &a.rows[1], &b.rows[1])?,
-            join3(wide, &a.rows[2], &b.rows[2])?,
-        ];
-        let v = &self.vertices;
+        let shear = join3(wide, &a.shear, &b.shear)?;
+        let (v, axes) = (&self.vertices, [a.frame.axes, b.frame.axes]);
         let vertices = [
-            load3_twice(wide, &v[0])?,
-            load3_twice(wide, &v[1])?,
-            load3_twice(wide, &v[2])?,
+            load3_pair(wide, &v[0], axes)?,
+            load3_pair(wide, &v[1], axes)?,
+            load3_pair(wide, &v[2], axes)?,
         ];
         let low = wide.join(wide.splat(t_min[0]), wide.splat(t_min[1]))?;
         let high = wide.join(wide.splat(t_max[0]), wide.splat(t_max[1]))?;
-        let verdict = watertight(vertices, &origin, &rows, low, high);
+        let verdict = watertight(vertices, &origin, &shear, low, high);
         let t = verdict.t.to_array();
         let mut found = [None; 2];
         for (k, found) in found.iter_mut().enumerate() {
@@ -269,7 +258,7 @@ impl Triangle8 {
     fn intersect_each(
         &self,
         ray: &Ray,
-        frame: &Mat3A,
+        frame: &RayFrame,
         t_min: f32,
         t_max: f32,
     ) -> Option<(f32, usize)> {
@@ -454,6 +443,6 @@ mod tests {
             packed.intersect(Portable, &ray, &lanes, f32::NEG_INFINITY, f32::INFINITY),
             None
         );
-        assert_eq!(packed.index, [u32::MAX; BLOCK]);
+        assert_eq!(packed.len(), 0);
     }
 }

@@ -118,7 +118,7 @@ pub struct World {
 struct LocalRay {
     item: u32,
     ray: Ray,
-    frame: glam::Mat3A,
+    frame: crate::geometry::RayFrame,
 }
 
 /// What the search found, before the normal is worked out (only the winner's is).
