@@ -252,26 +252,40 @@ impl World {
     }
 
     fn hit(&self, ray: &Ray, t: f32, found: Found) -> Hit {
-        let (normal, material) = match found {
+        self.hit_with(ray, t, found, self.surface(ray, t, found))
+    }
+
+    /// What the hit's normal is made from, with its material: the object's own normal (of
+    /// any length, in its own space) for an item, the world's for a plane. The part of a hit
+    /// that reads the object (a mesh's triangle, mostly not in the cache), so that a packet
+    /// can read all of its hits' at once.
+    fn surface(&self, ray: &Ray, t: f32, found: Found) -> (Vec3A, u32) {
+        match found {
             Found::Plane(i) => {
                 let (plane, material) = self.planes[i as usize];
                 (plane.normal, material)
             }
-            Found::Item { item, triangle } => {
-                let (object_normal, material) = self.object_normal(ray, t, item, triangle);
+            Found::Item { item, triangle } => self.object_normal(ray, t, item, triangle),
+        }
+    }
+
+    /// The hit, from its [`World::surface`].
+    fn hit_with(&self, ray: &Ray, t: f32, found: Found, (normal, material): (Vec3A, u32)) -> Hit {
+        let normal = match found {
+            Found::Plane(_) => normal,
+            Found::Item { item, .. } => {
                 let item = &self.items[item as usize];
                 let normal = match item.transform() {
-                    Item::WORLD_SPACE => unit_normal(object_normal),
-                    i => self.transforms[i as usize].normal_to_world(object_normal),
+                    Item::WORLD_SPACE => unit_normal(normal),
+                    i => self.transforms[i as usize].normal_to_world(normal),
                 };
                 // A surface too small for f32 to give it a direction (a sphere of radius 1e-7
                 // hit dead centre): it faces the ray, so that no NaN reaches a pixel.
-                let normal = if normal == Vec3A::ZERO {
+                if normal == Vec3A::ZERO {
                     -ray.direction.normalize()
                 } else {
                     normal
-                };
-                (normal, material)
+                }
             }
         };
         Hit {

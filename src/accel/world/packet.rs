@@ -8,6 +8,7 @@ use crate::accel::bvh::{CoherentParts, PACKET, ray_meets_box};
 use crate::accel::{ASKS_NOTHING, Tally};
 use crate::geometry::{Aabb, Ray};
 use crate::simd::Portable;
+use glam::Vec3A;
 
 impl World {
     /// [`World::intersect_with`] for up to [`PACKET`] rays at once (the camera's rays of a block
@@ -81,8 +82,18 @@ impl World {
                 }
             }
         }
-        for ((ray, nearest), hit) in rays.iter().zip(nearest.iter()).zip(hits) {
-            *hit = nearest.map(|n| self.hit(ray, n.t, n.found));
+        // Every hit's triangle read first, in a loop that does nothing else: each is mostly a
+        // cache miss (bunny100: three quarters of the normal's time), and so they overlap.
+        let mut surfaces = [(Vec3A::ZERO, 0); PACKET];
+        for ((ray, nearest), surface) in rays.iter().zip(nearest.iter()).zip(&mut surfaces) {
+            if let Some(n) = nearest {
+                *surface = self.surface(ray, n.t, n.found);
+            }
+        }
+        for (((ray, nearest), hit), &surface) in
+            rays.iter().zip(nearest.iter()).zip(hits).zip(&surfaces)
+        {
+            *hit = nearest.map(|n| self.hit_with(ray, n.t, n.found, surface));
         }
     }
 
