@@ -9,7 +9,7 @@
 use std::cmp::Ordering;
 
 use arrayvec::ArrayVec;
-use glam::{BVec3A, Vec3A};
+use glam::{BVec3A, Vec3A, Vec4};
 use rayon::prelude::*;
 
 use crate::geometry::{Aabb, Ray};
@@ -145,29 +145,61 @@ const STACK: usize = (WIDTH - 1) * (MAX_SAH_DEPTH + 32) + 1;
 /// The cost of a node visit relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 
-/// A binary node during the build: a leaf holds `first .. first + count` of the build order.
+/// A binary node during the build: a leaf holds `first .. first + count` of the build order,
+/// an inner node's children are `first` and `first + 1`. Both numbers are kept in the fourth
+/// lanes of the box's corners, as [`Prim`] keeps its index: 32 bytes a node rather than 48.
 #[derive(Debug, Clone, Copy)]
 struct BinaryNode {
-    bounds: Aabb,
-    first: u32,
-    count: u32,
+    min_and_first: Vec4,
+    max_and_count: Vec4,
 }
 
 impl BinaryNode {
+    fn new(bounds: Aabb, first: u32, count: u32) -> BinaryNode {
+        BinaryNode {
+            min_and_first: bounds.min.extend(f32::from_bits(first)),
+            max_and_count: bounds.max.extend(f32::from_bits(count)),
+        }
+    }
+
+    /// The box, its fourth lanes cleared (see [`Prim::bounds`]).
+    #[inline(always)]
+    fn bounds(&self) -> Aabb {
+        Aabb {
+            min: Vec3A::from_vec4(self.min_and_first.with_w(0.0)),
+            max: Vec3A::from_vec4(self.max_and_count.with_w(0.0)),
+        }
+    }
+
+    #[inline(always)]
+    fn first(&self) -> u32 {
+        self.min_and_first.w.to_bits()
+    }
+
+    /// How many primitives a leaf holds; 0 for an inner node.
+    #[inline(always)]
+    fn count(&self) -> u32 {
+        self.max_and_count.w.to_bits()
+    }
+
+    fn set_range(&mut self, first: u32, count: u32) {
+        self.min_and_first.w = f32::from_bits(first);
+        self.max_and_count.w = f32::from_bits(count);
+    }
+
     /// The node of a part whose nodes after its root now start at `rest_start`.
     fn moved(&self, rest_start: usize) -> BinaryNode {
         let mut node = *self;
-        if node.count == 0 {
-            node.first = (rest_start + node.first as usize - 1) as u32;
+        if node.count() == 0 {
+            node.set_range((rest_start + node.first() as usize - 1) as u32, 0);
         }
         node
     }
 
     /// A place held for a node laid out later.
     const UNSET: BinaryNode = BinaryNode {
-        bounds: Aabb::EMPTY,
-        first: 0,
-        count: 0,
+        min_and_first: Vec4::new(f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0),
+        max_and_count: Vec4::new(f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY, 0.0),
     };
 }
 
@@ -188,18 +220,18 @@ impl Bvh {
         if count == 0 {
             return (Bvh::default(), Vec::new());
         }
-        let mut prims: Vec<(Aabb, u32)> = (0..count)
+        let mut prims: Vec<Prim> = (0..count)
             .into_par_iter()
-            .map(|i| (box_of(i), i as u32))
+            .map(|i| Prim::new(box_of(i), i as u32))
             .collect();
         let binary = build_binary(&mut prims, leaf);
-        let order = prims.iter().map(|&(_, i)| i).collect();
+        let order = prims.iter().map(Prim::index).collect();
         // Given back before the wide nodes are made, which can then take its pages.
         drop(prims);
         let nodes = collapse(&binary);
         let bvh = Bvh {
             nodes,
-            bounds: Some(binary[0].bounds),
+            bounds: Some(binary[0].bounds()),
         };
         (bvh, order)
     }
@@ -753,6 +785,40 @@ fn centre(b: &Aabb) -> Vec3A {
     b.min + b.max
 }
 
+/// A primitive as the build sorts it: its box, with its index in the input kept in the
+/// fourth lane of the box's corner, which a `Vec3A` leaves unused: 32 bytes rather than the 48
+/// of a box beside an index, in the build's largest array.
+#[derive(Debug, Clone, Copy)]
+struct Prim {
+    min_and_index: Vec4,
+    max: Vec3A,
+}
+
+impl Prim {
+    fn new(bounds: Aabb, index: u32) -> Prim {
+        Prim {
+            min_and_index: bounds.min.extend(f32::from_bits(index)),
+            max: bounds.max,
+        }
+    }
+
+    /// The box, its fourth lanes cleared: an index's bits read as a float are mostly a
+    /// subnormal number, and arithmetic on those is slow even in a lane whose result is unused.
+    #[inline(always)]
+    fn bounds(&self) -> Aabb {
+        Aabb {
+            min: Vec3A::from_vec4(self.min_and_index.with_w(0.0)),
+            max: self.max,
+        }
+    }
+
+    /// The primitive's index in the input.
+    #[inline(always)]
+    fn index(&self) -> u32 {
+        self.min_and_index.w.to_bits()
+    }
+}
+
 /// The boxes of a range of primitives and of their (doubled) centroids.
 #[derive(Debug, Clone, Copy)]
 struct Extent {
@@ -766,15 +832,15 @@ impl Extent {
         centres: Aabb::EMPTY,
     };
 
-    fn of(prims: &[(Aabb, u32)]) -> Extent {
+    fn of(prims: &[Prim]) -> Extent {
         prims.iter().fold(Extent::EMPTY, |e, p| Extent {
-            bounds: e.bounds.union(p.0),
-            centres: e.centres.grow(centre(&p.0)),
+            bounds: e.bounds.union(p.bounds()),
+            centres: e.centres.grow(centre(&p.bounds())),
         })
     }
 
     /// [`Extent::of`] on rayon's threads, for the whole input: the same boxes in any grouping.
-    fn of_all(prims: &[(Aabb, u32)]) -> Extent {
+    fn of_all(prims: &[Prim]) -> Extent {
         prims.par_chunks(PARALLEL_MIN).map(Extent::of).reduce(
             || Extent::EMPTY,
             |a, b| Extent {
@@ -788,7 +854,7 @@ impl Extent {
 /// Binary binned-SAH build; `prims` ends in leaf order. Node 0 is the root; an inner node's
 /// children are `first` and `first + 1`. The top of the tree is built in parallel on rayon's
 /// threads; the tree is the same whatever the number of threads.
-fn build_binary(prims: &mut [(Aabb, u32)], leaf: LeafSize) -> Vec<BinaryNode> {
+fn build_binary(prims: &mut [Prim], leaf: LeafSize) -> Vec<BinaryNode> {
     let root = Extent::of_all(prims);
     let built = build_subtree(prims, root, 0, 0, leaf);
     // The parts built apart are laid out once, in one array made at its size: merged level by
@@ -833,11 +899,7 @@ impl Built {
             }
             Built::Split { bounds, sides } => {
                 let first = nodes.len();
-                nodes[root] = BinaryNode {
-                    bounds,
-                    first: first as u32,
-                    count: 0,
-                };
+                nodes[root] = BinaryNode::new(bounds, first as u32, 0);
                 nodes.extend([BinaryNode::UNSET; 2]);
                 let [left, right] = *sides;
                 left.lay_out(nodes, first);
@@ -849,7 +911,7 @@ impl Built {
 
 /// The subtree over `prims` (which start at `offset` in the whole build order).
 fn build_subtree(
-    prims: &mut [(Aabb, u32)],
+    prims: &mut [Prim],
     extent: Extent,
     depth: usize,
     offset: usize,
@@ -875,7 +937,7 @@ fn build_subtree(
 /// How a node is divided: the size of the left part and the extents of both parts, with `items`
 /// partitioned in place; `None` for a leaf.
 fn split(
-    items: &mut [(Aabb, u32)],
+    items: &mut [Prim],
     extent: Extent,
     depth: usize,
     leaf: LeafSize,
@@ -895,7 +957,7 @@ fn split(
             let axis = (centres.max - centres.min).max_position();
             let half = items.len() / 2;
             items.select_nth_unstable_by(half, |a, b| {
-                centre(&a.0)[axis].total_cmp(&centre(&b.0)[axis])
+                centre(&a.bounds())[axis].total_cmp(&centre(&b.bounds())[axis])
             });
             Some((half, Extent::of(&items[..half]), Extent::of(&items[half..])))
         }
@@ -903,37 +965,28 @@ fn split(
 }
 
 fn build_sequential(
-    prims: &mut [(Aabb, u32)],
+    prims: &mut [Prim],
     extent: Extent,
     depth: usize,
     offset: usize,
     leaf: LeafSize,
 ) -> Vec<BinaryNode> {
     let mut nodes = Vec::with_capacity(prims.len() / 2 + 1);
-    nodes.push(BinaryNode {
-        bounds: extent.bounds,
-        first: 0,
-        count: 0,
-    });
+    nodes.push(BinaryNode::new(extent.bounds, 0, 0));
     let mut pending = vec![(0usize, 0usize, prims.len(), depth, extent.centres)];
     while let Some((index, start, end, depth, centres)) = pending.pop() {
         let extent = Extent {
-            bounds: nodes[index].bounds,
+            bounds: nodes[index].bounds(),
             centres,
         };
         let Some((mid, left, right)) = split(&mut prims[start..end], extent, depth, leaf) else {
-            nodes[index].first = (offset + start) as u32;
-            nodes[index].count = (end - start) as u32;
+            nodes[index].set_range((offset + start) as u32, (end - start) as u32);
             continue;
         };
         let first = nodes.len();
-        nodes[index].first = first as u32;
+        nodes[index].set_range(first as u32, 0);
         for side in [left, right] {
-            nodes.push(BinaryNode {
-                bounds: side.bounds,
-                first: 0,
-                count: 0,
-            });
+            nodes.push(BinaryNode::new(side.bounds, 0, 0));
         }
         pending.push((first + 1, start + mid, end, depth + 1, right.centres));
         pending.push((first, start, start + mid, depth + 1, left.centres));
@@ -949,7 +1002,7 @@ fn build_sequential(
 /// bounds, and this is the build's inner loop (every node of every mesh), measured in
 /// performance.md; split, each part would hand its arrays to the next.
 fn sah_split(
-    items: &mut [(Aabb, u32)],
+    items: &mut [Prim],
     bounds: Aabb,
     centres: Aabb,
     leaf: LeafSize,
@@ -984,11 +1037,12 @@ fn sah_split(
         }
     };
     if count >= SMALL_NODE {
-        let bin_all = |mut bins: [Bins; 3], items: &[(Aabb, u32)]| {
+        let bin_all = |mut bins: [Bins; 3], items: &[Prim]| {
             for p in items {
-                let bin = bins_of(centre(&p.0));
+                let b = p.bounds();
+                let bin = bins_of(centre(&b));
                 for (axis, axis_bins) in bins.iter_mut().enumerate() {
-                    axis_bins.add(bin[axis], &p.0);
+                    axis_bins.add(bin[axis], &b);
                 }
             }
             bins
@@ -1015,7 +1069,8 @@ fn sah_split(
     } else if binnable(widest) {
         let mut bins = Bins::EMPTY;
         for p in items.iter() {
-            bins.add(bin_on(centre(&p.0), widest), &p.0);
+            let b = p.bounds();
+            bins.add(bin_on(centre(&b), widest), &b);
         }
         consider(widest, &bins);
     }
@@ -1030,7 +1085,7 @@ fn sah_split(
     // and its misses were half the build's time. The same moves as the branching loop (a swap of
     // an item with itself moves nothing), so the same order and the same tree.
     for i in 0..count {
-        let c = centre(&items[i].0);
+        let c = centre(&items[i].bounds());
         let goes_left = bin_on(c, axis) < boundary;
         let mask = BVec3A::splat(goes_left);
         left_centres = Aabb {
@@ -1125,35 +1180,36 @@ fn collapse(binary: &[BinaryNode]) -> Vec<Node> {
     let mut pending = vec![(0usize, 0usize)];
     while let Some((source, target)) = pending.pop() {
         let root = binary[source];
-        let mut children: Vec<usize> = if root.count > 0 {
+        let mut children: Vec<usize> = if root.count() > 0 {
             vec![source]
         } else {
-            vec![root.first as usize, root.first as usize + 1]
+            vec![root.first() as usize, root.first() as usize + 1]
         };
         while children.len() < WIDTH {
             let widest = children
                 .iter()
                 .enumerate()
-                .filter(|&(_, &c)| binary[c].count == 0)
+                .filter(|&(_, &c)| binary[c].count() == 0)
                 .max_by(|a, b| {
                     binary[*a.1]
-                        .bounds
+                        .bounds()
                         .half_area()
-                        .total_cmp(&binary[*b.1].bounds.half_area())
+                        .total_cmp(&binary[*b.1].bounds().half_area())
                 });
             let Some((slot, &open)) = widest else { break };
-            let first = binary[open].first as usize;
+            let first = binary[open].first() as usize;
             children[slot] = first;
             children.push(first + 1);
         }
         for (lane, &c) in children.iter().enumerate() {
             let child = binary[c];
-            if child.count > 0 {
-                nodes[target].set_lane(lane, padded(child.bounds), child.first, child.count as u8);
+            if child.count() > 0 {
+                let count = child.count() as u8;
+                nodes[target].set_lane(lane, padded(child.bounds()), child.first(), count);
             } else {
                 let index = nodes.len();
                 nodes.push(Node::EMPTY);
-                nodes[target].set_lane(lane, padded(child.bounds), index as u32, 0);
+                nodes[target].set_lane(lane, padded(child.bounds()), index as u32, 0);
                 pending.push((c, index));
             }
         }
@@ -1184,6 +1240,39 @@ mod tests {
             min: c - 0.25,
             max: c + 0.25,
         }
+    }
+
+    /// The numbers kept in a box's fourth lanes come back whole, whatever their bits read as a
+    /// float (zero, subnormal, infinite, quiet or signalling NaN), and the box reads without
+    /// them.
+    #[test]
+    fn a_box_keeps_the_numbers_packed_beside_it_whole() {
+        let b = unit_box_at(1.0, -2.0, 3.0);
+        let patterns = [
+            0,
+            1,
+            69_450,
+            0x7F80_0000,
+            0x7F80_0001,
+            0x7FC0_0000,
+            0xFF80_0001,
+        ];
+        for &n in patterns.iter().chain(&[u32::MAX]) {
+            let prim = Prim::new(b, n);
+            assert_eq!((prim.index(), prim.bounds()), (n, b), "{n:#x}");
+            let mut node = BinaryNode::new(b, n, 7);
+            assert_eq!((node.first(), node.count(), node.bounds()), (n, 7, b));
+            node.set_range(3, n);
+            assert_eq!((node.first(), node.count(), node.bounds()), (3, n, b));
+            // Arithmetic on the box sees only its three coordinates.
+            assert_eq!(centre(&prim.bounds()), Vec3A::new(2.0, -4.0, 6.0));
+            assert_eq!(node.bounds().half_area(), b.half_area());
+        }
+        assert_eq!(BinaryNode::UNSET.bounds(), Aabb::EMPTY);
+        assert_eq!(
+            (BinaryNode::UNSET.first(), BinaryNode::UNSET.count()),
+            (0, 0)
+        );
     }
 
     /// Every primitive is in exactly one leaf, and every lane's box holds what is below it.
