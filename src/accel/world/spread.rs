@@ -26,20 +26,45 @@ impl Spread {
 
     pub(super) fn of(rays: &[Ray]) -> Spread {
         let (direction, origin) = (rays[0].direction, rays[0].origin);
-        let first = direction.normalize_or_zero();
-        let (mut angle, mut apart) = (0.0_f32, 0.0_f32);
-        for ray in rays {
-            // (Shadow rays toward a sun all share one direction: no square roots for them.)
+        // The ray turned furthest from the first is found by sin² of the angle between them,
+        // a fraction (|d × d₀|², |d|²·|d₀|²) compared by cross-multiplying: no square root or
+        // division a ray (they were a tenth of a camera packet's time through a world whose one
+        // mesh is placed by a Transform). Only that ray's distance is then worked out. sin² grows
+        // with the angle up to a right angle: a ray at one or more, or one with no usable
+        // length, has every ray's distance worked out instead.
+        let mut widest: Option<(f32, f32, usize)> = None;
+        let mut every_ray = false;
+        let mut apart_squared = 0.0_f32;
+        let length_squared = direction.length_squared();
+        for (i, ray) in rays.iter().enumerate() {
+            // (Shadow rays toward a sun all share one direction: nothing to do for them.)
             if ray.direction != direction {
-                angle = angle.max((ray.direction.normalize_or_zero() - first).length());
+                let turned = ray.direction.cross(direction).length_squared();
+                let lengths = ray.direction.length_squared() * length_squared;
+                if !(ray.direction.dot(direction) > 0.0 && lengths.is_normal()) {
+                    every_ray = true;
+                } else if widest.is_none_or(|(t, l, _)| turned * l > t * lengths) {
+                    widest = Some((turned, lengths, i));
+                }
             }
             if ray.origin != origin {
-                apart = apart.max((ray.origin - origin).length());
+                apart_squared = apart_squared.max((ray.origin - origin).length_squared());
             }
         }
+        let first = direction.normalize_or_zero();
+        let distance = |ray: &Ray| (ray.direction.normalize_or_zero() - first).length();
+        let angle = if every_ray {
+            rays.iter()
+                .filter(|ray| ray.direction != direction)
+                .map(distance)
+                .fold(0.0, f32::max)
+        } else {
+            widest.map_or(0.0, |(_, _, i)| distance(&rays[i]))
+        };
         Spread {
             angle,
-            apart,
+            // The square root of the largest square is the largest root: the same number.
+            apart: apart_squared.sqrt(),
             origin,
         }
     }
@@ -85,6 +110,52 @@ mod tests {
             max: Vec3A::new(0.5, 0.5, 1.5),
         };
         assert!(spread.narrow_beside(&near));
+    }
+
+    /// The spread found by sin² of the angles is the one that every ray's own distance gives:
+    /// camera-like packets, rays at right angles and beyond, a ray of no length.
+    #[test]
+    fn the_widest_ray_is_found_without_every_rays_distance() {
+        let by_every_ray = |rays: &[Ray]| {
+            let first = rays[0].direction.normalize_or_zero();
+            let angle = rays
+                .iter()
+                .filter(|ray| ray.direction != rays[0].direction)
+                .map(|ray| (ray.direction.normalize_or_zero() - first).length())
+                .fold(0.0, f32::max);
+            let apart = rays
+                .iter()
+                .map(|ray| (ray.origin - rays[0].origin).length())
+                .fold(0.0, f32::max);
+            (angle, apart)
+        };
+        let mut seed = 7_u32;
+        let mut next = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1 << 24) as f32 - 0.5
+        };
+        for packet in 0..300 {
+            // Narrow camera packets, then wider ones, then any directions at all.
+            let width = [0.002, 0.3, 4.0][packet % 3];
+            let mut rays: Vec<Ray> = (0..64)
+                .map(|_| {
+                    let origin = Vec3A::new(next(), next(), next()) * (packet % 2) as f32;
+                    let turn = Vec3A::new(next(), next(), next()) * width;
+                    Ray::new(origin, Vec3A::new(0.3, -0.2, -1.0) + turn)
+                })
+                .collect();
+            if packet % 50 == 0 {
+                rays[5].direction = Vec3A::ZERO;
+            }
+            let spread = Spread::of(&rays);
+            let (angle, apart) = by_every_ray(&rays);
+            assert_eq!(spread.apart, apart, "packet {packet}");
+            assert!(
+                (spread.angle - angle).abs() <= 1e-6 * angle.max(1e-3),
+                "packet {packet}: {} against {angle}",
+                spread.angle
+            );
+        }
     }
 
     #[test]
