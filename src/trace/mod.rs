@@ -418,7 +418,18 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
     }
 
     /// `colour` plus what the pending mirror and glass rays (and those they spawn) bring back.
-    fn follow_pending(&self, mut colour: Vec3A, scratch: &mut Scratch) -> Vec3A {
+    /// Most camera rays leave none: they return at once, without the call into the rest,
+    /// whose frame is kilobytes (the shading inlined), set up and taken down on every hit.
+    #[inline(always)]
+    fn follow_pending(&self, colour: Vec3A, scratch: &mut Scratch) -> Vec3A {
+        if scratch.pending.is_empty() {
+            return colour;
+        }
+        self.follow_each_pending(colour, scratch)
+    }
+
+    #[inline(never)]
+    fn follow_each_pending(&self, mut colour: Vec3A, scratch: &mut Scratch) -> Vec3A {
         let mut traced = 0;
         while let Some(next) = scratch.pending.pop() {
             traced += 1;
