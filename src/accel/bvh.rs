@@ -1256,8 +1256,9 @@ mod tests {
             0x7F80_0001,
             0x7FC0_0000,
             0xFF80_0001,
+            u32::MAX,
         ];
-        for &n in patterns.iter().chain(&[u32::MAX]) {
+        for n in patterns {
             let prim = Prim::new(b, n);
             assert_eq!((prim.index(), prim.bounds()), (n, b), "{n:#x}");
             let mut node = BinaryNode::new(b, n, 7);

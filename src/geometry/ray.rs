@@ -66,17 +66,17 @@ impl Ray {
 }
 
 /// A ray's frame for the watertight triangle test ([`Ray::to_ray_space`]): a point p, taken
-/// relative to the ray's origin, goes to (p[kx] + sx·p[kz], p[ky] + sy·p[kz], sz·p[kz]), where
-/// the ray runs along +z from the origin.
+/// relative to the ray's origin, goes to `(p[kx] + sx·p[kz], p[ky] + sy·p[kz], sz·p[kz])`,
+/// where the ray runs along +z from the origin.
 ///
 /// A shear with two products and two sums a vertex, where a full matrix would take nine and
 /// six; the entries a matrix would hold are 0 and 1, whose products and sums are exact, so the
 /// two give the same values. Each vertex maps the same way for every triangle sharing it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RayFrame {
-    /// [kx, ky, kz]: the axes that become x, y and z.
+    /// `[kx, ky, kz]`: the axes that become x, y and z.
     pub axes: [usize; 3],
-    /// [sx, sy, sz].
+    /// `[sx, sy, sz]`.
     pub shear: [f32; 3],
 }
 

@@ -16,7 +16,7 @@ pub const BLOCK: usize = 8;
 #[derive(Debug, Clone, Copy)]
 pub struct RayLanes<K: Wide> {
     frame: RayFrame,
-    /// The origin's coordinates in the frame's order: [o[kx], o[ky], o[kz]].
+    /// The origin's coordinates in the frame's order: `[o[kx], o[ky], o[kz]]`.
     origin: [K::F; 3],
     shear: [K::F; 3],
 }
