@@ -42,6 +42,13 @@ impl Node {
         lanes: 0,
     };
 
+    /// The lanes that hold a leaf (a child with primitives of its own), read from the node as
+    /// it is now, so that the node can be changed while they are visited.
+    fn leaf_lanes(&self) -> impl Iterator<Item = usize> + use<> {
+        let (lanes, count) = (self.lanes, self.count);
+        (0..WIDTH).filter(move |&lane| lanes & (1 << lane) != 0 && count[lane] > 0)
+    }
+
     fn set_lane(&mut self, lane: usize, b: Aabb, child: u32, count: u8) {
         for axis in 0..3 {
             self.bounds[0][axis][lane] = b.min[axis];
@@ -145,46 +152,73 @@ const STACK: usize = (WIDTH - 1) * (MAX_SAH_DEPTH + 32) + 1;
 /// The cost of a node visit relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 
+/// A corner of a box with a number kept beside it, in the fourth lane that a `Vec3A` leaves
+/// unused: how the build's primitives and binary nodes carry their indices in 32 bytes rather
+/// than 48, in its two largest arrays.
+#[derive(Debug, Clone, Copy)]
+struct Corner(Vec4);
+
+impl Corner {
+    fn new(point: Vec3A, number: u32) -> Corner {
+        Corner(point.extend(f32::from_bits(number)))
+    }
+
+    /// The corner, its fourth lane cleared: a number's bits read as a float are mostly a
+    /// subnormal number, and arithmetic on those is slow even in a lane whose result is unused.
+    #[inline(always)]
+    fn point(self) -> Vec3A {
+        Vec3A::from_vec4(self.0.with_w(0.0))
+    }
+
+    #[inline(always)]
+    fn number(self) -> u32 {
+        self.0.w.to_bits()
+    }
+
+    fn set_number(&mut self, number: u32) {
+        self.0.w = f32::from_bits(number);
+    }
+}
+
 /// A binary node during the build: a leaf holds `first .. first + count` of the build order,
-/// an inner node's children are `first` and `first + 1`. Both numbers are kept in the fourth
-/// lanes of the box's corners, as [`Prim`] keeps its index: 32 bytes a node rather than 48.
+/// an inner node's children are `first` and `first + 1`; `first` is kept beside the box's
+/// lower corner, `count` beside its upper one.
 #[derive(Debug, Clone, Copy)]
 struct BinaryNode {
-    min_and_first: Vec4,
-    max_and_count: Vec4,
+    min: Corner,
+    max: Corner,
 }
 
 impl BinaryNode {
     fn new(bounds: Aabb, first: u32, count: u32) -> BinaryNode {
         BinaryNode {
-            min_and_first: bounds.min.extend(f32::from_bits(first)),
-            max_and_count: bounds.max.extend(f32::from_bits(count)),
+            min: Corner::new(bounds.min, first),
+            max: Corner::new(bounds.max, count),
         }
     }
 
-    /// The box, its fourth lanes cleared (see [`Prim::bounds`]).
     #[inline(always)]
     fn bounds(&self) -> Aabb {
         Aabb {
-            min: Vec3A::from_vec4(self.min_and_first.with_w(0.0)),
-            max: Vec3A::from_vec4(self.max_and_count.with_w(0.0)),
+            min: self.min.point(),
+            max: self.max.point(),
         }
     }
 
     #[inline(always)]
     fn first(&self) -> u32 {
-        self.min_and_first.w.to_bits()
+        self.min.number()
     }
 
     /// How many primitives a leaf holds; 0 for an inner node.
     #[inline(always)]
     fn count(&self) -> u32 {
-        self.max_and_count.w.to_bits()
+        self.max.number()
     }
 
     fn set_range(&mut self, first: u32, count: u32) {
-        self.min_and_first.w = f32::from_bits(first);
-        self.max_and_count.w = f32::from_bits(count);
+        self.min.set_number(first);
+        self.max.set_number(count);
     }
 
     /// The node of a part whose nodes after its root now start at `rest_start`.
@@ -198,8 +232,13 @@ impl BinaryNode {
 
     /// A place held for a node laid out later.
     const UNSET: BinaryNode = BinaryNode {
-        min_and_first: Vec4::new(f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0),
-        max_and_count: Vec4::new(f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY, 0.0),
+        min: Corner(Vec4::new(f32::INFINITY, f32::INFINITY, f32::INFINITY, 0.0)),
+        max: Corner(Vec4::new(
+            f32::NEG_INFINITY,
+            f32::NEG_INFINITY,
+            f32::NEG_INFINITY,
+            0.0,
+        )),
     };
 }
 
@@ -240,27 +279,20 @@ impl Bvh {
     /// can store a leaf's primitives in its own blocks. Counts must stay at most 255.
     pub(crate) fn map_leaves(&mut self, mut f: impl FnMut(u32, u32) -> (u32, u32)) {
         for node in &mut self.nodes {
-            for lane in 0..WIDTH {
-                if node.lanes & (1 << lane) != 0 && node.count[lane] > 0 {
-                    let (first, count) = f(node.child[lane], node.count[lane] as u32);
-                    assert!((1..=255).contains(&count), "a leaf of {count} blocks");
-                    node.child[lane] = first;
-                    node.count[lane] = count as u8;
-                }
+            for lane in node.leaf_lanes() {
+                let (first, count) = f(node.child[lane], node.count[lane] as u32);
+                assert!((1..=255).contains(&count), "a leaf of {count} blocks");
+                node.child[lane] = first;
+                node.count[lane] = count as u8;
             }
         }
     }
 
-    /// How many blocks of `block` primitives the leaves make, each leaf in blocks of its own.
-    pub(crate) fn leaf_blocks(&self, block: u32) -> usize {
+    /// How many primitives each leaf holds.
+    pub(crate) fn leaf_sizes(&self) -> impl Iterator<Item = u32> + '_ {
         self.nodes
             .iter()
-            .flat_map(|node| {
-                (0..WIDTH)
-                    .filter(|&lane| node.lanes & (1 << lane) != 0 && node.count[lane] > 0)
-                    .map(|lane| u32::from(node.count[lane]).div_ceil(block) as usize)
-            })
-            .sum()
+            .flat_map(|node| node.leaf_lanes().map(|lane| u32::from(node.count[lane])))
     }
 
     /// How many eight-wide nodes the tree has.
@@ -785,29 +817,26 @@ fn centre(b: &Aabb) -> Vec3A {
     b.min + b.max
 }
 
-/// A primitive as the build sorts it: its box, with its index in the input kept in the
-/// fourth lane of the box's corner, which a `Vec3A` leaves unused: 32 bytes rather than the 48
-/// of a box beside an index, in the build's largest array.
+/// A primitive as the build sorts it: its box, with its index in the input kept beside the
+/// lower corner.
 #[derive(Debug, Clone, Copy)]
 struct Prim {
-    min_and_index: Vec4,
+    min: Corner,
     max: Vec3A,
 }
 
 impl Prim {
     fn new(bounds: Aabb, index: u32) -> Prim {
         Prim {
-            min_and_index: bounds.min.extend(f32::from_bits(index)),
+            min: Corner::new(bounds.min, index),
             max: bounds.max,
         }
     }
 
-    /// The box, its fourth lanes cleared: an index's bits read as a float are mostly a
-    /// subnormal number, and arithmetic on those is slow even in a lane whose result is unused.
     #[inline(always)]
     fn bounds(&self) -> Aabb {
         Aabb {
-            min: Vec3A::from_vec4(self.min_and_index.with_w(0.0)),
+            min: self.min.point(),
             max: self.max,
         }
     }
@@ -815,7 +844,7 @@ impl Prim {
     /// The primitive's index in the input.
     #[inline(always)]
     fn index(&self) -> u32 {
-        self.min_and_index.w.to_bits()
+        self.min.number()
     }
 }
 
@@ -833,9 +862,12 @@ impl Extent {
     };
 
     fn of(prims: &[Prim]) -> Extent {
-        prims.iter().fold(Extent::EMPTY, |e, p| Extent {
-            bounds: e.bounds.union(p.bounds()),
-            centres: e.centres.grow(centre(&p.bounds())),
+        prims.iter().fold(Extent::EMPTY, |e, p| {
+            let b = p.bounds();
+            Extent {
+                bounds: e.bounds.union(b),
+                centres: e.centres.grow(centre(&b)),
+            }
         })
     }
 

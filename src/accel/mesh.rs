@@ -53,9 +53,13 @@ impl TriangleMesh {
         let (mut bvh, order) = Bvh::build_with(triangles.len(), box_of, LeafSize::TRIANGLES);
         let mut triangles = triangles;
         permute(&mut triangles, &order);
-        // Made at its length: room for a guess would take pages of its own, too big for those
-        // the build has just given back.
-        let mut blocks = Vec::with_capacity(bvh.leaf_blocks(TRIANGLE_BLOCK as u32));
+        // Made at its length (each leaf in blocks of its own, as below): room for a guess would
+        // take pages of its own, too big for those the build has just given back.
+        let block_count = bvh
+            .leaf_sizes()
+            .map(|size| size.div_ceil(TRIANGLE_BLOCK as u32) as usize)
+            .sum();
+        let mut blocks = Vec::with_capacity(block_count);
         bvh.map_leaves(|first, count| {
             let start = blocks.len() as u32;
             for chunk_start in (first..first + count).step_by(TRIANGLE_BLOCK) {

@@ -25,12 +25,18 @@ impl<K: Wide> RayLanes<K> {
     /// The ray's frame, worked out once for every block of triangles the ray meets.
     #[inline(always)]
     pub fn new(wide: K, ray: &Ray) -> RayLanes<K> {
+        // (No closures or `map`: the kernels' rule, as in `intersect_pair`.)
         let frame = ray.to_ray_space();
+        let ([kx, ky, kz], [sx, sy, sz]) = (frame.axes, frame.shear);
         let origin = ray.origin.to_array();
         RayLanes {
             frame,
-            origin: frame.axes.map(|axis| wide.splat(origin[axis])),
-            shear: frame.shear.map(|s| wide.splat(s)),
+            origin: [
+                wide.splat(origin[kx]),
+                wide.splat(origin[ky]),
+                wide.splat(origin[kz]),
+            ],
+            shear: [wide.splat(sx), wide.splat(sy), wide.splat(sz)],
         }
     }
 }
@@ -93,7 +99,12 @@ fn watertight<F: Lanes>(
 /// A vertex's three coordinates of eight triangles, in lanes, in the order of `axes`.
 #[inline(always)]
 fn load3<K: Wide>(wide: K, vertex: &[[f32; BLOCK]; 3], axes: [usize; 3]) -> [K::F; 3] {
-    axes.map(|axis| wide.load(&vertex[axis]))
+    let [kx, ky, kz] = axes;
+    [
+        wide.load(&vertex[kx]),
+        wide.load(&vertex[ky]),
+        wide.load(&vertex[kz]),
+    ]
 }
 
 /// [`load3`] for two rays side by side, where the path pairs: each ray's axes in its half.
