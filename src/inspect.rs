@@ -234,9 +234,8 @@ fn light_terms(
                 "clear"
             }
         };
-        if shadow != "blocked" {
-            lit += shaded;
-        }
+        let adds = if shadow == "blocked" { Vec3A::ZERO } else { shaded };
+        lit += adds;
         lights.push(json!({
             "light": i,
             "kind": kind,
@@ -247,6 +246,7 @@ fn light_terms(
             "shadow_ray": shadow,
             "diffuse": vec3(diffuse),
             "specular": vec3(shaded - diffuse),
+            "adds": vec3(adds),
         }));
     }
     (lit, lights)
@@ -342,6 +342,15 @@ fn object_normal(scene: &Scene, ray: &Ray, hit: &Hit) -> Vec3A {
     hit.normal
 }
 
+/// A JSON number as the single-precision value the tracer computed, in its fewest digits
+/// (9.000156, not the 9.000156402587891 of its widening to double); anything else as JSON.
+fn number(value: &Value) -> String {
+    match value.as_f64() {
+        Some(f) if value.is_f64() => (f as f32).to_string(),
+        _ => value.to_string(),
+    }
+}
+
 /// A JSON vector as `(x, y, z)` to four places; anything else as JSON.
 fn show(value: &Value) -> String {
     match value.as_array() {
@@ -384,7 +393,7 @@ pub fn to_text(inspection: &Value) -> String {
     for c in &crossings {
         text.push_str(&format!(
             "  t = {:<12} {}\n",
-            c["t"],
+            number(&c["t"]),
             c["surface"].as_str().unwrap_or("")
         ));
     }
@@ -403,7 +412,7 @@ fn tree_text(node: &Value, depth: usize, text: &mut String) {
     text.push_str(&format!(
         "{pad}{} ray, weight {}, throughput {}\n",
         node["kind"].as_str().unwrap_or("?"),
-        node["weight"],
+        number(&node["weight"]),
         show(&node["throughput"])
     ));
     if let Some(note) = node["note"].as_str() {
@@ -413,7 +422,7 @@ fn tree_text(node: &Value, depth: usize, text: &mut String) {
         let hit = &node["hit"];
         text.push_str(&format!(
             "{pad}  hit at t = {} point {} material {}{}\n",
-            hit["t"],
+            number(&hit["t"]),
             show(&hit["point"]),
             hit["material"],
             if hit["back_face"] == true {
@@ -436,15 +445,28 @@ fn tree_text(node: &Value, depth: usize, text: &mut String) {
             text.push_str(&format!("{pad}  light {}: {note}\n", light["light"]));
             continue;
         }
+        let shadow_ray = light["shadow_ray"].as_str().unwrap_or("");
+        // A blocked light's terms are what it would add if it were clear; "shaded here" then
+        // leaves them out, and the line says so first.
+        let terms = if shadow_ray == "blocked" {
+            format!(
+                "blocked: adds 0 (if it were clear: diffuse {}, specular {})",
+                show(&light["diffuse"]),
+                show(&light["specular"])
+            )
+        } else {
+            format!(
+                "{shadow_ray}, diffuse {}, specular {}",
+                show(&light["diffuse"]),
+                show(&light["specular"])
+            )
+        };
         text.push_str(&format!(
-            "{pad}  light {} ({}): toward it {}, N.L {}, shadow ray {}, diffuse {}, specular {}\n",
+            "{pad}  light {} ({}): toward it {}, N.L {}, shadow ray {terms}\n",
             light["light"],
             light["kind"].as_str().unwrap_or(""),
             show(&light["to_light"]),
-            light["n_dot_l"],
-            light["shadow_ray"].as_str().unwrap_or(""),
-            show(&light["diffuse"]),
-            show(&light["specular"])
+            number(&light["n_dot_l"]),
         ));
     }
     if !node["local"].is_null() {

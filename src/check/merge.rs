@@ -76,6 +76,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
     let mut graded: Vec<Graded> = Vec::new();
     let mut rule: Option<Rule> = None;
     let (mut partial, mut confinement, mut cage_note) = (false, None, None);
+    let mut seconds = 0.0;
     for shard in shards {
         let summary: Value = std::fs::read_to_string(shard.join("summary.json"))
             .ok()
@@ -93,6 +94,8 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
         }
         rule = Some(shard_rule);
         partial |= summary["partial"] == true;
+        // Shards ran one after another or on other machines: their times add up.
+        seconds += summary["seconds"].as_f64().unwrap_or(0.0);
         if confinement.is_none() {
             confinement = Confinement::from_json(&summary["cage"]);
             cage_note = summary["cage"]["note"].as_str().map(String::from);
@@ -132,6 +135,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
         partial,
         staging: Some(staging),
         build: None,
+        seconds,
     };
     Ok((checked, groups, rule.unwrap_or(Rule::COURSE)))
 }

@@ -274,6 +274,9 @@ pub struct Checked {
     pub staging: Option<Staging>,
     /// How the submission's build went, in a class (`class::Built::json`).
     pub build: Option<serde_json::Value>,
+    /// How long its lines took by the clock, from the first's start to the last's end (they
+    /// run side by side: not the sum of their times).
+    pub seconds: f64,
 }
 
 /// A suite made ready to grade renderers against, once for all of them: read, fingerprinted,
@@ -402,39 +405,31 @@ pub fn grade_renderer(
         std::fs::set_permissions(scratch.path(), std::fs::Permissions::from_mode(0o711))
             .map_err(|e| format!("cannot open the scratch folder to the renderer: {e}"))?;
     }
+    let started = std::time::Instant::now();
     let caged = Caged {
         command: renderer.command,
         readable: renderer.readable,
         user,
         stop,
-        budget: renderer.budget.map(|b| (std::time::Instant::now(), b)),
+        budget: renderer.budget.map(|b| (started, b)),
     };
-    let graded: Vec<(Vec<Graded>, Option<Confinement>)> = prepared.pool.install(|| {
-        suite
-            .lines
-            .par_iter()
-            .zip(&prepared.references)
-            // One line a task: lines differ in time a hundredfold, and a worker that runs out
-            // takes the next line, not half of another's.
-            .with_max_len(1)
-            .enumerate()
-            .map(|(number, (line, references))| {
-                let folder = scratch.path().join(format!("line{number}"));
-                let (mut graded, confinement) =
-                    grade_line(options, &caged, suite, line, references.clone(), &folder);
-                match &staging {
-                    Some(staging) => staging.keep_pictures(&mut graded, options.rule.tolerance),
-                    // Nothing needs the pixels once the line is graded.
-                    None => graded.iter_mut().for_each(|g| {
-                        g.actual = None;
-                        g.reference = None;
-                    }),
-                }
-                progress();
-                (graded, confinement)
-            })
-            .collect()
-    });
+    let grade_one = |number: usize| {
+        let (line, references) = (&suite.lines[number], &prepared.references[number]);
+        let folder = scratch.path().join(format!("line{number}"));
+        let (mut graded, confinement) =
+            grade_line(options, &caged, suite, line, references.clone(), &folder);
+        match &staging {
+            Some(staging) => staging.keep_pictures(&mut graded, options.rule.tolerance),
+            // Nothing needs the pixels once the line is graded.
+            None => graded.iter_mut().for_each(|g| {
+                g.actual = None;
+                g.reference = None;
+            }),
+        }
+        progress();
+        (graded, confinement)
+    };
+    let graded = in_suite_order(&prepared.pool, suite.lines.len(), grade_one);
     let confinement = graded.iter().find_map(|(_, c)| c.clone());
     let mut graded: Vec<Graded> = graded.into_iter().flat_map(|(g, _)| g).collect();
     unique_names(&mut graded);
@@ -453,7 +448,40 @@ pub fn grade_renderer(
         partial: stop.load(Ordering::Relaxed),
         staging,
         build: None,
+        seconds: started.elapsed().as_secs_f64(),
     })
+}
+
+/// Runs `task` on every index below `count` on the pool's workers, each taking the next index
+/// as it comes free: lines start in the suite's order (a budget spent leaves the last lines
+/// unrun, never ones in the middle), and lines that differ in time a hundredfold share the
+/// workers evenly. The results in index order.
+fn in_suite_order<T: Send>(
+    pool: &rayon::ThreadPool,
+    count: usize,
+    task: impl Fn(usize) -> T + Sync,
+) -> Vec<T> {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let done = std::sync::Mutex::new(Vec::with_capacity(count));
+    pool.scope(|scope| {
+        for _ in 0..pool.current_num_threads().min(count) {
+            scope.spawn(|_| {
+                loop {
+                    let number = next.fetch_add(1, Ordering::Relaxed);
+                    if number >= count {
+                        break;
+                    }
+                    let result = task(number);
+                    done.lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .push((number, result));
+                }
+            });
+        }
+    });
+    let mut done = done.into_inner().unwrap_or_else(|e| e.into_inner());
+    done.sort_by_key(|&(number, _)| number);
+    done.into_iter().map(|(_, result)| result).collect()
 }
 
 /// The check of a submission that did not build: every picture an error that says why.
@@ -485,6 +513,7 @@ pub fn not_built(prepared: &Prepared, why: &str, staging: Option<Staging>) -> Ch
         partial: false,
         staging,
         build: None,
+        seconds: 0.0,
     }
 }
 
@@ -673,9 +702,23 @@ fn grade_line(
                     limits: options.limits,
                     user: caged.user,
                 };
-                (cage::run(&request, caged.stop), out)
+                let mut ran = cage::run(&request, caged.stop);
+                // Stopped at the budget's end rather than at --timeout: the budget is the cause.
+                if let (Ending::TimedOut(after), Some((_, budget))) = (&ran.ending, caged.budget)
+                    && *after < options.timeout
+                {
+                    ran.ending = Ending::BudgetRanOut {
+                        budget,
+                        after: *after,
+                    };
+                }
+                (ran, out)
             }
         }
+    };
+    let ran = Ran {
+        stderr: without_scratch(&ran.stderr, folder),
+        ..ran
     };
     let mut graded: Vec<Graded> = line
         .outputs
@@ -716,6 +759,17 @@ fn grade_line(
         }
     }
     (graded, ran.confinement)
+}
+
+/// What a renderer printed, with the line's scratch paths (gone once check ends) as the
+/// command line names them: `out/picture.tga` and `work/scene.txt` as `picture.tga` and
+/// `scene.txt`.
+fn without_scratch(stderr: &str, folder: &Path) -> String {
+    let folder = folder.display().to_string();
+    stderr
+        .replace(&format!("{folder}/out/"), "")
+        .replace(&format!("{folder}/work/"), "")
+        .replace(&folder, "(the line's folder)")
 }
 
 /// Names the faults whose render of the line matches each failing picture; where none does,
@@ -788,6 +842,13 @@ fn grade(
     }
     let actual = match output::read_output(path, (reference.width, reference.height)) {
         Ok(image) => image,
+        Err(unread) if unread.cause == Diagnosis::MISSING_OUTPUT => {
+            let explanation = missing_output(line.picture_kind(index), &line.outputs[index].1, &ran.stderr);
+            return Graded {
+                reference: Some(reference),
+                ..graded(Status::Error, vec![Finding::Diagnosis(unread.cause)], explanation)
+            };
+        }
         Err(unread) => {
             let explanation = format!(
                 "{}. {}{}",
@@ -825,6 +886,26 @@ fn grade(
         actual: Some(actual),
         reference: Some(reference),
         ..graded(Status::Pass, vec![], String::new())
+    }
+}
+
+/// Why a picture is missing, named as the command line names it (`-depth depth.tga`, never the
+/// scratch path the renderer was given): where the renderer said something, its own words
+/// are the likely reason; else where to look.
+fn missing_output(kind: PictureKind, file: &str, stderr: &str) -> String {
+    let option = kind.option();
+    let what = format!("The renderer ended without writing the picture of {option} {file}.");
+    let words = said(stderr);
+    if words.is_empty() {
+        format!(
+            "{what} Check that the file name after {option} is taken from the command line and \
+             that the file is written before the program exits."
+        )
+    } else {
+        format!(
+            "{what}{words} Its own message is the likely reason: fix what it names (a scene \
+             it cannot read, an option it does not know), then run the line by hand."
+        )
     }
 }
 
@@ -880,7 +961,7 @@ fn failed_run(ran: &Ran, limits: &Limits) -> Option<(Diagnosis, String)> {
             Diagnosis::TIMED_OUT,
             format!(
                 "The renderer did not finish within {} s and was stopped.",
-                limit.as_secs_f64()
+                seconds(*limit)
             ),
         ),
         Ending::Interrupted => (
@@ -890,9 +971,18 @@ fn failed_run(ran: &Ran, limits: &Limits) -> Option<(Diagnosis, String)> {
         Ending::OverBudget(budget) => (
             Diagnosis::OVER_BUDGET,
             format!(
-                "The renderer's time budget of {} s was spent on earlier lines: this one was \
+                "The renderer's time budget of {} s was spent before this line's turn: it was \
                  not run.",
-                budget.as_secs_f64()
+                seconds(*budget)
+            ),
+        ),
+        Ending::BudgetRanOut { budget, after } => (
+            Diagnosis::OVER_BUDGET,
+            format!(
+                "The renderer's time budget of {} s ran out while this line ran: it was \
+                 stopped after {} s.",
+                seconds(*budget),
+                seconds(*after)
             ),
         ),
         Ending::NotStarted(why) => (
@@ -957,6 +1047,16 @@ fn signal_name(signal: i32) -> String {
     format!("{name} ({meaning})")
 }
 
+/// A time as a person reads it: `30`, `29.9`, never `29.989`.
+fn seconds(time: Duration) -> String {
+    let tenths = (time.as_secs_f64() * 10.0).round() / 10.0;
+    if tenths.fract() == 0.0 {
+        format!("{tenths:.0}")
+    } else {
+        format!("{tenths:.1}")
+    }
+}
+
 /// `4 GiB`, `256 MiB`, as limits are given.
 fn bytes(n: u64) -> String {
     if n >= 1 << 30 && n.is_multiple_of(1 << 30) {
@@ -1019,6 +1119,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
         "raycast": env!("CARGO_PKG_VERSION"),
         "rule": { "tolerance": rule.tolerance, "max_bad": rule.max_bad },
         "partial": checked.partial,
+        "seconds": checked.seconds,
         "cage": cage,
         "build": checked.build,
         "passed": passed,

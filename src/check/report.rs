@@ -168,7 +168,7 @@ fn write_into(dir: &Path, checked: &Checked, groups: &[Group], rule: Rule) -> Re
     let json = serde_json::to_string_pretty(&summary_json(checked, groups, rule))
         .map_err(|e| e.to_string())?;
     std::fs::write(dir.join("summary.json"), json + "\n").map_err(fail)?;
-    super::formats::write_all(dir, checked)?;
+    super::formats::write_all(dir, checked, groups)?;
     let mut order: Vec<&Graded> = graded.iter().collect();
     // Failures and errors first, then passes, each in the suite's order.
     order.sort_by_key(|g| g.status == Status::Pass);
@@ -187,7 +187,10 @@ fn write_into(dir: &Path, checked: &Checked, groups: &[Group], rule: Rule) -> Re
             "{{SUMMARY}}",
             &format!("{passed} passed, {} failed", graded.len() - passed),
         )
-        .replace("{{VERDICT}}", &verdict_html(groups))
+        .replace(
+            "{{VERDICT}}",
+            &(build_html(checked) + &verdict_html(groups)),
+        )
         .replace("{{BLOCKS}}", &blocks);
     std::fs::write(dir.join("index.html"), page).map_err(fail)
 }
@@ -219,6 +222,18 @@ pub fn escape(text: &str) -> String {
         }
     }
     out
+}
+
+/// A build that failed, above the verdict: how it ended and its last lines, the one reason
+/// every picture below is missing.
+fn build_html(checked: &Checked) -> String {
+    match super::formats::failed_build(checked) {
+        Some(text) => format!(
+            "<section class=\"build\"><h2>The build failed</h2><pre>{}</pre></section>",
+            escape(&text)
+        ),
+        None => String::new(),
+    }
 }
 
 /// The renderer's verdict, at the top of the page: one line a group of failing pictures.
@@ -256,14 +271,25 @@ fn block(
         .bad_fraction
         .map(|f| format!("{:.3}% of pixels off", 100.0 * f))
         .unwrap_or_else(|| "not compared".into());
-    let picture = |file: &Option<String>, what: &str| match file {
+    let picture = |file: &Option<String>, what: &str, caption: &str| match file {
         Some(f) => format!(
-            "<figure><img class=\"px\" src=\"{}\" alt=\"{what}\"><figcaption>{what}</figcaption></figure>",
+            "<figure><img class=\"px\" src=\"{}\" alt=\"{what}\"><figcaption>{caption}</figcaption></figure>",
             escape(f)
         ),
         None => format!(
-            "<figure class=\"none\"><div>no image</div><figcaption>{what}</figcaption></figure>"
+            "<figure class=\"none\"><div>no image</div><figcaption>{caption}</figcaption></figure>"
         ),
+    };
+    // The course published no picture for the line: say whose the reference is, on the page
+    // as the terminal does.
+    let (reference_caption, against) = if g.against_raycast {
+        (
+            "reference: raycast's render",
+            "<p class=\"against\">The course published no picture for this line: the \
+             reference is raycast's own render of it.</p>",
+        )
+    } else {
+        ("reference", "")
     };
     let wipe = match (&actual, &reference) {
         (Some(a), Some(r)) => format!(
@@ -283,7 +309,7 @@ fn block(
         "<section class=\"image {status}\" data-status=\"{status}\">\
          <h2><span class=\"badge\">{status}</span> {name} <small>{off}</small></h2>\
          <p class=\"codes\">{codes}</p><p class=\"why\">{why}</p>\
-         <pre class=\"command\">{command}</pre>{stderr}\
+         {against}<pre class=\"command\">{command}</pre>{stderr}\
          <div class=\"pictures\">{a}{r}{d}{wipe}</div>{tree}</section>",
         name = escape(&g.name),
         codes = escape(&codes.join(", ")),
@@ -298,9 +324,9 @@ fn block(
         } else {
             String::new()
         },
-        a = picture(&actual, "yours"),
-        r = picture(&reference, "reference"),
-        d = picture(&diff, "difference"),
+        a = picture(&actual, "yours", "yours"),
+        r = picture(&reference, "reference", reference_caption),
+        d = picture(&diff, "difference", "difference"),
         tree = match &g.worst_pixel {
             Some(w) => format!(
                 "<details class=\"ray-tree\"><summary>what raycast traced at pixel ({x}, {y}), \
@@ -337,7 +363,7 @@ header { display: flex; gap: 1.5em; align-items: center; flex-wrap: wrap; }
 .command { background: #f3f3f3; padding: 0.4em; overflow-x: auto; }
 .pictures { display: flex; gap: 1em; flex-wrap: wrap; align-items: flex-start; }
 figure { margin: 0; text-align: center; }
-figure.none div { width: 8em; height: 8em; display: flex; align-items: center; justify-content: center; background: #eee; }
+figure.none div { width: calc(var(--zoom) * var(--ref-w, 128px)); height: calc(var(--zoom) * var(--ref-h, 128px)); display: flex; align-items: center; justify-content: center; background: #eee; }
 img.px { image-rendering: pixelated; image-rendering: crisp-edges; width: calc(var(--zoom) * var(--w, 200px)); }
 .stack { position: relative; display: inline-block; }
 .stack .over { position: absolute; left: 0; top: 0; clip-path: inset(0 50% 0 0); }
@@ -377,7 +403,15 @@ for (const section of document.querySelectorAll(".image")) {
   }
 }
 for (const img of document.querySelectorAll("img.px")) {
-  const size = () => img.style.setProperty("--w", img.naturalWidth + "px");
+  const size = () => {
+    img.style.setProperty("--w", img.naturalWidth + "px");
+    // A picture that is missing stands in a box of the reference's size, in line with it.
+    if (img.alt === "reference" && !img.classList.contains("under")) {
+      const section = img.closest(".image");
+      section.style.setProperty("--ref-w", img.naturalWidth + "px");
+      section.style.setProperty("--ref-h", img.naturalHeight + "px");
+    }
+  };
   if (img.complete) size(); else img.addEventListener("load", size);
 }
 function filter() {
@@ -411,6 +445,14 @@ if (location.search.includes("selftest")) {
       const at90 = over.style.clipPath;
       if (at10 === at90) problems.push("the wipe does not move: " + section.querySelector("h2").textContent);
       wipes += 1;
+    }
+    for (const none of document.querySelectorAll("figure.none div")) {
+      const reference = none.closest(".image").querySelector("img.px[alt=reference]");
+      if (!reference) continue;
+      const a = none.getBoundingClientRect(), b = reference.getBoundingClientRect();
+      if (Math.abs(a.width - b.width) > 0.5 || Math.abs(a.height - b.height) > 0.5 || Math.abs(a.top - b.top) > 0.5) {
+        problems.push("a missing picture's box is not the reference's size and height: " + none.closest(".image").querySelector("h2").textContent);
+      }
     }
     document.getElementById("show-pass").click();
     const hidden = document.querySelectorAll(".image.pass.hidden").length;

@@ -53,11 +53,7 @@ fn say(mut to: impl Write, text: &str) {
 }
 
 fn refuse(message: &str) -> ExitCode {
-    say(
-        std::io::stderr(),
-        &format!("raycast: {message}\n\n{CHECK_USAGE}"),
-    );
-    ExitCode::from(2)
+    super::refuse_with_hint(message, "raycast check -help")
 }
 
 /// The value after an option, or a message.

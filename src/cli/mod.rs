@@ -56,7 +56,13 @@ pub fn run(args: Vec<OsString>) -> ExitCode {
             ExitCode::SUCCESS
         }
         Ok(Command::Version) => {
-            let version = concat!("raycast ", env!("CARGO_PKG_VERSION"));
+            let version = concat!(
+                "raycast ",
+                env!("CARGO_PKG_VERSION"),
+                " (",
+                env!("RAYCAST_COMMIT"),
+                ")"
+            );
             say(std::io::stdout(), version);
             ExitCode::SUCCESS
         }
@@ -96,11 +102,18 @@ pub fn run(args: Vec<OsString>) -> ExitCode {
     }
 }
 
-/// A command line that cannot be run: the message and the usage on stderr, exit status 2.
+/// A command line that cannot be run: the message and where the usage is, on stderr, exit
+/// status 2.
 fn refuse(message: &str) -> ExitCode {
+    refuse_with_hint(message, "raycast -help")
+}
+
+/// The message, then one line naming the help to read (as cargo and git do: the whole usage
+/// would scroll the message away), exit status 2.
+pub(crate) fn refuse_with_hint(message: &str, help: &str) -> ExitCode {
     say(
         std::io::stderr(),
-        &format!("raycast: {message}\n\n{}", usage()),
+        &format!("raycast: {message}\nhint: '{help}' lists every option"),
     );
     ExitCode::from(2)
 }

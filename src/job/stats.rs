@@ -102,14 +102,22 @@ pub fn print_phase_times(to: impl Write, times: &PhaseTimes, rays: &RayCounts) {
     let mb = |bytes: usize| bytes as f64 / (1 << 20) as f64;
     let plural = |n: usize, one: &'static str, many: &'static str| if n == 1 { one } else { many };
     let all = rays.primary + rays.secondary + rays.shadow;
+    // Under -grid the rays search the course's grid: the phase and the memory name it.
+    let (structure, trees) = match w.grid_cells {
+        Some([x, y, z]) => (
+            "grid",
+            format!("grid of {x}x{y}x{z} cells; {} BVH nodes", w.nodes),
+        ),
+        None => ("BVH ", format!("{} BVH nodes", w.nodes)),
+    };
     let text = format!(
         "raycast: parse and load  {:9.2} ms
-raycast: build BVH       {:9.2} ms
+raycast: build {structure}      {:9.2} ms
 raycast: render          {:9.2} ms  ({all} rays on {threads} thread{}, {:.2} M rays/s, {} kernels)
 raycast: rays: {} primary, {} reflected or refracted, {} shadow
 raycast: write images    {:9.2} ms
 raycast: scene: {} triangles stored ({} placed) in {} mesh{}, {} instance{}, {} sphere{}, {} plane{}
-raycast: memory: geometry {:.2} MiB, acceleration {:.2} MiB ({} BVH nodes)",
+raycast: memory: geometry {:.2} MiB, acceleration {:.2} MiB ({trees})",
         ms(load.parse),
         ms(load.build),
         ms(*render),
@@ -132,7 +140,6 @@ raycast: memory: geometry {:.2} MiB, acceleration {:.2} MiB ({} BVH nodes)",
         plural(w.planes, "", "s"),
         mb(w.geometry_bytes),
         mb(w.acceleration_bytes),
-        w.nodes
     );
     // Not eprintln!: a closed or full stderr must not turn into a panic (exit status 101).
     say(to, &text);

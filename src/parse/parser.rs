@@ -101,6 +101,7 @@ impl<'a> Parser<'a> {
         let mut lights = Vec::new();
         let mut materials = Vec::new();
         let mut objects = Objects::default();
+        let mut has_group = false;
         while let Some(token) = self.lexer.next_token() {
             match token.text {
                 "OrthographicCamera" | "PerspectiveCamera" => camera = Some(self.camera(token)?),
@@ -116,6 +117,7 @@ impl<'a> Parser<'a> {
                         ..Objects::default()
                     };
                     self.objects(token, &mut objects)?;
+                    has_group = true;
                 }
                 _ => {
                     return Err(self.unexpected(
@@ -135,6 +137,16 @@ impl<'a> Parser<'a> {
                 "end of file",
             )
         })?;
+        // A file cut short before its Group would render as a picture of background alone,
+        // which looks like a tracer that misses everything.
+        if !has_group {
+            return Err(Diagnostic::expected(
+                self.path,
+                end,
+                "the scene's Group (its objects; every scene has one, after the camera)",
+                "end of file",
+            ));
+        }
         for &(index, span) in &objects.material_indices {
             if index as usize >= materials.len() {
                 return Err(Diagnostic::expected(

@@ -98,6 +98,8 @@ pub struct WorldStats {
     pub geometry_bytes: usize,
     /// Memory the trees take; the grid is not counted.
     pub acceleration_bytes: usize,
+    /// The course's grid's cells on each axis, when `-grid` searches it instead of the trees.
+    pub grid_cells: Option<[u32; 3]>,
 }
 
 /// Everything a ray can hit: the shared meshes and their placements, the spheres, the planes,
@@ -348,6 +350,7 @@ impl World {
             planes: self.planes.len(),
             nodes: self.top.node_count(),
             acceleration_bytes: self.top.size_in_bytes(),
+            grid_cells: self.grid.as_ref().map(|grid| grid.cells().to_array()),
             geometry_bytes: self.items.len() * std::mem::size_of::<Item>()
                 + self.transforms.len() * std::mem::size_of::<Transform>()
                 + self.loose_materials.len() * 4

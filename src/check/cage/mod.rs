@@ -158,8 +158,15 @@ pub enum Ending {
     TimedOut(Duration),
     /// check was interrupted (Ctrl-C, SIGTERM, SIGHUP) while it ran, and ended it.
     Interrupted,
-    /// It was not run: the renderer's time budget (`--budget`) was spent on earlier lines.
+    /// It was not run: the renderer's time budget (`--budget`) was spent before its turn.
     OverBudget(Duration),
+    /// The renderer's time budget (`--budget`) ran out while it ran, after `after`.
+    BudgetRanOut {
+        /// The whole budget.
+        budget: Duration,
+        /// How long the line had run.
+        after: Duration,
+    },
     /// It could not be started at all.
     NotStarted(String),
 }

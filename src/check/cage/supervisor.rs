@@ -133,6 +133,10 @@ fn ending_json(ending: &Ending) -> serde_json::Value {
         Ending::OverBudget(budget) => {
             serde_json::json!({ "over_budget_ms": budget.as_millis() as u64 })
         }
+        Ending::BudgetRanOut { budget, after } => serde_json::json!({
+            "budget_ran_out_ms": budget.as_millis() as u64,
+            "after_ms": after.as_millis() as u64,
+        }),
         Ending::NotStarted(why) => serde_json::json!({ "not_started": why }),
     }
 }
@@ -161,6 +165,12 @@ pub(super) fn ending_of(value: &serde_json::Value) -> Ending {
     if let Some(ms) = value["over_budget_ms"].as_u64() {
         return Ending::OverBudget(Duration::from_millis(ms));
     }
+    if let Some(ms) = value["budget_ran_out_ms"].as_u64() {
+        return Ending::BudgetRanOut {
+            budget: Duration::from_millis(ms),
+            after: Duration::from_millis(value["after_ms"].as_u64().unwrap_or(0)),
+        };
+    }
     Ending::NotStarted(
         value["not_started"]
             .as_str()
@@ -182,6 +192,10 @@ mod tests {
             Ending::TimedOut(Duration::from_millis(1500)),
             Ending::Interrupted,
             Ending::OverBudget(Duration::from_secs(90)),
+            Ending::BudgetRanOut {
+                budget: Duration::from_secs(90),
+                after: Duration::from_millis(29_989),
+            },
             Ending::NotStarted("no such file".into()),
         ] {
             assert_eq!(ending_of(&ending_json(&ending)), ending);

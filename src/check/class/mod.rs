@@ -52,7 +52,9 @@ impl Built {
                 format!("the build did not finish within {} s", limit.as_secs_f64())
             }
             Ending::Interrupted => "check was interrupted during the build".to_string(),
-            Ending::OverBudget(_) => "the build was not run".to_string(),
+            Ending::OverBudget(_) | Ending::BudgetRanOut { .. } => {
+                "the build was not run".to_string()
+            }
             Ending::NotStarted(why) => format!("the build could not be started: {why}"),
         };
         Built {

@@ -151,8 +151,8 @@ impl Diagnosis {
     pub const BUILD_FAILED: Diagnosis = Diagnosis::new(
         "build_failed",
         8,
-        "The submission did not build, so no line was run: read the build's output in the \
-        report, and build it by hand the same way.",
+        "The submission did not build, so no line was run: read the build's output at the top of \
+        the report, and build it by hand the same way.",
     );
 
     /// check was interrupted before the line ended.
@@ -166,8 +166,9 @@ impl Diagnosis {
     pub const MISSING_OUTPUT: Diagnosis = Diagnosis::new(
         "missing_output",
         8,
-        "The renderer finished but wrote no picture where -output asked: check that the \
-        output file name is taken from the command line and the file is written.",
+        "The renderer finished but wrote no picture where the command line asked: check that \
+        the file name after the picture's option is taken from the command line and that the \
+        file is written before the program exits.",
     );
 
     /// The renderer's picture is there, but is not a picture raycast can read.

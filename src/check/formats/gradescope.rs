@@ -4,11 +4,11 @@
 
 use serde_json::{Value, json};
 
-use super::{max_score, message, output, score, seconds, total};
-use crate::check::{Checked, Status};
+use super::{output, overview, score, seconds, status_line, total};
+use crate::check::{Checked, Group, Status};
 
-/// The results of `checked`.
-pub fn results(checked: &Checked) -> Value {
+/// The results of `checked`; the top-level output is the run's overview, the verdict in it.
+pub fn results(checked: &Checked, groups: &[Group]) -> Value {
     let tests: Vec<Value> = checked
         .graded
         .iter()
@@ -20,26 +20,16 @@ pub fn results(checked: &Checked) -> Value {
                 "score": score(g),
                 "max_score": g.points,
                 "status": if g.status == Status::Pass { "passed" } else { "failed" },
-                "output": format!("{}\n{}", message(g), output(g)),
+                // The explanation once: in the output, after the grade's line.
+                "output": format!("{}\n{}", status_line(g), output(g)),
                 "visibility": "visible",
             })
         })
         .collect();
-    let passed = checked
-        .graded
-        .iter()
-        .filter(|g| g.status == Status::Pass)
-        .count();
     json!({
         "score": total(checked),
         "execution_time": seconds(checked).round() as u64,
-        "output": format!(
-            "raycast check: {passed} of {} pictures pass ({} of {} points){}",
-            checked.graded.len(),
-            total(checked),
-            max_score(checked),
-            if checked.partial { "; the check was interrupted" } else { "" }
-        ),
+        "output": overview(checked, groups),
         "visibility": "visible",
         "stdout_visibility": "hidden",
         "tests": tests,

@@ -3,11 +3,11 @@
 //! seconds), a `failure` for a picture that fails and an `error` for one not made, the
 //! explanation and the renderer's last words in `system-out`.
 
-use super::{message, output, seconds};
-use crate::check::{Checked, Status};
+use super::{message, overview, seconds};
+use crate::check::{Checked, Group, Status};
 
 /// The XML of `checked`.
-pub fn xml(checked: &Checked) -> String {
+pub fn xml(checked: &Checked, groups: &[Group]) -> String {
     let failures = checked
         .graded
         .iter()
@@ -54,11 +54,23 @@ pub fn xml(checked: &Checked) -> String {
                 escape(&g.explanation)
             ));
         }
+        // The explanation is the failure's text: here only what ran and what it said.
+        let mut ran = format!("$ {}\n", g.command);
+        let said = crate::check::last_lines(&g.stderr, 20);
+        if !said.is_empty() {
+            ran.push_str("The renderer said:\n");
+            ran.push_str(&said);
+            ran.push('\n');
+        }
         xml.push_str(&format!(
             "      <system-out>{}</system-out>\n    </testcase>\n",
-            escape(&output(g))
+            escape(&ran)
         ));
     }
+    xml.push_str(&format!(
+        "    <system-out>{}</system-out>\n",
+        escape(&overview(checked, groups))
+    ));
     xml.push_str("  </testsuite>\n</testsuites>\n");
     xml
 }

@@ -11,7 +11,7 @@ pub mod prairielearn;
 
 use std::path::Path;
 
-use super::{Checked, Graded, Status, finding};
+use super::{Checked, Graded, Group, Status, finding, verdict_lines};
 
 /// The file names, in the report's folder.
 pub const FILES: [&str; 4] = [
@@ -21,15 +21,16 @@ pub const FILES: [&str; 4] = [
     "github-classroom.json",
 ];
 
-/// Writes every format into `dir`, where the report's pictures already are.
-pub fn write_all(dir: &Path, checked: &Checked) -> Result<(), String> {
+/// Writes every format into `dir`, where the report's pictures already are; `groups` is the
+/// renderer's verdict.
+pub fn write_all(dir: &Path, checked: &Checked, groups: &[Group]) -> Result<(), String> {
     let fail = |name: &str, e: std::io::Error| format!("{}: {e}", dir.join(name).display());
     let pretty =
         |value: &serde_json::Value| serde_json::to_string_pretty(value).unwrap_or_default() + "\n";
     let files = [
-        (FILES[0], pretty(&gradescope::results(checked))),
-        (FILES[1], pretty(&prairielearn::results(checked, dir))),
-        (FILES[2], junit::xml(checked)),
+        (FILES[0], pretty(&gradescope::results(checked, groups))),
+        (FILES[1], pretty(&prairielearn::results(checked, groups, dir))),
+        (FILES[2], junit::xml(checked, groups)),
         (FILES[3], pretty(&classroom::results(checked))),
     ];
     for (name, text) in files {
@@ -57,8 +58,8 @@ pub fn total(checked: &Checked) -> f64 {
     checked.graded.iter().map(score).sum()
 }
 
-/// A test's message for a student: its grade and what to look at.
-pub fn message(g: &Graded) -> String {
+/// A test's grade in a line: `fail, 6.705% of pixels off: pixel_corner`.
+pub fn status_line(g: &Graded) -> String {
     let off = g
         .bad_fraction
         .map(|f| format!(", {:.3}% of pixels off", 100.0 * f))
@@ -68,17 +69,78 @@ pub fn message(g: &Graded) -> String {
         _ => {
             let codes: Vec<String> = g.findings.iter().map(|f| f.code()).collect();
             format!(
-                "{}{off}: {}: {}",
+                "{}{off}: {}",
                 g.status.code(),
                 if codes.is_empty() {
                     "unknown".to_string()
                 } else {
                     codes.join(", ")
                 },
-                finding::headline(&g.findings, &g.explanation)
             )
         }
     }
+}
+
+/// A test's message for a student, where a platform has room for one line only: its grade and
+/// what to look at.
+pub fn message(g: &Graded) -> String {
+    match g.status {
+        Status::Pass => status_line(g),
+        _ => format!(
+            "{}: {}",
+            status_line(g),
+            finding::headline(&g.findings, &g.explanation)
+        ),
+    }
+}
+
+/// What the whole run comes to, first what to read first: the count, a build that failed with
+/// its last lines, then the verdict (what to fix first).
+pub fn overview(checked: &Checked, groups: &[Group]) -> String {
+    let passed = checked
+        .graded
+        .iter()
+        .filter(|g| g.status == Status::Pass)
+        .count();
+    let mut text = format!(
+        "raycast check: {passed} of {} pictures pass ({} of {} points){}\n",
+        checked.graded.len(),
+        total(checked),
+        max_score(checked),
+        if checked.partial {
+            "; the check was interrupted"
+        } else {
+            ""
+        }
+    );
+    if let Some(failed) = failed_build(checked) {
+        text.push_str(&failed);
+    }
+    for line in verdict_lines(groups) {
+        text.push_str(&line);
+        text.push('\n');
+    }
+    text
+}
+
+/// A build that failed, as a student reads it: how it ended, then the last lines it printed.
+pub fn failed_build(checked: &Checked) -> Option<String> {
+    let build = checked.build.as_ref()?;
+    if build["ok"] != false {
+        return None;
+    }
+    let mut text = format!(
+        "The submission did not build ({}), so no line was run. The build's last lines:\n",
+        build["ending"].as_str().unwrap_or("it failed")
+    );
+    let output = build["output"].as_str().unwrap_or("");
+    text.push_str(if output.trim().is_empty() {
+        "(it printed nothing)"
+    } else {
+        output.trim_end()
+    });
+    text.push('\n');
+    Some(text)
 }
 
 /// A test's longer output: the command line, the explanation, the renderer's last words.
@@ -97,14 +159,13 @@ pub fn output(g: &Graded) -> String {
     text
 }
 
-/// The whole run's seconds: the renderer's time over every line.
+/// The whole run's seconds, by the clock: its build and its lines (which ran side by side, so
+/// not their sum).
 pub fn seconds(checked: &Checked) -> f64 {
-    let mut seen = std::collections::BTreeSet::new();
-    // Pictures of one line share its time: counted once.
-    checked
-        .graded
-        .iter()
-        .filter(|g| seen.insert(g.command.clone()))
-        .map(|g| g.seconds)
-        .sum()
+    let build = checked
+        .build
+        .as_ref()
+        .and_then(|b| b["seconds"].as_f64())
+        .unwrap_or(0.0);
+    build + checked.seconds
 }

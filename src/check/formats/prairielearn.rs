@@ -7,14 +7,14 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 
-use super::{max_score, message, output, score, total};
-use crate::check::{Checked, Status};
+use super::{max_score, output, overview, score, status_line, total};
+use crate::check::{Checked, Group, Status};
 
 /// PrairieLearn refuses results over 1 MB; pictures are left out past this many bytes.
 const IMAGE_BUDGET: usize = 900 * 1024;
 
 /// The results of `checked`; the pictures are read from `dir`, the report's folder.
-pub fn results(checked: &Checked, dir: &Path) -> Value {
+pub fn results(checked: &Checked, groups: &[Group], dir: &Path) -> Value {
     let mut budget = IMAGE_BUDGET;
     let tests: Vec<Value> = checked
         .graded
@@ -44,7 +44,8 @@ pub fn results(checked: &Checked, dir: &Path) -> Value {
                 "description": g.command,
                 "points": score(g),
                 "max_points": g.points,
-                "message": message(g),
+                // The explanation once: in the output.
+                "message": status_line(g),
                 "output": output(g),
                 "images": images,
             })
@@ -54,7 +55,7 @@ pub fn results(checked: &Checked, dir: &Path) -> Value {
     json!({
         "gradable": true,
         "score": if most > 0.0 { total(checked) / most } else { 0.0 },
-        "message": format!("{} of {most} points", total(checked)),
+        "message": overview(checked, groups),
         "tests": tests,
     })
 }
