@@ -108,7 +108,25 @@ fn broken_renderers_fail_their_images_not_the_check() {
             "nothing.sh",
             "exit 0",
             "missing_output",
-            "There is no image",
+            "The renderer ended without writing the picture of -normals normals2_03.tga. \
+             Check that the file name after -normals is taken from the command line",
+        ),
+        // An assignment-2 tracer that does not know a keyword says so and writes nothing: its
+        // own words are the reason, not the file name.
+        (
+            "unknown.sh",
+            "echo 'Unknown token PhongMaterial' >&2; exit 0",
+            "missing_output",
+            "The renderer ended without writing the picture of -output output2_01.tga. It \
+             said: Unknown token PhongMaterial Its own message is the likely reason",
+        ),
+        // What it says of its scratch paths (gone once check ends) is said as the command
+        // line names them.
+        (
+            "scratch.sh",
+            "for a in \"$@\"; do case $a in */out/*) echo \"cannot write $a\" >&2;; esac; done; exit 4",
+            "crash",
+            "It said: cannot write output2_01.tga",
         ),
         (
             "hang.sh",
@@ -143,6 +161,10 @@ fn broken_renderers_fail_their_images_not_the_check() {
             assert!(line.contains(&format!(": {code}: ")), "{name}: {line}");
         }
         assert!(out.contains(said), "{name}: {out}");
+        assert!(!out.contains("/out/"), "{name} shows a scratch path: {out}");
+        if name == "unknown.sh" {
+            assert!(!out.contains("taken from the command line"), "{out}");
+        }
         // Three lines of the course, four images.
         assert_eq!(out.lines().last().unwrap(), "0 passed, 4 failed", "{name}");
         // A hang costs its time limit, not the renderer's half minute.
@@ -625,11 +647,29 @@ fn a_suite_without_references_is_graded_against_raycasts_own_renders() {
     .unwrap();
     std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
     let suite = suite.to_str().unwrap();
-    let output = raycast(&["check", suite, "--renderer", env!("CARGO_BIN_EXE_raycast")]);
+    let report = dir.path().join("report");
+    let output = raycast(&[
+        "check",
+        suite,
+        "--renderer",
+        env!("CARGO_BIN_EXE_raycast"),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
     assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
-    assert_eq!(
-        stdout(&output),
-        "pass   a, 0.000% of pixels off against raycast's render\n1 passed, 0 failed\n"
+    assert!(
+        stdout(&output).starts_with(
+            "pass   a, 0.000% of pixels off against raycast's render\n1 passed, 0 failed\n"
+        ),
+        "{}",
+        stdout(&output)
+    );
+    // The page says so too, beside the picture and under the reference.
+    let page = std::fs::read_to_string(report.join("index.html")).unwrap();
+    assert!(
+        page.contains("the reference is raycast's own render of it")
+            && page.contains("<figcaption>reference: raycast's render</figcaption>"),
+        "{page}"
     );
     // A renderer that ignores -size fails against raycast's render of the line.
     let renderer = script(

@@ -193,6 +193,35 @@ fn a_class_is_graded_in_one_command_with_its_table_and_formats() {
     let dave = std::fs::read_to_string(report.join("dave/summary.json")).unwrap();
     assert!(dave.contains("\"ok\": false"), "{dave}");
     assert!(dave.contains("build_failed"), "{dave}");
+    // And where a student and a teacher read: the build's own words (make's "Error 1") on
+    // dave's page, in the class's table and at the top of every platform's file.
+    let make_said = "Error 1";
+    let dave_page = std::fs::read_to_string(report.join("dave/index.html")).unwrap();
+    assert!(dave_page.contains("The build failed"), "{dave_page}");
+    assert!(dave_page.contains(make_said), "{dave_page}");
+    assert!(page.contains(make_said), "{page}");
+    let tops = python(
+        "import json, sys\n\
+         from junitparser import JUnitXml\n\
+         g = json.load(open(sys.argv[1]))\n\
+         p = json.load(open(sys.argv[2]))\n\
+         j = JUnitXml.fromfile(sys.argv[3])\n\
+         suite = next(iter(j))\n\
+         print(repr(g['output']))\n\
+         print(repr(p['message']))\n\
+         print(repr(suite.system_out))",
+        &[
+            &report.join("dave/gradescope.json"),
+            &report.join("dave/prairielearn.json"),
+            &report.join("dave/junit.xml"),
+        ],
+    );
+    for top in tops.lines() {
+        assert!(
+            top.contains("did not build") && top.contains(make_said),
+            "a platform's top-level text leaves the build out: {top}"
+        );
+    }
 
     // Gradescope's results.json, field by field as its documentation lists them.
     let gradescope = python(
@@ -208,6 +237,25 @@ fn a_class_is_graded_in_one_command_with_its_table_and_formats() {
         &[&report.join("carol/gradescope.json")],
     );
     assert_eq!(gradescope.trim(), "5.0 8.0 passed failed");
+    // Its top-level output opens with the count and then the verdict, what a student reads
+    // first; each test says its explanation once.
+    let bob = python(
+        "import json, sys\n\
+         r = json.load(open(sys.argv[1]))\n\
+         lines = r['output'].splitlines()\n\
+         print(lines[0])\n\
+         print(lines[1].split(':')[0], 'pixel_corner' in lines[1])\n\
+         for t in r['tests']:\n\
+         \x20   first = t['output'].splitlines()[1:]\n\
+         \x20   said = [l for l in t['output'].splitlines() if 'planted matches' in l]\n\
+         \x20   assert len(said) <= 1, t['output']\n\
+         \x20   words = t['output'].split('. ')\n\
+         \x20   assert len(words) == len(set(words)), t['output']",
+        &[&report.join("bob/gradescope.json")],
+    );
+    let bob: Vec<&str> = bob.lines().collect();
+    assert_eq!(bob[0], "raycast check: 0 of 6 pictures pass (0 of 8 points)");
+    assert_eq!(bob[1], "verdict True");
     // PrairieLearn's external grader results, within its 1 MB, pictures as PNG data URLs.
     let prairielearn = python(
         "import json, sys, base64, os\n\
@@ -269,16 +317,15 @@ fn a_budget_leaves_a_slow_student_partial_results() {
         "--budget",
         "1.5",
         "--jobs",
-        "1",
+        "2",
         "--report",
         report.to_str().unwrap(),
     ]);
     assert_eq!(output.status.code(), Some(0), "{}", text(&output));
     let summary = std::fs::read_to_string(report.join("slow/summary.json")).unwrap();
     let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
-    let statuses: Vec<(String, String)> = summary["images"]
-        .as_array()
-        .unwrap()
+    let images = summary["images"].as_array().unwrap();
+    let statuses: Vec<(String, String)> = images
         .iter()
         .map(|i| {
             (
@@ -290,6 +337,46 @@ fn a_budget_leaves_a_slow_student_partial_results() {
     let passed = statuses.iter().filter(|(s, _)| s == "pass").count();
     let over = statuses.iter().filter(|(_, c)| c == "over_budget").count();
     assert!(passed >= 1 && over >= 1, "{statuses:?}");
+    // Lines start in the suite's order: once one is over the budget, every later one is.
+    let first_over = statuses
+        .iter()
+        .position(|(_, c)| c == "over_budget")
+        .unwrap();
+    assert!(
+        statuses[first_over..]
+            .iter()
+            .all(|(_, c)| c == "over_budget"),
+        "{statuses:?}"
+    );
+    // Each says which way the budget ended it, in plain seconds.
+    for image in images.iter().filter(|i| i["diagnoses"][0]["code"] == "over_budget") {
+        let why = image["explanation"].as_str().unwrap();
+        assert!(
+            why.contains("budget of 1.5 s was spent before this line's turn")
+                || why.contains("budget of 1.5 s ran out while this line ran"),
+            "{why}"
+        );
+    }
+    // The student's seconds are the clock's, not the sum of lines that ran side by side.
+    let line_seconds: f64 = images.iter().map(|i| i["seconds"].as_f64().unwrap()).sum();
+    let build_seconds = summary["build"]["seconds"].as_f64().unwrap();
+    let csv_seconds: f64 = python(
+        "import csv, sys\n\
+         print(next(csv.DictReader(open(sys.argv[1], newline='')))['seconds'])",
+        &[&report.join("class.csv")],
+    )
+    .trim()
+    .parse()
+    .unwrap();
+    let clock = summary["seconds"].as_f64().unwrap();
+    assert!(
+        (csv_seconds - (build_seconds + clock)).abs() < 0.01,
+        "{csv_seconds} {build_seconds} {clock}"
+    );
+    assert!(
+        clock < line_seconds,
+        "two lines ran side by side: {clock} s by the clock, {line_seconds} s added up"
+    );
 }
 
 #[test]
@@ -543,6 +630,46 @@ fn the_gradescope_example_grades_a_submission_laid_out_as_gradescope_lays_it_out
 }
 
 #[test]
+fn the_platform_examples_tell_a_submission_that_does_not_build_why() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let examples = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/examples");
+    for (script, root_variable, suite_in, submission_in, said) in [
+        ("gradescope/run_autograder", "AUTOGRADER_ROOT", "source", "submission", "output"),
+        ("prairielearn/grade.sh", "GRADE_ROOT", "tests", "student", "message"),
+    ] {
+        let root = platform_layout(&conformance, suite_in, submission_in);
+        std::fs::write(
+            root.path().join(submission_in).join("Makefile"),
+            "all:\n\t@echo 'main.cpp:12: error: expected ; before }' >&2; exit 1\n",
+        )
+        .unwrap();
+        let output = Command::new("bash")
+            .arg(examples.join(script))
+            .env(root_variable, root.path())
+            .env("RAYCAST", RAYCAST)
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{script}: {}", text(&output));
+        let results = python(
+            "import json, sys\n\
+             r = json.load(open(sys.argv[1]))\n\
+             print(r['score'], json.dumps(r[sys.argv[2]]))",
+            &[
+                &root.path().join("results/results.json"),
+                Path::new(said),
+            ],
+        );
+        assert!(
+            results.starts_with("0 \"The build failed")
+                && results.contains("main.cpp:12: error: expected ; before }"),
+            "{script}: {results}"
+        );
+    }
+}
+
+#[test]
 fn class_usage_mistakes_are_one_clear_error() {
     let Some(conformance) = conformance_dir() else {
         return;
@@ -562,7 +689,7 @@ fn class_usage_mistakes_are_one_clear_error() {
         ),
         (
             &["check", suite, "--renderer", "/bin/true", "--build", "make"],
-            "--build and --budget grade a class: give --class DIR too",
+            "--build builds a class's submissions: give --class DIR too",
         ),
         (
             &["check", suite, "--renderer", "/bin/true", "--shard", "3/2"],

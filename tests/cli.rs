@@ -1519,3 +1519,63 @@ fn inspect_agrees_with_the_render_through_mirrors_and_glass() {
         "-json goes with -inspect X Y: which pixel should be accounted for?"
     );
 }
+
+#[test]
+fn inspect_says_a_blocked_light_adds_nothing() {
+    // The floor at the picture's centre, lit along (1, 0, 1); a sphere out of view stands in
+    // that light's way.
+    let dir = workspace();
+    std::fs::write(
+        dir.path().join("blocked.txt"),
+        "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+Lights { numLights 1 DirectionalLight { direction -1 0 -1 color 1 1 1 } }
+Background { color 0 0 0 ambientLight 0.1 0.1 0.1 }
+Materials { numMaterials 1 PhongMaterial { diffuseColor 0.5 0.5 0.5 } }
+Group { numObjects 2 MaterialIndex 0
+  Plane { normal 0 0 1 offset 0 }
+  Sphere { center 3 0 3 radius 1 }
+}
+",
+    )
+    .unwrap();
+    let output = raycast(
+        dir.path(),
+        &[
+            "-input", "blocked.txt", "-size", "3", "3", "-shadows", "-inspect", "1", "1",
+        ],
+    );
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(
+        text.contains("shadow ray blocked: adds 0 (if it were clear: diffuse (0.3536, 0.3536, 0.3536)"),
+        "{text}"
+    );
+    assert!(text.contains("shaded here (0.0500, 0.0500, 0.0500)"), "{text}");
+    // t as the tracer computed it, in single precision's fewest digits.
+    assert!(text.contains("hit at t = 10 point"), "{text}");
+    let numbers = text
+        .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter(|w| w.contains('.'));
+    for number in numbers {
+        assert!(number.len() <= 12, "a number printed with too many digits: {number}\n{text}");
+    }
+}
+
+#[test]
+fn timings_name_the_grid_when_the_grid_is_searched() {
+    let dir = workspace();
+    let timings = |extra: &[&str]| {
+        let mut args = vec!["-input", "scene.txt", "-size", "4", "4", "-output", "a.tga", "-stats"];
+        args.extend(extra);
+        let output = raycast(dir.path(), &args);
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+        stderr(&output)
+    };
+    let bvh = timings(&[]);
+    assert!(bvh.contains("raycast: build BVH "), "{bvh}");
+    assert!(bvh.contains(" BVH nodes)"), "{bvh}");
+    let grid = timings(&["-grid", "5", "6", "7"]);
+    assert!(grid.contains("raycast: build grid "), "{grid}");
+    assert!(!grid.contains("build BVH"), "{grid}");
+    assert!(grid.contains("(grid of 5x6x7 cells; "), "{grid}");
+}

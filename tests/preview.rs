@@ -605,6 +605,16 @@ fn editing_the_scene_redraws_it_and_shows_its_errors() {
             { "canvas": out.join("still.png") },
             { "save": [scene, good] },
             { "wait_eval": "document.getElementById('error').textContent === '' && scene.background[1] === 0 && !pending" },
+            // A render, then an edit: the render is the old scene's, and says so.
+            { "key": "r" },
+            { "wait_eval": "document.body.dataset.render === '1'" },
+            { "eval": "document.body.dataset.stale === undefined" },
+            { "save": [scene, green] },
+            { "wait_eval": "document.body.dataset.stale === '1'" },
+            { "eval": "[document.getElementById('rendered').classList.contains('stale'), document.getElementById('stats').classList.contains('stale'), document.getElementById('render-status').textContent].join('|')" },
+            // Nothing moves: no frame is drawn, and the rate says idle rather than 0.
+            { "wait_ms": 1600 },
+            { "eval": "document.getElementById('fps').textContent" },
             { "key": "q" },
         ]),
     );
@@ -625,6 +635,12 @@ fn editing_the_scene_redraws_it_and_shows_its_errors() {
         "{error}"
     );
     assert_eq!(rgb(&out.join("still.png")), green_picture);
+    assert_eq!(steps[14]["value"], true, "{:?}", steps[14]);
+    assert_eq!(
+        value(17),
+        "true|true|stale: the scene changed since; press r to render it again, t for a ray tree"
+    );
+    assert_eq!(value(19), "idle");
     let redraw_ms = steps[3]["ms"].as_u64().unwrap();
     println!("redrawn {redraw_ms} ms after the save");
 }

@@ -189,6 +189,21 @@ fn end_of_file_inside_a_block() {
 }
 
 #[test]
+fn a_file_cut_short_before_its_group() {
+    // It would render as background alone, as a tracer that misses everything does.
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\n{MATERIAL}\n")),
+        "s.txt:3:1: expected the scene's Group (its objects; every scene has one, after the \
+         camera), found end of file"
+    );
+    assert_eq!(
+        parse_error(&format!("{CAMERA}\nBackground {{ color 0 0 0 }}")),
+        "s.txt:2:29: expected the scene's Group (its objects; every scene has one, after the \
+         camera), found end of file"
+    );
+}
+
+#[test]
 fn a_brace_glued_to_a_word_gets_a_hint() {
     assert_eq!(
         parse_error(&with_group(

@@ -65,6 +65,9 @@ pub struct CheckOptions {
     /// This run's share of the suite's lines (`--shard K/N`): those whose place, counted from
     /// 0, is K - 1 modulo N.
     pub shard: Option<(usize, usize)>,
+    /// The most time the renderer's lines may take together (`--budget`, without `--class`:
+    /// a class's budget is each student's); the lines left when it is spent are not run.
+    pub budget: Option<Duration>,
 }
 
 impl CheckOptions {
@@ -81,6 +84,7 @@ impl CheckOptions {
             limits: Limits::default(),
             readable: Vec::new(),
             shard: None,
+            budget: None,
         }
     }
 }
@@ -371,7 +375,7 @@ pub fn check(
     let renderer = Renderer {
         command: &command,
         readable: &readable,
-        budget: None,
+        budget: options.budget,
     };
     grade_renderer(&prepared, options, &renderer, staging, progress, stop)
 }

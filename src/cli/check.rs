@@ -13,10 +13,10 @@ use crate::image_io::{self, ImageFormat};
 /// The usage of the two subcommands.
 pub const CHECK_USAGE: &str = "\
 usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
-                     [--max-bad FRACTION] [--jobs N] [--timeout SECONDS] [--shard K/N]
-                     [--memory SIZE] [--allow-read PATH]... [--keep-preview-options]
+                     [--max-bad FRACTION] [--jobs N] [--timeout SECONDS] [--budget SECONDS]
+                     [--shard K/N] [--memory SIZE] [--allow-read PATH]... [--keep-preview-options]
        raycast check SUITE --class ROSTER --renderer CMD [--build CMD] [--build-timeout S]
-                     [--budget SECONDS] [the options above]
+                     [the options above]
        raycast check merge OUT DIR...
        raycast diff IMAGE REFERENCE [--out DIFF.png] [--tolerance LEVELS] [--max-bad FRACTION]
 
@@ -37,12 +37,13 @@ root, under Landlock (it reads the system's files, its own program's folder and 
 paths; it writes its work and output folders only), in a network namespace of its own, with
 --memory of address space (default 4G), files of at most 256 MiB, a private HOME and TMPDIR,
 and everything it started ended with it. Ctrl-C ends the renderers and writes what was graded,
-marked partial (exit 130).
+marked partial (exit 130). --budget bounds the renderer's lines together (a platform's
+time limit): lines start in the suite's order, and those left when it is spent are not run.
 --class grades each folder of ROSTER as one student's submission: copied, built with --build
 in its folder (caged, --build-timeout seconds, default 120), its renderer (CMD's first word
 taken inside the submission) graded; the class's table on the terminal and in DIR/class.csv
-and DIR/class.html, each student's report in DIR/STUDENT/. --budget bounds a student's lines
-together; those left when it is spent are not run. --shard K/N grades every Nth student from
+and DIR/class.html, each student's report in DIR/STUDENT/; --budget is each student's.
+--shard K/N grades every Nth student from
 the Kth; merge joins the shards' report folders into the one report a single run makes.
 An image passes when at most FRACTION of its pixels (default 0.001) are off by more than
 LEVELS (default 2). Exit status: 0 all pass (for a class: graded), 1 some fail, 2 a usage or
@@ -230,9 +231,11 @@ fn parse_check_args(
     }
     options.suite = suite;
     let Some(roster) = roster else {
-        if class.build.is_some() || class.budget.is_some() {
-            return Err("--build and --budget grade a class: give --class DIR too".into());
+        if class.build.is_some() {
+            return Err("--build builds a class's submissions: give --class DIR too".into());
         }
+        // One renderer's budget: its lines together, as a student's in a class.
+        options.budget = class.budget;
         return Ok(Some((options, None)));
     };
     class.roster = roster;

@@ -158,6 +158,7 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
             .use_grid(glam::UVec3::new(nx, ny, nz))
             .map_err(|e| Error::Refused(format!("{}: {e}", options.input.display())))?;
         load.build += start.elapsed();
+        load.world = scene.world.stats();
     }
     let written = match &options.fault {
         None => render_to_files(options, &scene, crate::render::Exact, pending)?,

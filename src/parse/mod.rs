@@ -11,7 +11,7 @@ pub use description::SceneDescription;
 pub(crate) use lexer::column_after;
 pub use lexer::{Token, describe};
 pub use parser::{
-    MAX_MAGNITUDE, MAX_OCTAVES, MAX_TEXTURE_DEPTH, NUMBER_IN_RANGE, parse_scene, parse_scene_bytes,
-    read_scene,
+    MAX_MAGNITUDE, MAX_OCTAVES, MAX_TEXTURE_DEPTH, NUMBER_IN_RANGE, parse_camera, parse_scene,
+    parse_scene_bytes, read_scene,
 };
 pub(crate) use parser::{show_number, show_vector};

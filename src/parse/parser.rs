@@ -68,7 +68,18 @@ pub fn parse_scene(path: &Path, text: &str) -> Result<SceneDescription> {
         path,
         lexer: Lexer::new(text),
     }
-    .scene()
+    .scene(true)
+}
+
+/// Parses a camera block written alone, in the scene file's syntax (as the preview's page
+/// sends the camera it shows): every rule of a scene's camera, without the rest of a scene.
+pub fn parse_camera(path: &Path, text: &str) -> Result<CameraSpec> {
+    Ok(Parser {
+        path,
+        lexer: Lexer::new(text),
+    }
+    .scene(false)?
+    .camera)
 }
 
 struct Parser<'a> {
@@ -94,7 +105,9 @@ struct Objects {
 }
 
 impl<'a> Parser<'a> {
-    fn scene(mut self) -> Result<SceneDescription> {
+    /// The scene; `whole` where it must have its objects (a scene file), not where the text is
+    /// a camera alone.
+    fn scene(mut self, whole: bool) -> Result<SceneDescription> {
         let mut camera = None;
         let mut background = Vec3::splat(0.5);
         let mut ambient = Vec3::ZERO;
@@ -139,7 +152,7 @@ impl<'a> Parser<'a> {
         })?;
         // A file cut short before its Group would render as a picture of background alone,
         // which looks like a tracer that misses everything.
-        if !has_group {
+        if whole && !has_group {
             return Err(Diagnostic::expected(
                 self.path,
                 end,

@@ -14,7 +14,7 @@ use crate::image_io::{self, ImageFormat};
 use crate::job::stats::print_course_statistics;
 use crate::job::{Options, render_pictures_counted, reserve_outputs, write_pictures};
 use crate::parse::description::{CameraSpec, Projection};
-use crate::parse::parse_scene;
+use crate::parse::parse_camera;
 use crate::render::{Exact, RenderCounter};
 use crate::scene::Scene;
 use crate::trace::{clearance, grid_palette, shadow_end, start_t};
@@ -22,7 +22,7 @@ use crate::trace::{clearance, grid_palette, shadow_end, start_t};
 /// A camera in the scene file's syntax (as `GET /api/camera` gives it), read as the scene
 /// parser reads one.
 pub fn camera_of(text: &str) -> Result<CameraSpec, Error> {
-    Ok(parse_scene(Path::new("the page's camera"), text)?.camera)
+    Ok(parse_camera(Path::new("the page's camera"), text)?)
 }
 
 /// `camera` in the scene file's syntax, its numbers as Rust writes them (each reads back as

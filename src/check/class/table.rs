@@ -26,6 +26,9 @@ pub struct Row {
     pub seconds: f64,
     /// The build's ending, or "" without `--build`.
     pub build: String,
+    /// The last lines a build that failed printed ("" for one that built): the reason the
+    /// student's pictures are all missing, shown beside the row.
+    pub build_output: String,
 }
 
 impl Row {
@@ -77,6 +80,11 @@ impl Row {
                 .as_str()
                 .unwrap_or("")
                 .to_string(),
+            build_output: if summary["build"]["ok"] == false {
+                super::super::last_lines(summary["build"]["output"].as_str().unwrap_or(""), 20)
+            } else {
+                String::new()
+            },
         }
     }
 
@@ -217,7 +225,15 @@ pub fn html(rows: &[Row], partial: bool) -> String {
             r.max_points,
             escape(&r.verdict),
             r.seconds,
-            escape(&r.build)
+            if r.build_output.is_empty() {
+                escape(&r.build)
+            } else {
+                format!(
+                    "<details><summary>{}</summary><pre>{}</pre></details>",
+                    escape(&r.build),
+                    escape(&r.build_output)
+                )
+            }
         ));
     }
     let heads: String = labels
@@ -286,6 +302,7 @@ mod tests {
             verdict: "pixel_corner".into(),
             seconds: 1.5,
             build: String::new(),
+            build_output: String::new(),
         };
         assert_eq!(
             csv(&[row]),

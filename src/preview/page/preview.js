@@ -351,7 +351,9 @@ function redraw() {
 setInterval(() => {
   const now = performance.now();
   while (frameTimes.length > 0 && frameTimes[0] < now - 1000) frameTimes.shift();
-  document.getElementById("fps").textContent = String(frameTimes.length);
+  // The preview draws only when something changes: no frame in the last second is idle, not a
+  // rate of 0.
+  document.getElementById("fps").textContent = frameTimes.length ? String(frameTimes.length) : "idle";
 }, 500);
 
 // ---- The ray tree ('t'), drawn as the staff's RayTree::paint of assignment 5 ----
@@ -508,6 +510,7 @@ async function traceRay([i, j]) {
   treeSegments = segmentsOf(tree.tree);
   const text = await (await fetch(withToken(`/api/raytree?x=${i}&y=${j}&format=text`))).text();
   showAccount(text.replace(/\n$/, ""), -1);
+  fresh("inspect");
   status.textContent = `ray tree of pixel (${i}, ${j})`;
   lastTraced = [i, j];
   gridWalk = grid ? await (await fetch(withToken(`/api/gridwalk?x=${i}&y=${j}`))).json() : null;
@@ -533,6 +536,7 @@ async function renderView() {
   status.textContent = `rendered in ${answer.headers.get("X-Render-Seconds")} s, the line's images written`;
   const stats = JSON.parse(answer.headers.get("X-Render-Stats") || "null");
   document.getElementById("stats").textContent = stats || "";
+  fresh("rendered", "stats");
 }
 let renders = 0;
 
@@ -805,7 +809,42 @@ async function load() {
   if (first || fileChanged) camera = cameraFrom(fileCamera);
   // With -visualize_grid the preview starts on the grid's occupied cells.
   if (first && scene.visualize_grid) await cycleGrid();
+  if (!first) markStale();
   cameraMoved();
+}
+
+// After the scene changed, a render, its statistics and a ray tree are of the old scene: they
+// stay to compare with, marked stale, and the tree drawn over the preview goes.
+function markStale() {
+  let stale = false;
+  const rendered = document.getElementById("rendered");
+  if (rendered.classList.contains("shown")) {
+    rendered.classList.add("stale");
+    stale = true;
+  }
+  for (const id of ["stats", "inspect"]) {
+    const element = document.getElementById(id);
+    if (element.textContent) {
+      element.classList.add("stale");
+      stale = true;
+    }
+  }
+  if (treeSegments) {
+    treeSegments = null;
+    gridWalk = null;
+    delete document.body.dataset.tree;
+    stale = true;
+  }
+  if (stale) {
+    document.getElementById("render-status").textContent =
+      "stale: the scene changed since; press r to render it again, t for a ray tree";
+    document.body.dataset.stale = "1";
+  }
+}
+
+function fresh(...ids) {
+  for (const id of ids) document.getElementById(id).classList.remove("stale");
+  if (!document.querySelector(".stale")) delete document.body.dataset.stale;
 }
 
 let loading = Promise.resolve();
