@@ -27,7 +27,10 @@ fn main() {
     // file (or packed-refs) the commit.
     if let Some(dir) = git(&["rev-parse", "--git-dir"]).map(PathBuf::from) {
         println!("cargo:rerun-if-changed={}", dir.join("HEAD").display());
-        println!("cargo:rerun-if-changed={}", dir.join("packed-refs").display());
+        println!(
+            "cargo:rerun-if-changed={}",
+            dir.join("packed-refs").display()
+        );
         if let Some(branch) = git(&["symbolic-ref", "-q", "HEAD"]) {
             println!("cargo:rerun-if-changed={}", dir.join(branch).display());
         }

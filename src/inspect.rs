@@ -234,7 +234,11 @@ fn light_terms(
                 "clear"
             }
         };
-        let adds = if shadow == "blocked" { Vec3A::ZERO } else { shaded };
+        let adds = if shadow == "blocked" {
+            Vec3A::ZERO
+        } else {
+            shaded
+        };
         lit += adds;
         lights.push(json!({
             "light": i,

@@ -415,8 +415,13 @@ fn limits_hold_and_name_their_cause() {
             || out.contains("ERROR  output2_01: crash"),
         "{out}"
     );
-    // A file past the size limit.
-    let filler = w.renderer("filler.sh", "head -c 300M /dev/zero > \"$7\"");
+    // A file past the size limit: one byte written 300 MiB in, so that the limit is met at once
+    // however slowly the machine writes (writing 300 MB could outlast the line's deadline on a
+    // busy machine, and be named timed_out).
+    let filler = w.renderer(
+        "filler.sh",
+        "dd if=/dev/zero of=\"$7\" bs=1 count=1 seek=300M 2>/dev/null",
+    );
     let (out, _) = w.check(&filler, &[], "filler.sh");
     assert_graded(&out, "ERROR  output2_01: output_too_large");
     // A crash by a signal, named.

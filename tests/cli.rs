@@ -1541,23 +1541,39 @@ Group { numObjects 2 MaterialIndex 0
     let output = raycast(
         dir.path(),
         &[
-            "-input", "blocked.txt", "-size", "3", "3", "-shadows", "-inspect", "1", "1",
+            "-input",
+            "blocked.txt",
+            "-size",
+            "3",
+            "3",
+            "-shadows",
+            "-inspect",
+            "1",
+            "1",
         ],
     );
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     let text = stdout(&output);
     assert!(
-        text.contains("shadow ray blocked: adds 0 (if it were clear: diffuse (0.3536, 0.3536, 0.3536)"),
+        text.contains(
+            "shadow ray blocked: adds 0 (if it were clear: diffuse (0.3536, 0.3536, 0.3536)"
+        ),
         "{text}"
     );
-    assert!(text.contains("shaded here (0.0500, 0.0500, 0.0500)"), "{text}");
+    assert!(
+        text.contains("shaded here (0.0500, 0.0500, 0.0500)"),
+        "{text}"
+    );
     // t as the tracer computed it, in single precision's fewest digits.
     assert!(text.contains("hit at t = 10 point"), "{text}");
     let numbers = text
         .split(|c: char| !(c.is_ascii_digit() || c == '.'))
         .filter(|w| w.contains('.'));
     for number in numbers {
-        assert!(number.len() <= 12, "a number printed with too many digits: {number}\n{text}");
+        assert!(
+            number.len() <= 12,
+            "a number printed with too many digits: {number}\n{text}"
+        );
     }
 }
 
@@ -1565,7 +1581,16 @@ Group { numObjects 2 MaterialIndex 0
 fn timings_name_the_grid_when_the_grid_is_searched() {
     let dir = workspace();
     let timings = |extra: &[&str]| {
-        let mut args = vec!["-input", "scene.txt", "-size", "4", "4", "-output", "a.tga", "-stats"];
+        let mut args = vec![
+            "-input",
+            "scene.txt",
+            "-size",
+            "4",
+            "4",
+            "-output",
+            "a.tga",
+            "-stats",
+        ];
         args.extend(extra);
         let output = raycast(dir.path(), &args);
         assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));

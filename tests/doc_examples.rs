@@ -227,11 +227,19 @@ fn every_console_example_prints_what_its_page_says() {
 #[test]
 fn loose_words_are_only_times_rates_and_kernels() {
     assert_eq!(
-        steady("raycast: render          52.91 ms  (1048576 rays on 1 thread, 19.82 M rays/s, avx kernels)"),
+        steady(
+            "raycast: render          52.91 ms  (1048576 rays on 1 thread, 19.82 M rays/s, avx kernels)"
+        ),
         "raycast: render _ ms (1048576 rays on 1 thread, _ M rays/s, _ kernels)"
     );
-    assert_eq!(steady("  total time                 0:00:01"), "total time _");
-    assert_eq!(steady("  rays per second            54602.0"), "rays per second _");
+    assert_eq!(
+        steady("  total time                 0:00:01"),
+        "total time _"
+    );
+    assert_eq!(
+        steady("  rays per second            54602.0"),
+        "rays per second _"
+    );
     // Counts are compared exactly.
     assert_eq!(
         steady("  total intersections        109650"),

@@ -164,6 +164,7 @@ fn verdict_names(verdict: &str, fault: &str) -> bool {
 }
 
 #[test]
+#[ignore = "the full tier (minutes): cargo test --profile ci -- --include-ignored"]
 fn every_fault_is_named_for_every_picture_it_changes() {
     let (Some(conformance), Some(later)) = (conformance_dir(), later_dir()) else {
         return;
@@ -210,6 +211,7 @@ fn every_fault_is_named_for_every_picture_it_changes() {
 }
 
 #[test]
+#[ignore = "the full tier (minutes): cargo test --profile ci -- --include-ignored"]
 fn pairs_of_faults_are_named_together() {
     let Some(conformance) = conformance_dir() else {
         return;

@@ -88,3 +88,53 @@ fn every_link_resolves() {
     assert!(checked > 30, "only {checked} links found");
     assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
 }
+
+/// The book's pages, as its table of contents (docs/SUMMARY.md) lists them.
+fn summary_pages(root: &Path) -> Vec<String> {
+    let summary = std::fs::read_to_string(root.join("docs/SUMMARY.md")).unwrap();
+    links(&summary)
+        .into_iter()
+        .map(|l| l.split('#').next().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn every_page_of_the_book_is_in_its_contents_and_reachable_from_the_readme() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let listed = summary_pages(root);
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if path.extension().is_some_and(|e| e == "md")
+            && name != "SUMMARY.md"
+            && !listed.contains(&name)
+        {
+            missing.push(name);
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "pages the book's contents leave out: {missing:?}"
+    );
+    // The README, the front door, links every page.
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let linked: Vec<String> = links(&readme)
+        .into_iter()
+        .map(|l| l.split('#').next().unwrap().to_string())
+        .collect();
+    let unlinked: Vec<&String> = listed
+        .iter()
+        .filter(|page| !linked.contains(&format!("docs/{page}")))
+        .collect();
+    assert!(
+        unlinked.is_empty(),
+        "pages the README does not link: {unlinked:?}"
+    );
+    // And stays a front door: one screen or two, not a manual.
+    let lines = readme.lines().count();
+    assert!(
+        lines <= 130,
+        "the README is {lines} lines: move the detail into the book"
+    );
+}

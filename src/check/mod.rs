@@ -847,10 +847,18 @@ fn grade(
     let actual = match output::read_output(path, (reference.width, reference.height)) {
         Ok(image) => image,
         Err(unread) if unread.cause == Diagnosis::MISSING_OUTPUT => {
-            let explanation = missing_output(line.picture_kind(index), &line.outputs[index].1, &ran.stderr);
+            let explanation = missing_output(
+                line.picture_kind(index),
+                &line.outputs[index].1,
+                &ran.stderr,
+            );
             return Graded {
                 reference: Some(reference),
-                ..graded(Status::Error, vec![Finding::Diagnosis(unread.cause)], explanation)
+                ..graded(
+                    Status::Error,
+                    vec![Finding::Diagnosis(unread.cause)],
+                    explanation,
+                )
             };
         }
         Err(unread) => {

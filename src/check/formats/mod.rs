@@ -29,7 +29,10 @@ pub fn write_all(dir: &Path, checked: &Checked, groups: &[Group]) -> Result<(), 
         |value: &serde_json::Value| serde_json::to_string_pretty(value).unwrap_or_default() + "\n";
     let files = [
         (FILES[0], pretty(&gradescope::results(checked, groups))),
-        (FILES[1], pretty(&prairielearn::results(checked, groups, dir))),
+        (
+            FILES[1],
+            pretty(&prairielearn::results(checked, groups, dir)),
+        ),
         (FILES[2], junit::xml(checked, groups)),
         (FILES[3], pretty(&classroom::results(checked))),
     ];
