@@ -4,8 +4,8 @@
 //! A ```console block is a session: `$ raycast ARGS` runs the program built with these tests
 //! (its output is what it writes on stdout, then what it writes on stderr), `$ cat FILE` followed by the file's lines makes that file. Commands run in
 //! a scratch folder that holds links to the course's scenes and meshes; a path starting with
-//! `../shared/` names the course's data wherever it is. Times, rates and the kernels the
-//! machine has are the only words compared loosely. An output excerpt that is not a session is
+//! `../shared/` names the course's data wherever it is. Times, rates, the number of threads and
+//! the kernels the machine has are the only words compared loosely. An output excerpt that is not a session is
 //! a ```text block.
 
 mod common;
@@ -61,7 +61,11 @@ fn steady(line: &str) -> String {
     for (k, word) in words.iter().enumerate() {
         let next = words.get(k + 1).copied().unwrap_or("");
         let number = word.trim_start_matches('(').parse::<f64>().is_ok() || word.contains(':');
-        let varies = (number && (next == "ms" || next == "M" || next.starts_with("kernels")))
+        let varies = (number
+            && (next == "ms"
+                || next == "M"
+                || next.starts_with("thread")
+                || next.starts_with("kernels")))
             || (k > 0 && next.starts_with("kernels"))
             || (line.trim_start().starts_with("total time") && k == 2)
             || (line.trim_start().starts_with("rays per second") && k == 3);
@@ -230,7 +234,7 @@ fn loose_words_are_only_times_rates_and_kernels() {
         steady(
             "raycast: render          52.91 ms  (1048576 rays on 1 thread, 19.82 M rays/s, avx kernels)"
         ),
-        "raycast: render _ ms (1048576 rays on 1 thread, _ M rays/s, _ kernels)"
+        "raycast: render _ ms (1048576 rays on _ thread, _ M rays/s, _ kernels)"
     );
     assert_eq!(
         steady("  total time                 0:00:01"),
