@@ -198,7 +198,7 @@ fn a_file_cut_short_before_its_group() {
     );
     assert_eq!(
         parse_error(&format!("{CAMERA}\nBackground {{ color 0 0 0 }}")),
-        "s.txt:2:29: expected the scene's Group (its objects; every scene has one, after the \
+        "s.txt:2:27: expected the scene's Group (its objects; every scene has one, after the \
          camera), found end of file"
     );
 }
@@ -360,7 +360,11 @@ fn materials_and_lights(
     Vec<raycast::parse::description::MaterialSpec>,
     Vec<raycast::parse::description::LightSpec>,
 ) {
-    let description = parse_scene(Path::new("s.txt"), &format!("{CAMERA}\n{blocks}\n")).unwrap();
+    let description = parse_scene(
+        Path::new("s.txt"),
+        &format!("{CAMERA}\n{blocks}\nGroup {{ numObjects 0 }}\n"),
+    )
+    .unwrap();
     (description.materials, description.lights)
 }
 
@@ -1371,7 +1375,7 @@ fn textures_nest_at_most_eight_deep() {
             (0..levels).map(|i| format!("Checkerboard {{ materialIndex {i} materialIndex 0 }}")),
         );
         format!(
-            "{CAMERA}\nMaterials {{ numMaterials {} {} }}\n",
+            "{CAMERA}\nMaterials {{ numMaterials {} {} }}\nGroup {{ numObjects 0 }}\n",
             materials.len(),
             materials.join(" ")
         )
