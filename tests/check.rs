@@ -1064,3 +1064,73 @@ fn a_script_named_from_checks_folder_is_found_from_each_lines_folder() {
         stdout(&output)
     );
 }
+
+#[test]
+fn what_a_renderer_prints_reaches_people_as_data_and_within_the_platforms_sizes() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = small_suite(dir.path(), &conformance, 3);
+    // A progress bar redrawn with \r (one line of about 90 KB), then: erase the terminal's
+    // line and forge a count, write its clipboard (OSC 52), ring its bell.
+    let renderer = script(
+        dir.path(),
+        "flood.sh",
+        "for i in $(seq 3000); do printf '\\r%5d%% [=========           ]' $i >&2; done
+         printf '\\n\\033[2K\\r0 passed, 4 failed\\033]52;c;cm0gLXJm\\a\\n' >&2
+         exit 1",
+    );
+    let report = dir.path().join("report");
+    let output = raycast(&[
+        "check",
+        suite.to_str().unwrap(),
+        "--renderer",
+        &renderer,
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        !output.stdout.contains(&0x1b) && !output.stdout.contains(&0x07),
+        "a raw escape reached the terminal: {}",
+        stdout(&output)
+    );
+    let out = stdout(&output);
+    assert!(
+        out.contains("\\x1b[2K\\r0 passed, 4 failed\\x1b]52;"),
+        "{out}"
+    );
+    // The only count is check's own.
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.starts_with("0 passed"))
+            .collect::<Vec<_>>(),
+        ["0 passed, 4 failed"]
+    );
+    // The report keeps the end of what it printed, cut and saying so, once a line.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
+            .unwrap();
+    for image in summary["images"].as_array().unwrap() {
+        let kept = image["stderr"].as_str().unwrap();
+        assert!(kept.starts_with("[cut: the last 2000 of "), "{kept:.80}");
+        assert!(kept.chars().count() < 2100);
+    }
+    // Text: a few kilobytes a picture, not 60 KB each.
+    for file in ["gradescope.json", "junit.xml"] {
+        let size = std::fs::metadata(report.join(file)).unwrap().len();
+        assert!(size < 40_000, "{file}: {size} bytes");
+    }
+    // PrairieLearn's holds the references' pictures too, within its 1 MB.
+    let size = std::fs::metadata(report.join("prairielearn.json"))
+        .unwrap()
+        .len();
+    assert!(size < 1_000_000, "prairielearn.json: {size} bytes");
+    let gradescope = std::fs::read_to_string(report.join("gradescope.json")).unwrap();
+    // Line 3 writes two pictures: its second points to its first for what the renderer said.
+    assert!(
+        gradescope.contains("The renderer's output for this line is under output2_03."),
+        "{gradescope:.2000}"
+    );
+}

@@ -180,7 +180,7 @@ fn a_class_is_graded_in_one_command_with_its_table_and_formats() {
 
     let page = std::fs::read_to_string(report.join("class.html")).unwrap();
     assert!(
-        page.contains("<a href=\"bob/index.html\">bob</a>"),
+        page.contains("<a href=\"./bob/index.html\">bob</a>"),
         "{page}"
     );
     for student in ["alice", "bob", "carol", "dave", "eve"] {
@@ -769,4 +769,132 @@ fn a_renderers_words_that_name_files_of_the_submission_are_found_inside_it() {
     let out = text(&output);
     assert_eq!(output.status.code(), Some(0), "{out}");
     assert!(out.contains("zoe            1/1          3/3"), "{out}");
+}
+
+#[test]
+fn hostile_and_broken_submission_names_are_data_and_never_end_the_class() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &conformance, 2);
+    let formula = "=HYPERLINK(\"example.invalid\";\"x\")";
+    let names = [
+        formula,
+        "javascript:alert(1)",
+        "class.csv",
+        "eve\nmallory,9,9",
+        "\u{1b}[2Kzed",
+    ];
+    let students: Vec<(&str, &str)> = names.iter().map(|n| (*n, "correct")).collect();
+    let roster = roster(dir.path(), &students);
+    // A name that is not UTF-8, a link to a folder, a plain file: each a row of its own.
+    {
+        use std::os::unix::ffi::OsStrExt;
+        let odd = roster.join(std::ffi::OsStr::from_bytes(b"odd\xffname"));
+        std::fs::rename(roster.join("javascript:alert(1)"), &odd).unwrap();
+        std::fs::create_dir_all(roster.join("javascript:alert(1)")).unwrap();
+        copy_dir(&odd, &roster.join("javascript:alert(1)"));
+    }
+    std::os::unix::fs::symlink(roster.join("class.csv"), roster.join("linked")).unwrap();
+    std::fs::write(roster.join("notes.txt"), "not a submission\n").unwrap();
+    open_to_all(dir.path());
+    let report = dir.path().join("report");
+    let output = check(&[
+        suite.to_str().unwrap(),
+        "--class",
+        roster.to_str().unwrap(),
+        "--build",
+        "make",
+        "--renderer",
+        "./raytracer",
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    // The terminal shows every name, escaped, one row each: no escape reaches it raw.
+    assert!(!out.contains('\u{1b}'), "{out:?}");
+    assert!(out.contains("\\x1b[2Kzed"), "{out}");
+    assert!(out.contains("eve\\nmallory,9,9"), "{out}");
+    assert!(out.contains("odd\u{fffd}name"), "{out}");
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("linked") && l.contains("not graded: a symbolic link")),
+        "{out}"
+    );
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("notes.txt") && l.contains("not graded: not a folder")),
+        "{out}"
+    );
+    assert!(!report.join("notes.txt").exists() && !report.join("linked").exists());
+    // class.csv: one row a student, no cell a formula, the class's own file intact.
+    let rows = python(
+        "import csv, sys\n\
+         for r in csv.DictReader(open(sys.argv[1], newline='')):\n\
+         \x20   print('|'.join([r['student'], r['passed'], r['pictures'], r['build'], r['report']]))",
+        &[&report.join("class.csv")],
+    );
+    let rows: Vec<&str> = rows.lines().collect();
+    assert_eq!(rows.len(), 8, "{rows:#?}");
+    for row in &rows {
+        assert!(!row.starts_with(['=', '+', '-', '@']), "{row}");
+    }
+    assert!(
+        rows.iter()
+            .any(|r| r.starts_with("'=HYPERLINK(") && r.contains("|2|2|built|")),
+        "{rows:#?}"
+    );
+    assert!(
+        rows.iter().any(|r| r.starts_with("class.csv|2|2|")
+            && r.ends_with("student-class.csv/index.html")),
+        "{rows:#?}"
+    );
+    assert!(
+        rows.contains(
+            &"notes.txt|0|2|not graded: not a folder: a submission is a folder of the roster|"
+        ),
+        "{rows:#?}"
+    );
+    assert!(
+        report.join("student-class.csv/index.html").is_file(),
+        "the student named class.csv has their own report"
+    );
+    assert!(
+        std::fs::read_to_string(report.join("class.csv"))
+            .unwrap()
+            .starts_with("student,")
+    );
+    // class.html links each student to their own report, by a relative path, never a scheme.
+    let page = std::fs::read_to_string(report.join("class.html")).unwrap();
+    let hrefs: Vec<&str> = page
+        .split("href=\"")
+        .skip(1)
+        .map(|rest| rest.split('"').next().unwrap())
+        .collect();
+    // The two not graded have no report to link to.
+    assert_eq!(hrefs.len(), 6, "{hrefs:?}");
+    for href in &hrefs {
+        assert!(
+            href.starts_with("./") && href.ends_with("/index.html") && !href[2..].contains(':'),
+            "{href}"
+        );
+    }
+    assert!(hrefs.contains(&"./javascript%3Aalert%281%29/index.html"));
+    assert!(!page.contains('\u{1b}'));
+}
+
+/// Copies a folder of plain files and folders.
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), &target).unwrap();
+        }
+    }
 }

@@ -17,6 +17,7 @@ mod rule;
 mod run;
 mod simulate;
 mod suite;
+pub(crate) mod untrusted;
 mod verdict;
 
 use std::path::{Path, PathBuf};
@@ -34,6 +35,7 @@ pub use rule::{Comparison, Rule, compare};
 pub use run::remove_scratch;
 pub use simulate::FaultMatch;
 pub use suite::{Line, PictureKind, Suite};
+pub use untrusted::visible;
 pub use verdict::{
     Group, entries as verdict_entries, lines as verdict_lines, verdict as renderer_verdict,
 };
@@ -921,6 +923,9 @@ fn missing_output(kind: PictureKind, file: &str, stderr: &str) -> String {
     }
 }
 
+/// How much of the renderer's last words an explanation quotes.
+const SAID_CHARS: usize = 300;
+
 /// The renderer's last words on stderr, for a message: " It said: ..." (up to three lines), or
 /// nothing.
 fn said(stderr: &str) -> String {
@@ -932,8 +937,16 @@ fn said(stderr: &str) -> String {
     if lines.is_empty() {
         return String::new();
     }
-    let last = &lines[lines.len().saturating_sub(3)..];
-    format!(" It said: {}", last.join(" / "))
+    let last = lines[lines.len().saturating_sub(3)..].join(" / ");
+    // A sentence, not a log: a progress bar redrawn with \r is one line of kilobytes.
+    let count = last.chars().count();
+    let last = if count > SAID_CHARS {
+        let end: String = last.chars().skip(count - SAID_CHARS).collect();
+        format!("…{end}")
+    } else {
+        last
+    };
+    format!(" It said: {last}")
 }
 
 /// What went wrong with a run that did not end well, its cause and what to tell the student;
@@ -1145,7 +1158,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
             "diagnoses": g.findings.iter().map(Finding::json).collect::<Vec<_>>(),
             "explanation": g.explanation,
             "reference": if g.against_raycast { "raycast" } else { "suite" },
-            "stderr": last_lines(&g.stderr, 20),
+            "stderr": untrusted::tail(&g.stderr),
             "seconds": g.seconds,
             "points": g.points,
             "line": g.line.0,
@@ -1162,12 +1175,6 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
             })),
         })).collect::<Vec<_>>(),
     })
-}
-
-/// The last `n` lines of `text`.
-pub(crate) fn last_lines(text: &str, n: usize) -> String {
-    let lines: Vec<&str> = text.lines().collect();
-    lines[lines.len().saturating_sub(n)..].join("\n")
 }
 
 #[cfg(test)]

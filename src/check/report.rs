@@ -319,7 +319,7 @@ fn block(
             format!(
                 "<details open><summary>the renderer's stderr (last lines)</summary>\
                  <pre class=\"stderr\">{}</pre></details>",
-                escape(&super::last_lines(&g.stderr, 20))
+                escape(&super::untrusted::tail(&g.stderr))
             )
         } else {
             String::new()

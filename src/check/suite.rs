@@ -205,6 +205,17 @@ impl Suite {
         })
     }
 
+    /// How many pictures the suite's lines write, and the points they are worth together.
+    pub fn pictures_and_points(&self) -> (usize, f64) {
+        let names: Vec<String> = self
+            .lines
+            .iter()
+            .flat_map(|line| line.outputs.iter().map(|(_, name)| image_name(name)))
+            .collect();
+        let points = names.iter().map(|name| self.points(name)).sum();
+        (names.len(), points)
+    }
+
     /// The points a picture named `name` is worth.
     pub fn points(&self, name: &str) -> f64 {
         self.points

@@ -251,11 +251,12 @@ pub(super) fn print_grades(
     groups: &[check::Group],
     graded: &[check::Graded],
 ) -> usize {
+    // What a renderer printed reaches these lines: shown, never obeyed, one line each.
     for line in check::verdict_lines(groups) {
-        let _ = writeln!(out, "{line}");
+        let _ = writeln!(out, "{}", check::visible(&line));
     }
     for g in graded {
-        let _ = writeln!(out, "{}", check::verdict(g));
+        let _ = writeln!(out, "{}", check::visible(&check::verdict(g)));
     }
     let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
     let failed = graded.len() - passed;

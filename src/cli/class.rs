@@ -64,23 +64,31 @@ pub fn run_merge(args: &[String]) -> ExitCode {
             let Some(name) = student["name"].as_str() else {
                 continue;
             };
-            let target = staging.path().join(name);
+            let folder = student["report"].as_str().unwrap_or(name);
+            if folder.is_empty() {
+                // Not graded: a row, and no report of their own.
+                rows.push(table::Row::of_class_summary(student));
+                continue;
+            }
+            let target = staging.path().join(folder);
             if target.exists() {
                 return fail(&format!(
                     "{name} is in two shards ({} is one): were they made with the same roster?",
                     shard.display()
                 ));
             }
-            let own = std::fs::read_to_string(shard.join(name).join("summary.json"))
+            let own = std::fs::read_to_string(shard.join(folder).join("summary.json"))
                 .ok()
                 .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok());
             let Some(own) = own else {
-                return fail(&format!("{}: no report of {name}", shard.display()));
+                // A student who could not be graded has a row and no report.
+                rows.push(table::Row::of_class_summary(student));
+                continue;
             };
-            if let Err(e) = class::copy_tree(&shard.join(name), &target) {
-                return fail(&format!("{}: {e}", shard.join(name).display()));
+            if let Err(e) = class::copy_tree(&shard.join(folder), &target) {
+                return fail(&e);
             }
-            rows.push(table::Row::of(name, &own));
+            rows.push(table::Row::of(name, folder, &own));
         }
     }
     rows.sort_by(|a, b| a.name.cmp(&b.name));
@@ -147,6 +155,7 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
     }
     let stop = super::check::stop_on_signals();
     let lines = prepared.suite().lines.len() as u64;
+    let (pictures, max_points) = prepared.suite().pictures_and_points();
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
         let bar = indicatif::ProgressBar::new(lines * students.len() as u64);
         if let Ok(style) = indicatif::ProgressStyle::with_template(
@@ -169,7 +178,8 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
         if let Some(bar) = &bar {
             bar.set_message(student.0.clone());
         }
-        let report = staging.as_ref().map(|s| s.path().join(&student.0));
+        let folder = class::report_folder(&student.0);
+        let report = staging.as_ref().map(|s| s.path().join(&folder));
         let graded = class::grade_student(
             &prepared,
             &options,
@@ -181,8 +191,19 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
             &stop,
         );
         match graded {
-            Ok(graded) => rows.push(table::Row::of(&graded.name, &graded.summary)),
-            Err(message) => return fail(&format!("{}: {message}", student.0)),
+            Ok(graded) => rows.push(table::Row::of(&graded.name, &folder, &graded.summary)),
+            // One student's submission never ends the class: it is their row, with the reason.
+            Err(why) => {
+                if let Some(report) = &report {
+                    let _ = std::fs::remove_dir_all(report);
+                }
+                rows.push(table::Row::refused(
+                    &student.0,
+                    &format!("not graded: {why}"),
+                    pictures,
+                    max_points,
+                ));
+            }
         }
     }
     if let Some(bar) = bar {

@@ -60,7 +60,7 @@ impl Built {
         Built {
             ok: ran.ending == Ending::Success,
             ending,
-            output: super::last_lines(&ran.stderr, 40),
+            output: super::untrusted::tail(&ran.stderr),
             seconds: ran.seconds,
         }
     }
@@ -76,7 +76,10 @@ impl Built {
     }
 }
 
-/// The students of a roster, by name (the folder's), in name order, this shard's only.
+/// The students of a roster, by name (the entry's, shown lossily where it is not UTF-8; two
+/// that read alike are told apart by `#2`, `#3`), in name order, this shard's only. Every entry
+/// but hidden ones is a student: one that is not a folder (a link, a file) is refused in its own
+/// row by [`grade_student`], never left out without a word.
 pub fn students(
     roster: &Path,
     shard: Option<(usize, usize)>,
@@ -85,11 +88,20 @@ pub fn students(
         std::fs::read_dir(roster).map_err(|e| format!("--class {}: {e}", roster.display()))?;
     let mut students: Vec<(String, PathBuf)> = entries
         .filter_map(Result::ok)
-        .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
-        .filter_map(|e| Some((e.file_name().into_string().ok()?, e.path())))
+        .map(|e| (e.file_name().to_string_lossy().into_owned(), e.path()))
         .filter(|(name, _)| !name.starts_with('.'))
         .collect();
     students.sort();
+    let mut seen: Vec<(String, usize)> = Vec::new();
+    for (name, _) in students.iter_mut() {
+        match seen.iter_mut().find(|(n, _)| n == name) {
+            Some((_, count)) => {
+                *count += 1;
+                *name = format!("{name}#{count}");
+            }
+            None => seen.push((name.clone(), 1)),
+        }
+    }
     if students.is_empty() {
         return Err(format!(
             "--class {}: no submissions (one folder a student)",
@@ -105,6 +117,19 @@ pub fn students(
             .collect();
     }
     Ok(students)
+}
+
+/// The files a class's report holds beside the students' folders.
+pub const CLASS_FILES: [&str; 3] = ["class.csv", "class.html", "summary.json"];
+
+/// The folder of a student's report in the class's: their name, unless it is a file of the
+/// class's report itself (a submission named `class.csv`), which gets `student-` before it.
+pub fn report_folder(name: &str) -> String {
+    if CLASS_FILES.contains(&name) || name.starts_with("student-") {
+        format!("student-{name}")
+    } else {
+        name.to_string()
+    }
 }
 
 /// One student graded: their name, the check of their renderer (its report written, when one
@@ -135,8 +160,21 @@ pub fn grade_student(
     progress: &(dyn Fn() + Sync),
     stop: &AtomicBool,
 ) -> Result<Graded, String> {
-    let copy = scratch.join(name);
-    copy_tree(folder, &copy).map_err(|e| format!("{}: cannot copy it: {e}", folder.display()))?;
+    // A link could name any folder of the machine (copied, it would be the renderer's to
+    // read): only a folder of the roster itself is a submission.
+    match std::fs::symlink_metadata(folder) {
+        Ok(kind) if kind.is_dir() => {}
+        Ok(kind) if kind.is_symlink() => {
+            return Err(
+                "a symbolic link, not a folder: put the submission's folder itself in the roster"
+                    .to_string(),
+            );
+        }
+        Ok(_) => return Err("not a folder: a submission is a folder of the roster".to_string()),
+        Err(e) => return Err(format!("cannot read it: {e}")),
+    }
+    let copy = scratch.join(report_folder(name));
+    copy_tree(folder, &copy).map_err(|e| format!("cannot copy it: {e}"))?;
     for private in [".home", ".tmp"] {
         std::fs::create_dir_all(copy.join(private)).map_err(|e| e.to_string())?;
     }
@@ -215,18 +253,21 @@ fn in_submission(word: &str, submission: &Path) -> String {
 
 /// Copies the folder `from` to `to`: files, folders and links as they are (a link is read by
 /// no one but the caged renderer, which Landlock keeps inside).
-pub fn copy_tree(from: &Path, to: &Path) -> std::io::Result<()> {
-    std::fs::create_dir_all(to)?;
-    for entry in std::fs::read_dir(from)? {
-        let entry = entry?;
-        let kind = entry.file_type()?;
+pub fn copy_tree(from: &Path, to: &Path) -> Result<(), String> {
+    let failed = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
+    std::fs::create_dir_all(to).map_err(|e| failed(to, e))?;
+    for entry in std::fs::read_dir(from).map_err(|e| failed(from, e))? {
+        let entry = entry.map_err(|e| failed(from, e))?;
+        let path = entry.path();
+        let kind = entry.file_type().map_err(|e| failed(&path, e))?;
         let target = to.join(entry.file_name());
         if kind.is_dir() {
-            copy_tree(&entry.path(), &target)?;
+            copy_tree(&path, &target)?;
         } else if kind.is_symlink() {
-            std::os::unix::fs::symlink(std::fs::read_link(entry.path())?, &target)?;
+            let link = std::fs::read_link(&path).map_err(|e| failed(&path, e))?;
+            std::os::unix::fs::symlink(link, &target).map_err(|e| failed(&target, e))?;
         } else if kind.is_file() {
-            std::fs::copy(entry.path(), &target)?;
+            std::fs::copy(&path, &target).map_err(|e| failed(&path, e))?;
         }
     }
     Ok(())

@@ -4,10 +4,14 @@
 use serde_json::{Value, json};
 
 use crate::check::report::escape;
+use crate::check::untrusted::visible;
 
 /// One student's row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
+    /// The student's report folder, relative to the class's report (their name, unless the name
+    /// is one of the class report's own files).
+    pub folder: String,
     /// The submission's name.
     pub name: String,
     /// Pictures that pass.
@@ -32,8 +36,38 @@ pub struct Row {
 }
 
 impl Row {
-    /// The row of student `name`, from their `summary.json`.
-    pub fn of(name: &str, summary: &Value) -> Row {
+    /// The row of a student who could not be graded: every picture missing, and why.
+    pub fn refused(name: &str, why: &str, pictures: usize, max_points: f64) -> Row {
+        Row {
+            // No report of their own.
+            folder: String::new(),
+            name: name.to_string(),
+            passed: 0,
+            total: pictures,
+            points: 0.0,
+            max_points,
+            assignments: Vec::new(),
+            verdict: "not graded".to_string(),
+            seconds: 0.0,
+            build: why.to_string(),
+            build_output: String::new(),
+        }
+    }
+
+    /// The row of a student as the class's `summary.json` keeps it, for one who has no report
+    /// of their own (not graded).
+    pub fn of_class_summary(student: &Value) -> Row {
+        let name = student["name"].as_str().unwrap_or("");
+        Row::refused(
+            name,
+            student["build"].as_str().unwrap_or(""),
+            student["pictures"].as_u64().unwrap_or(0) as usize,
+            student["max_points"].as_f64().unwrap_or(0.0),
+        )
+    }
+
+    /// The row of student `name`, whose report is in `folder`, from their `summary.json`.
+    pub fn of(name: &str, folder: &str, summary: &Value) -> Row {
         let images = summary["images"].as_array().cloned().unwrap_or_default();
         let mut assignments: Vec<(String, usize, usize)> = Vec::new();
         let mut lines = std::collections::BTreeSet::new();
@@ -65,6 +99,7 @@ impl Row {
         // By the clock: the lines ran side by side, so their times overlap.
         let seconds = build_seconds + summary["seconds"].as_f64().unwrap_or(lines_seconds);
         Row {
+            folder: folder.to_string(),
             name: name.to_string(),
             passed,
             total: images.len(),
@@ -81,7 +116,7 @@ impl Row {
                 .unwrap_or("")
                 .to_string(),
             build_output: if summary["build"]["ok"] == false {
-                super::super::last_lines(summary["build"]["output"].as_str().unwrap_or(""), 20)
+                super::super::untrusted::tail(summary["build"]["output"].as_str().unwrap_or(""))
             } else {
                 String::new()
             },
@@ -115,9 +150,11 @@ pub fn assignment(name: &str) -> String {
 
 /// The table for the terminal: one line a student, aligned.
 pub fn terminal(rows: &[Row]) -> String {
-    let width = rows
+    // A name or a build's words are the submission's: shown, never obeyed, on one line.
+    let shown: Vec<String> = rows.iter().map(|r| visible(&r.name)).collect();
+    let width = shown
         .iter()
-        .map(|r| r.name.chars().count())
+        .map(|name| name.chars().count())
         .max()
         .unwrap_or(7)
         .max(7);
@@ -125,15 +162,15 @@ pub fn terminal(rows: &[Row]) -> String {
         "{:width$}  {:>9}  {:>11}  {:>8}  verdict / assignments\n",
         "student", "pictures", "points", "seconds"
     );
-    for r in rows {
+    for (r, name) in rows.iter().zip(&shown) {
         let verdict = match (r.verdict.as_str(), r.build.as_str()) {
-            (_, b) if !b.is_empty() && b != "built" => b.to_string(),
+            (_, b) if !b.is_empty() && b != "built" => visible(b),
             ("", _) => "all pass".to_string(),
             (v, _) => v.to_string(),
         };
         text.push_str(&format!(
             "{:width$}  {:>9}  {:>11}  {:>8.1}  {verdict} / {}\n",
-            r.name,
+            name,
             format!("{}/{}", r.passed, r.total),
             format!("{}/{}", r.points, r.max_points),
             r.seconds,
@@ -146,13 +183,7 @@ pub fn terminal(rows: &[Row]) -> String {
 /// The table as CSV (RFC 4180): a header, then one row a student; one column per assignment.
 pub fn csv(rows: &[Row]) -> String {
     let labels = labels(rows);
-    let field = |text: &str| {
-        if text.contains([',', '"', '\n', '\r']) {
-            format!("\"{}\"", text.replace('"', "\"\""))
-        } else {
-            text.to_string()
-        }
-    };
+    let field = |text: &str| csv_cell(text);
     let mut text = String::from("student,passed,pictures,points,max_points");
     for label in &labels {
         text.push_str(&format!(",{label} passed,{label} pictures"));
@@ -180,7 +211,7 @@ pub fn csv(rows: &[Row]) -> String {
             field(&r.verdict),
             r.seconds,
             field(&r.build),
-            field(&format!("{}/index.html", r.name))
+            field(&report_path(&r.folder))
         ));
         text.push_str(&line);
     }
@@ -215,10 +246,9 @@ pub fn html(rows: &[Row], partial: bool) -> String {
             })
             .collect();
         body.push_str(&format!(
-            "<tr class=\"{}\"><td><a href=\"{}/index.html\">{}</a></td><td>{}/{}</td><td>{}/{}</td>{cells}<td>{}</td><td class=\"seconds\">{:.1}</td><td>{}</td></tr>\n",
+            "<tr class=\"{}\"><td>{}</td><td>{}/{}</td><td>{}/{}</td>{cells}<td>{}</td><td class=\"seconds\">{:.1}</td><td>{}</td></tr>\n",
             if r.passed == r.total { "pass" } else { "fail" },
-            escape(&r.name),
-            escape(&r.name),
+            name_cell(r),
             r.passed,
             r.total,
             r.points,
@@ -255,6 +285,58 @@ pub fn html(rows: &[Row], partial: bool) -> String {
     )
 }
 
+/// A cell of class.csv: a text a spreadsheet shows and never runs. Controls are written out
+/// (a name cannot add a row), a cell that a spreadsheet would read as a formula (= + - @, a tab
+/// or a carriage return first) gets a leading apostrophe (OWASP's rule for CSV injection), and
+/// a cell with a comma or a quote is quoted (RFC 4180).
+pub fn csv_cell(text: &str) -> String {
+    let text = if text.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        format!("'{}", visible(text))
+    } else {
+        visible(text)
+    };
+    if text.contains([',', '"']) {
+        format!("\"{}\"", text.replace('"', "\"\""))
+    } else {
+        text
+    }
+}
+
+/// A student's report, relative to the class's, or "" for one not graded.
+fn report_path(folder: &str) -> String {
+    if folder.is_empty() {
+        String::new()
+    } else {
+        format!("{folder}/index.html")
+    }
+}
+
+/// A student's name in class.html: escaped, and a link to their own report where they have one.
+fn name_cell(r: &Row) -> String {
+    let name = escape(&visible(&r.name));
+    if r.folder.is_empty() {
+        name
+    } else {
+        format!("<a href=\"{}\">{name}</a>", report_link(&r.folder))
+    }
+}
+
+/// The link from class.html to a student's own report: a path relative to the page, each byte
+/// of the folder's name outside letters, digits and `-._~` percent-encoded, after `./`, so that
+/// no name is read as a scheme (`javascript:`), a query or another folder.
+pub fn report_link(folder: &str) -> String {
+    let mut link = String::from("./");
+    for byte in folder.bytes() {
+        if byte.is_ascii_alphanumeric() || b"-._~".contains(&byte) {
+            link.push(byte as char);
+        } else {
+            link.push_str(&format!("%{byte:02X}"));
+        }
+    }
+    link.push_str("/index.html");
+    link
+}
+
 /// The class's `summary.json`: each student's row.
 pub fn json(rows: &[Row], partial: bool) -> Value {
     json!({
@@ -263,6 +345,7 @@ pub fn json(rows: &[Row], partial: bool) -> Value {
         "partial": partial,
         "students": rows.iter().map(|r| json!({
             "name": r.name,
+            "report": r.folder,
             "passed": r.passed,
             "pictures": r.total,
             "points": r.points,
@@ -293,6 +376,7 @@ mod tests {
     #[test]
     fn csv_quotes_what_needs_quoting() {
         let row = Row {
+            folder: "a, \"b\"".into(),
             name: "a, \"b\"".into(),
             passed: 1,
             total: 2,
@@ -309,5 +393,29 @@ mod tests {
             "student,passed,pictures,points,max_points,A1 passed,A1 pictures,verdict,seconds,build,report\r\n\
              \"a, \"\"b\"\"\",1,2,1,2,1,2,pixel_corner,1.500,,\"a, \"\"b\"\"/index.html\"\r\n"
         );
+    }
+
+    #[test]
+    fn a_name_is_never_a_formula_a_row_or_a_link_elsewhere() {
+        for (name, cell) in [
+            (
+                "=HYPERLINK(\"http://x\",\"y\")",
+                "\"'=HYPERLINK(\"\"http://x\"\",\"\"y\"\")\"",
+            ),
+            ("+1", "'+1"),
+            ("-2", "'-2"),
+            ("@SUM(A1)", "'@SUM(A1)"),
+            ("\tx", "'\\tx"),
+            ("eve\nmallory,9,9", "\"eve\\nmallory,9,9\""),
+            ("alice", "alice"),
+        ] {
+            assert_eq!(csv_cell(name), cell, "{name:?}");
+        }
+        assert_eq!(report_link("bob"), "./bob/index.html");
+        assert_eq!(
+            report_link("javascript:alert(1)//"),
+            "./javascript%3Aalert%281%29%2F%2F/index.html"
+        );
+        assert_eq!(report_link("é ?#"), "./%C3%A9%20%3F%23/index.html");
     }
 }

@@ -4,11 +4,11 @@
 
 use serde_json::{Value, json};
 
-use super::{output, overview, score, seconds, status_line, total};
+use super::{Room, output, overview, score, seconds, status_line, total};
 use crate::check::{Checked, Group, Status};
 
 /// The results of `checked`; the top-level output is the run's overview, the verdict in it.
-pub fn results(checked: &Checked, groups: &[Group]) -> Value {
+pub fn results(checked: &Checked, groups: &[Group], room: Room) -> Value {
     let tests: Vec<Value> = checked
         .graded
         .iter()
@@ -21,7 +21,7 @@ pub fn results(checked: &Checked, groups: &[Group]) -> Value {
                 "max_score": g.points,
                 "status": if g.status == Status::Pass { "passed" } else { "failed" },
                 // The explanation once: in the output, after the grade's line.
-                "output": format!("{}\n{}", status_line(g), output(g)),
+                "output": room.fit(format!("{}\n{}", status_line(g), output(checked, g))),
                 "visibility": "visible",
             })
         })

@@ -27,11 +27,22 @@ pub fn write_all(dir: &Path, checked: &Checked, groups: &[Group]) -> Result<(), 
     let fail = |name: &str, e: std::io::Error| format!("{}: {e}", dir.join(name).display());
     let pretty =
         |value: &serde_json::Value| serde_json::to_string_pretty(value).unwrap_or_default() + "\n";
+    // Made whole first; made again with each test's text cut where the whole is too big.
+    let fitted = |make: &dyn Fn(Room) -> serde_json::Value| {
+        let whole = pretty(&make(Room::Whole));
+        match Room::to_fit(whole.len(), FILE_BUDGET, checked.graded.len()) {
+            Room::Whole => whole,
+            room => pretty(&make(room)),
+        }
+    };
     let files = [
-        (FILES[0], pretty(&gradescope::results(checked, groups))),
+        (
+            FILES[0],
+            fitted(&|room| gradescope::results(checked, groups, room)),
+        ),
         (
             FILES[1],
-            pretty(&prairielearn::results(checked, groups, dir)),
+            fitted(&|room| prairielearn::results(checked, groups, dir, room)),
         ),
         (FILES[2], junit::xml(checked, groups)),
         (FILES[3], pretty(&classroom::results(checked))),
@@ -146,18 +157,74 @@ pub fn failed_build(checked: &Checked) -> Option<String> {
     Some(text)
 }
 
-/// A test's longer output: the command line, the explanation, the renderer's last words.
-pub fn output(g: &Graded) -> String {
+/// The most bytes a platform's file may take: PrairieLearn refuses results over 1 MB, and
+/// Gradescope is held to the same (it documents no size, and pages of megabytes are no use to a
+/// student). Texts are cut to fit, and pictures dropped, before anything is left out.
+pub const FILE_BUDGET: usize = 1_000_000;
+
+/// How much of each test's text a file has room for: all of it, or its first `n` characters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Room {
+    /// Every test's whole text.
+    Whole,
+    /// Each test's text cut to this many characters, with a note.
+    Cut(usize),
+}
+
+impl Room {
+    /// The room each of `tests` tests has when the whole file must fit `budget` bytes and took
+    /// `used` bytes with nothing cut.
+    pub fn to_fit(used: usize, budget: usize, tests: usize) -> Room {
+        if used <= budget {
+            Room::Whole
+        } else {
+            // Most of the budget for the texts; the rest for names, numbers and the overview.
+            Room::Cut((budget * 3 / 5 / tests.max(1)).max(80))
+        }
+    }
+
+    /// `text` cut to the room, saying so.
+    pub fn fit(self, text: String) -> String {
+        match self {
+            Room::Cut(n) if text.chars().count() > n => {
+                let kept: String = text.chars().take(n).collect();
+                format!(
+                    "{kept}\n[cut to {n} characters to fit the platform's size limit: the \
+                     report's summary.json and index.html hold the rest]"
+                )
+            }
+            _ => text,
+        }
+    }
+}
+
+/// A test's longer output: the command line, the explanation, and the renderer's last words,
+/// once a line: a line's other pictures point to its first.
+pub fn output(checked: &Checked, g: &Graded) -> String {
     let mut text = format!("$ {}\n", g.command);
     if !g.explanation.is_empty() {
         text.push_str(&g.explanation);
         text.push('\n');
     }
-    let said = super::last_lines(&g.stderr, 20);
-    if !said.is_empty() {
-        text.push_str("The renderer said:\n");
-        text.push_str(&said);
-        text.push('\n');
+    let said = super::untrusted::tail(&g.stderr);
+    if said.is_empty() {
+        return text;
+    }
+    let first = checked
+        .graded
+        .iter()
+        .find(|other| other.line.0 == g.line.0 && other.line.1 == 0)
+        .filter(|first| first.name != g.name);
+    match first {
+        Some(first) => text.push_str(&format!(
+            "The renderer's output for this line is under {}.\n",
+            first.name
+        )),
+        None => {
+            text.push_str("The renderer said:\n");
+            text.push_str(&said);
+            text.push('\n');
+        }
     }
     text
 }
@@ -171,4 +238,30 @@ pub fn seconds(checked: &Checked) -> f64 {
         .and_then(|b| b["seconds"].as_f64())
         .unwrap_or(0.0);
     build + checked.seconds
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texts_are_cut_only_when_the_file_would_not_fit() {
+        assert_eq!(Room::to_fit(999_999, FILE_BUDGET, 44), Room::Whole);
+        // 168 pictures in 3 MB: each text gets its share of three fifths of the budget.
+        let room = Room::to_fit(3_000_000, FILE_BUDGET, 168);
+        assert_eq!(room, Room::Cut(3571));
+        let long = "x".repeat(10_000);
+        let cut = room.fit(long);
+        assert!(cut.starts_with(&"x".repeat(3571)));
+        assert!(cut.ends_with(
+            "[cut to 3571 characters to fit the platform's size limit: the report's \
+             summary.json and index.html hold the rest]"
+        ));
+        assert_eq!(room.fit("short".into()), "short");
+        // However many pictures, a text keeps a line or so.
+        assert_eq!(
+            Room::to_fit(50_000_000, FILE_BUDGET, 100_000),
+            Room::Cut(80)
+        );
+    }
 }

@@ -7,38 +7,56 @@ use std::path::Path;
 
 use serde_json::{Value, json};
 
-use super::{max_score, output, overview, score, status_line, total};
+use super::{FILE_BUDGET, Room, max_score, output, overview, score, status_line, total};
 use crate::check::{Checked, Group, Status};
 
-/// PrairieLearn refuses results over 1 MB; pictures are left out past this many bytes.
-const IMAGE_BUDGET: usize = 900 * 1024;
+/// Room kept beside the pictures for what pretty-printing adds around them.
+const MARGIN: usize = 16 * 1024;
 
-/// The results of `checked`; the pictures are read from `dir`, the report's folder.
-pub fn results(checked: &Checked, groups: &[Group], dir: &Path) -> Value {
-    let mut budget = IMAGE_BUDGET;
+/// The results of `checked`, each test's text within `room`; the pictures are read from
+/// `dir`, the report's folder, and added, failures in the suite's order, while the whole stays
+/// within the platform's budget: the texts first, then the pictures in the room they leave.
+pub fn results(checked: &Checked, groups: &[Group], dir: &Path, room: Room) -> Value {
+    let mut results = without_pictures(checked, groups, room);
+    let used = serde_json::to_string_pretty(&results).map_or(FILE_BUDGET, |t| t.len());
+    let mut budget = FILE_BUDGET.saturating_sub(used + MARGIN);
+    for (g, test) in checked
+        .graded
+        .iter()
+        .zip(results["tests"].as_array_mut().into_iter().flatten())
+    {
+        if g.status == Status::Pass {
+            continue;
+        }
+        let mut images = Vec::new();
+        for (label, file) in [
+            ("yours", &g.pictures.actual),
+            ("reference", &g.pictures.reference),
+            ("difference", &g.pictures.diff),
+        ] {
+            let Some(bytes) = file.as_ref().and_then(|f| std::fs::read(dir.join(f)).ok()) else {
+                continue;
+            };
+            let url = format!("data:image/png;base64,{}", base64(&bytes));
+            // Its label and the JSON around it count too.
+            let cost = url.len() + g.name.len() + 64;
+            if cost > budget {
+                continue;
+            }
+            budget -= cost;
+            images.push(json!({ "label": format!("{}: {label}", g.name), "url": url }));
+        }
+        test["images"] = json!(images);
+    }
+    results
+}
+
+/// The results with each test's text and no pictures.
+fn without_pictures(checked: &Checked, groups: &[Group], room: Room) -> Value {
     let tests: Vec<Value> = checked
         .graded
         .iter()
         .map(|g| {
-            let mut images = Vec::new();
-            if g.status != Status::Pass {
-                for (label, file) in [
-                    ("yours", &g.pictures.actual),
-                    ("reference", &g.pictures.reference),
-                    ("difference", &g.pictures.diff),
-                ] {
-                    let Some(bytes) = file.as_ref().and_then(|f| std::fs::read(dir.join(f)).ok())
-                    else {
-                        continue;
-                    };
-                    let url = format!("data:image/png;base64,{}", base64(&bytes));
-                    if url.len() > budget {
-                        continue;
-                    }
-                    budget -= url.len();
-                    images.push(json!({ "label": format!("{}: {label}", g.name), "url": url }));
-                }
-            }
             json!({
                 "name": g.name,
                 "description": g.command,
@@ -46,8 +64,8 @@ pub fn results(checked: &Checked, groups: &[Group], dir: &Path) -> Value {
                 "max_points": g.points,
                 // The explanation once: in the output.
                 "message": status_line(g),
-                "output": output(g),
-                "images": images,
+                "output": room.fit(output(checked, g)),
+                "images": [],
             })
         })
         .collect();
@@ -55,7 +73,7 @@ pub fn results(checked: &Checked, groups: &[Group], dir: &Path) -> Value {
     json!({
         "gradable": true,
         "score": if most > 0.0 { total(checked) / most } else { 0.0 },
-        "message": overview(checked, groups),
+        "message": room.fit(overview(checked, groups)),
         "tests": tests,
     })
 }
