@@ -115,10 +115,7 @@ impl World {
             .args(["--timeout", &TIMEOUT.to_string()])
             .args(["--report", self.report.to_str().unwrap()])
             // Those that render in the end run raycast, which they may read.
-            .args([
-                "--allow-read",
-                Path::new(RAYCAST).parent().unwrap().to_str().unwrap(),
-            ])
+            .args(["--allow-read", common::open_raycast_folder()])
             .args(extra)
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
@@ -162,7 +159,7 @@ fn left_running(token: &str) -> Vec<String> {
 
 /// A line of raycast's own render, for renderers that do their harm and then render.
 fn render() -> String {
-    format!("exec {RAYCAST} \"$@\"")
+    format!("exec {} \"$@\"", common::open_raycast())
 }
 
 fn world() -> Option<World> {
@@ -212,10 +209,11 @@ fn a_forger_never_passes() {
     let blackener = w.renderer(
         "blackener.sh",
         &format!(
-            "{RAYCAST} -input '{}' -size 200 200 -output '{reference}'
-             exec {RAYCAST} -input '{}' -size 200 200 -output \"$7\"",
+            "{raycast} -input '{}' -size 200 200 -output '{reference}'
+             exec {raycast} -input '{}' -size 200 200 -output \"$7\"",
             black.display(),
-            black.display()
+            black.display(),
+            raycast = common::open_raycast(),
         ),
     );
     let (out, _) = w.check(
@@ -231,8 +229,9 @@ fn a_forger_never_passes() {
         "emptier.sh",
         &format!(
             "rm -f scene2_01_diffuse.txt; cp '{}' scene2_01_diffuse.txt
-             exec {RAYCAST} -input scene2_01_diffuse.txt -size 200 200 -output \"$7\"",
-            black.display()
+             exec {raycast} -input scene2_01_diffuse.txt -size 200 200 -output \"$7\"",
+            black.display(),
+            raycast = common::open_raycast(),
         ),
     );
     let (out, _) = w.check(
@@ -330,7 +329,10 @@ fn pictures_that_are_not_pictures_get_their_cause() {
     );
     let png = w.renderer(
         "png.sh",
-        &format!("{RAYCAST} \"${{@:1:6}}\" \"$7.png\" && mv \"$7.png\" \"$7\""),
+        &format!(
+            "{} \"${{@:1:6}}\" \"$7.png\" && mv \"$7.png\" \"$7\"",
+            common::open_raycast()
+        ),
     );
     let (out, _) = w.check(&png, &[], "png.sh");
     assert_graded(
@@ -339,7 +341,10 @@ fn pictures_that_are_not_pictures_get_their_cause() {
     );
     let cut = w.renderer(
         "cut.sh",
-        &format!("{RAYCAST} \"$@\" && truncate -s 5000 \"$7\""),
+        &format!(
+            "{} \"$@\" && truncate -s 5000 \"$7\"",
+            common::open_raycast()
+        ),
     );
     let (out, _) = w.check(&cut, &[], "cut.sh");
     assert_graded(&out, "ERROR  output2_01: unreadable_output");
@@ -611,17 +616,14 @@ fn check_run_by_an_ordinary_user_cages_the_renderer_too() {
     let output = Command::new("setpriv")
         .args(setpriv)
         .args([
-            RAYCAST,
+            common::open_raycast(),
             "check",
             w.suite.to_str().unwrap(),
             "--renderer",
             &lingerer,
         ])
         .args(["--report", w.report.to_str().unwrap()])
-        .args([
-            "--allow-read",
-            Path::new(RAYCAST).parent().unwrap().to_str().unwrap(),
-        ])
+        .args(["--allow-read", common::open_raycast_folder()])
         .output();
     let Ok(output) = output else {
         panic!("setpriv is needed to run check as an ordinary user");
@@ -697,17 +699,19 @@ fn folders_the_renderer_locks_are_still_removed() {
     );
     let mut command = if rustix_is_root() {
         let mut command = Command::new("setpriv");
-        command.args(["--reuid=65534", "--regid=65534", "--clear-groups", RAYCAST]);
+        command.args([
+            "--reuid=65534",
+            "--regid=65534",
+            "--clear-groups",
+            common::open_raycast(),
+        ]);
         command
     } else {
         Command::new(RAYCAST)
     };
     let output = command
         .args(["check", w.suite.to_str().unwrap(), "--renderer", &locker])
-        .args([
-            "--allow-read",
-            Path::new(RAYCAST).parent().unwrap().to_str().unwrap(),
-        ])
+        .args(["--allow-read", common::open_raycast_folder()])
         .env("TMPDIR", &tmp)
         .output()
         .unwrap();
@@ -721,4 +725,67 @@ fn folders_the_renderer_locks_are_still_removed() {
         .map(|e| e.path())
         .collect();
     assert!(left.is_empty(), "{left:?}");
+}
+
+#[test]
+fn a_renderer_never_runs_as_root_even_from_a_closed_folder() {
+    let Some(w) = world() else { return };
+    if !rustix_is_root() {
+        return;
+    }
+    // A student's tracer in a home folder of mode 700, as `sudo raycast check` finds it.
+    let home = w.scripts.join("home");
+    std::fs::create_dir_all(home.join("tracer/data")).unwrap();
+    std::fs::write(home.join("tracer/data/table.txt"), "beside the program\n").unwrap();
+    let tracer = home.join("tracer/raytracer");
+    std::fs::write(
+        &tracer,
+        format!(
+            "#!/usr/bin/env bash\necho \"uid $(id -u), $(cat \"$(dirname \"$0\")/data/table.txt\")\" >&2\nexec {} \"$@\"\n",
+            common::open_raycast()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&tracer, std::fs::Permissions::from_mode(0o700)).unwrap();
+    std::fs::set_permissions(&home, std::fs::Permissions::from_mode(0o700)).unwrap();
+    let (out, code) = w.check(tracer.to_str().unwrap(), &[], "no-token-closed");
+    assert_eq!(code, Some(0), "{out}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(w.report.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["cage"]["user"], "uid 65534", "{summary}");
+    let stderr = summary["images"][0]["stderr"].as_str().unwrap();
+    assert!(stderr.contains("uid 65534, beside the program"), "{stderr}");
+    assert!(
+        summary["cage"]["note"]
+            .as_str()
+            .unwrap()
+            .contains("from copies of what that user could not reach"),
+        "{summary}"
+    );
+    // What cannot be copied is refused before any line runs: never run as root instead.
+    let crowded = home.join("crowded");
+    std::fs::create_dir_all(&crowded).unwrap();
+    for k in 0..20_001 {
+        std::fs::write(crowded.join(k.to_string()), "").unwrap();
+    }
+    let output = Command::new(RAYCAST)
+        .args([
+            "check",
+            w.suite.to_str().unwrap(),
+            "--renderer",
+            common::open_raycast(),
+        ])
+        .args(["--allow-read", crowded.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{said}");
+    assert!(
+        said.contains("never runs a renderer as root")
+            && said.contains(&crowded.display().to_string())
+            && said.contains("chmod o+rx"),
+        "{said}"
+    );
+    assert!(output.stdout.is_empty());
 }

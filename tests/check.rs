@@ -32,7 +32,7 @@ fn raycast(args: &[&str]) -> Output {
 /// The test renderers are scripts that end by running raycast: for `check`, its folder is made
 /// readable to them (the cage lets a renderer read only its own folder and the system's).
 fn renderers_may_run_raycast(args: &[&str]) -> Vec<String> {
-    let raycast = Path::new(env!("CARGO_BIN_EXE_raycast"));
+    let raycast = Path::new(common::open_raycast());
     if args.first() == Some(&"check") && args.contains(&"--renderer") {
         vec![
             "--allow-read".into(),
@@ -81,7 +81,7 @@ fn a_clean_run_over_the_courses_images_passes() {
         "check",
         conformance.to_str().unwrap(),
         "--renderer",
-        env!("CARGO_BIN_EXE_raycast"),
+        common::open_raycast(),
     ]);
     let out = stdout(&output);
     assert_eq!(output.status.code(), Some(0), "{out}");
@@ -289,7 +289,7 @@ fn the_report_holds_what_it_says_and_works_in_a_browser() {
     let dir = tempfile::tempdir().unwrap();
     let suite = small_suite(dir.path(), &conformance, 4);
     // raycast itself, except that it crashes on scene2_02.
-    let raycast_bin = env!("CARGO_BIN_EXE_raycast");
+    let raycast_bin = common::open_raycast();
     let renderer = script(
         dir.path(),
         "mostly_raycast.sh",
@@ -449,7 +449,7 @@ fn faults_a_students_renderer_makes_get_their_diagnosis() {
     let Some(conformance) = conformance_dir() else {
         return;
     };
-    let raycast_bin = env!("CARGO_BIN_EXE_raycast");
+    let raycast_bin = common::open_raycast();
     let shared = tempfile::tempdir().unwrap();
     let squashed = shared.path().join("squashed.txt");
     let scene = std::fs::read_to_string(conformance.join("scenes/scene2_16_t_scale.txt")).unwrap();
@@ -652,7 +652,7 @@ fn a_suite_without_references_is_graded_against_raycasts_own_renders() {
         "check",
         suite,
         "--renderer",
-        env!("CARGO_BIN_EXE_raycast"),
+        common::open_raycast(),
         "--report",
         report.to_str().unwrap(),
     ]);
@@ -677,7 +677,7 @@ fn a_suite_without_references_is_graded_against_raycasts_own_renders() {
         "fixed_size.sh",
         &format!(
             "exec {} -input \"$2\" -size 32 32 \"${{@:6}}\"",
-            env!("CARGO_BIN_EXE_raycast")
+            common::open_raycast()
         ),
     );
     let output = raycast(&["check", suite, "--renderer", &renderer]);
@@ -750,7 +750,7 @@ fn renderer_words_split_as_a_shell_splits_them_and_preview_options_are_left_out(
             "[ \"$1\" = 'with space' ] || exit 3; shift
              for a in \"$@\"; do case $a in -gui|-tessellation|-gouraud) echo 'cannot open display' >&2; exit 1;; esac; done
              exec {} \"$@\"",
-            env!("CARGO_BIN_EXE_raycast")
+            common::open_raycast()
         ),
     );
     let suite = dir.path().join("suite");
@@ -818,7 +818,7 @@ fn jobs_take_lines_one_at_a_time() {
              case $name in slow*) sleep 0.2;; esac
              echo \"end $name $(date +%s%N)\" >&2
              exec {raycast} \"$@\"",
-            raycast = env!("CARGO_BIN_EXE_raycast")
+            raycast = common::open_raycast()
         ),
     );
     let output = raycast(&[
@@ -881,7 +881,7 @@ fn the_report_shows_raycasts_ray_tree_where_a_picture_differs_most() {
         "flipped.sh",
         &format!(
             "exec {} \"$@\" -fault flip_horizontal",
-            env!("CARGO_BIN_EXE_raycast")
+            common::open_raycast()
         ),
     );
     let report = dir.path().join("report");
@@ -999,7 +999,7 @@ fn a_hostile_renderer_cannot_forge_its_grade_or_hang_the_check() {
         &format!(
             "{raycast} -input '{black}' -size 200 200 -output '{reference}'
              exec {raycast} -input '{black}' -size 200 200 -output \"$7\"",
-            raycast = env!("CARGO_BIN_EXE_raycast"),
+            raycast = common::open_raycast(),
             black = black_scene.display(),
             reference = reference.display()
         ),
@@ -1023,7 +1023,7 @@ fn a_hostile_renderer_cannot_forge_its_grade_or_hang_the_check() {
             "(sleep 3; touch '{}') &
              exec {} \"$@\"",
             marker.display(),
-            env!("CARGO_BIN_EXE_raycast")
+            common::open_raycast()
         ),
     );
     let start = std::time::Instant::now();
@@ -1046,7 +1046,7 @@ fn a_script_named_from_checks_folder_is_found_from_each_lines_folder() {
     let suite = suite_with_own_reference(dir.path(), &conformance);
     std::fs::write(
         dir.path().join("my tracer.sh"),
-        format!("exec {} \"$@\"\n", env!("CARGO_BIN_EXE_raycast")),
+        format!("exec {} \"$@\"\n", common::open_raycast()),
     )
     .unwrap();
     // `bash 'my tracer.sh'`, named from the folder check runs in; each line runs in its own.

@@ -48,17 +48,18 @@ fn suite(dir: &Path, conformance: &Path, lines: usize) -> PathBuf {
 /// (a script around raycast, with a fault planted where one is named), or fails to.
 fn roster(dir: &Path, students: &[(&str, &str)]) -> PathBuf {
     let roster = dir.join("roster");
+    let raycast = common::open_raycast();
     for (name, kind) in students {
         let folder = roster.join(name);
         std::fs::create_dir_all(&folder).unwrap();
         let script = match *kind {
-            "correct" => format!("#!/bin/sh\nexec {RAYCAST} \"$@\"\n"),
+            "correct" => format!("#!/bin/sh\nexec {raycast} \"$@\"\n"),
             "broken" => "this is not a script\n".to_string(),
-            "slow" => format!("#!/bin/sh\nsleep 0.6\nexec {RAYCAST} \"$@\"\n"),
+            "slow" => format!("#!/bin/sh\nsleep 0.6\nexec {raycast} \"$@\"\n"),
             "snoop" => {
                 "#!/bin/sh\ncat ../*/raytracer.in ../../*/*/raytracer.in >&2\nexit 1\n".to_string()
             }
-            fault => format!("#!/bin/sh\nexec {RAYCAST} -fault {fault} \"$@\"\n"),
+            fault => format!("#!/bin/sh\nexec {raycast} -fault {fault} \"$@\"\n"),
         };
         std::fs::write(folder.join("raytracer.in"), script).unwrap();
         std::fs::write(
@@ -93,10 +94,7 @@ fn check(args: &[&str]) -> Output {
     Command::new(RAYCAST)
         .arg("check")
         .args(args)
-        .args([
-            "--allow-read",
-            Path::new(RAYCAST).parent().unwrap().to_str().unwrap(),
-        ])
+        .args(["--allow-read", common::open_raycast_folder()])
         .output()
         .unwrap()
 }

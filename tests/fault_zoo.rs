@@ -85,7 +85,7 @@ fn planted(dir: &Path, fault: &str) -> String {
         &path,
         format!(
             "#!/usr/bin/env bash\nexec {} \"$@\" -fault {fault}\n",
-            env!("CARGO_BIN_EXE_raycast")
+            common::open_raycast()
         ),
     )
     .unwrap();
@@ -103,14 +103,7 @@ fn check(suite: &Path, renderer: &str) -> Graded {
     let output = Command::new(env!("CARGO_BIN_EXE_raycast"))
         .args(["check", suite.to_str().unwrap(), "--renderer", renderer])
         // The planted renderers are scripts that run raycast: its folder is theirs to read.
-        .args([
-            "--allow-read",
-            Path::new(env!("CARGO_BIN_EXE_raycast"))
-                .parent()
-                .unwrap()
-                .to_str()
-                .unwrap(),
-        ])
+        .args(["--allow-read", common::open_raycast_folder()])
         .output()
         .unwrap();
     let out = String::from_utf8_lossy(&output.stdout).into_owned();

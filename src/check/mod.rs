@@ -371,6 +371,15 @@ pub fn check(
         &options.readable,
         &options.suite,
     )?;
+    // Never as root: what the unprivileged user cannot reach is run from an open copy.
+    let copies = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
+    let (command, readable, copied) = match cage::unprivileged_user(&readable) {
+        Some(Err(_)) => {
+            let staged = cage::stage(&command, &readable, copies.path())?;
+            (staged.command, staged.readable, staged.note)
+        }
+        _ => (command, readable, None),
+    };
     // Made before the lines run: a report folder that cannot be one is an error at once.
     let staging = options.report.as_deref().map(Staging::new).transpose()?;
     let prepared = prepare(options)?;
@@ -379,7 +388,9 @@ pub fn check(
         readable: &readable,
         budget: options.budget,
     };
-    grade_renderer(&prepared, options, &renderer, staging, progress, stop)
+    let mut checked = grade_renderer(&prepared, options, &renderer, staging, progress, stop)?;
+    checked.cage_note = copied;
+    Ok(checked)
 }
 
 /// Grades one renderer against a prepared suite (see [`check`]); its pictures go into
@@ -393,16 +404,18 @@ pub fn grade_renderer(
     stop: &AtomicBool,
 ) -> Result<Checked, String> {
     let suite = &prepared.suite;
+    // A renderer never runs as root (check() runs it from open copies where it must).
     let (user, cage_note) = match cage::unprivileged_user(renderer.readable) {
         None => (None, None),
         Some(Ok(user)) => (Some(user), None),
-        Some(Err(why)) => (
-            None,
-            Some(format!(
-                "the renderer ran as root, because {why}: give other users access to it, or \
-                 run check as an ordinary user"
-            )),
-        ),
+        Some(Err(why)) => {
+            return Err(format!(
+                "check runs as root, and never runs a renderer as root; the user it runs \
+                 renderers as cannot reach what the renderer needs: {why}. Run check as an \
+                 ordinary user, or open the path to other users (chmod o+rx on it and on each \
+                 folder above it)"
+            ));
+        }
     };
     let scratch = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
     if user.is_some() {

@@ -92,3 +92,50 @@ pub fn without(args: &[String], flag: &str, values: usize) -> Vec<String> {
     }
     out
 }
+
+/// The program under test.
+const RAYCAST: &str = env!("CARGO_BIN_EXE_raycast");
+
+/// raycast, copied where every user may run it (once a build, kept in the system's temporary
+/// folder): the renderers run as nobody when the tests run as root, and no test may depend on
+/// where the checkout sits (a folder closed to other users, such as /root, holds the build).
+pub fn open_raycast() -> &'static str {
+    static COPY: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    COPY.get_or_init(|| {
+        let built = std::fs::metadata(RAYCAST).unwrap();
+        let stamp = built
+            .modified()
+            .unwrap()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_nanos();
+        let dir = std::env::temp_dir().join(format!("raycast-open-{}-{stamp}", built.len()));
+        let copy = dir.join("raycast");
+        if !copy.is_file() {
+            std::fs::create_dir_all(&dir).unwrap();
+            let partial = dir.join(format!("raycast.{}", std::process::id()));
+            std::fs::copy(RAYCAST, &partial).unwrap();
+            std::fs::set_permissions(
+                &partial,
+                <std::fs::Permissions as std::os::unix::fs::PermissionsExt>::from_mode(0o755),
+            )
+            .unwrap();
+            std::fs::rename(&partial, &copy).unwrap();
+        }
+        std::fs::set_permissions(
+            &dir,
+            <std::fs::Permissions as std::os::unix::fs::PermissionsExt>::from_mode(0o755),
+        )
+        .unwrap();
+        copy.display().to_string()
+    })
+}
+
+/// The folder of [`open_raycast`], for `--allow-read`.
+pub fn open_raycast_folder() -> &'static str {
+    Path::new(open_raycast())
+        .parent()
+        .unwrap()
+        .to_str()
+        .unwrap()
+}

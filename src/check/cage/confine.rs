@@ -122,6 +122,8 @@ pub fn in_child(
     let cpu = (request.limit.as_secs() + 1) * cores + 1;
     move || {
         rustix::process::set_parent_process_death_signal(Some(Signal::KILL))?;
+        // No set-user-ID program may give the renderer more than it has, Landlock or not.
+        rustix::thread::set_no_new_privs(true)?;
         let limits = request.limits;
         lower(Resource::As, limits.memory)?;
         lower(Resource::Fsize, limits.file_size)?;

@@ -6,6 +6,7 @@
 //! report, with a deadline of its own behind the supervisor's.
 
 mod confine;
+mod reach;
 mod reap;
 mod supervisor;
 
@@ -15,6 +16,7 @@ use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+pub use reach::stage;
 pub use supervisor::supervise;
 
 /// The hidden first word of raycast's command line that makes it a line's supervisor; what

@@ -181,12 +181,21 @@ pub fn grade_student(
     let readable: Vec<PathBuf> = std::iter::once(copy.clone())
         .chain(options.readable.iter().cloned())
         .collect();
+    // Never as root: a class whose --allow-read paths the renderers' user cannot reach is
+    // refused student by student, each row saying why.
     let user = match cage::unprivileged_user(&readable) {
         Some(Ok(user)) => {
             own_tree(&copy, user).map_err(|e| format!("{}: {e}", copy.display()))?;
             Some(user)
         }
-        _ => None,
+        Some(Err(why)) => {
+            return Err(format!(
+                "check runs as root and never runs a renderer as root, and the user it runs \
+                 them as cannot reach {why}: open it to other users, or run check as an \
+                 ordinary user"
+            ));
+        }
+        None => None,
     };
     let built = class.build.as_ref().map(|build| {
         let mut command = build.clone();
