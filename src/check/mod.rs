@@ -270,7 +270,8 @@ pub struct Checked {
     pub graded: Vec<Graded>,
     /// The cage's mechanisms, as the first line's supervisor found them.
     pub confinement: Option<Confinement>,
-    /// Why the renderer kept check's own user, when check ran as root.
+    /// What check did to run the renderer as an unprivileged user when it ran as root (what it
+    /// copied where that user could reach it), if anything.
     pub cage_note: Option<String>,
     /// What of its scratch check could not remove, if anything.
     pub cleanup: Option<String>,
