@@ -789,3 +789,74 @@ fn a_renderer_never_runs_as_root_even_from_a_closed_folder() {
     );
     assert!(output.stdout.is_empty());
 }
+
+#[test]
+fn a_suite_renderers_may_read_is_not_graded_without_no_cage() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    if !rustix_is_root() {
+        return;
+    }
+    // A suite under /opt, which every renderer may read as a system folder.
+    let opt = tempfile::Builder::new()
+        .prefix("raycast-suite-")
+        .tempdir_in("/opt")
+        .unwrap();
+    std::fs::set_permissions(opt.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+    let suite = opt.path().join("suite");
+    std::fs::create_dir_all(suite.join("reference")).unwrap();
+    std::fs::write(
+        suite.join("COMMANDS.txt"),
+        "raytracer -input scene2_01_diffuse.txt -size 200 200 -output output2_01.tga\n",
+    )
+    .unwrap();
+    let reference = suite.join("reference/output2_01.png");
+    std::fs::copy(conformance.join("reference/output2_01.png"), &reference).unwrap();
+    std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
+    let scripts = tempfile::tempdir().unwrap();
+    std::fs::set_permissions(scripts.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+    // It hands in the reference it can read as its own picture.
+    let copier = scripts.path().join("copier.sh");
+    std::fs::write(
+        &copier,
+        format!(
+            "#!/usr/bin/env bash\ncat '{}' > \"$7\"\n",
+            reference.display()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&copier, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let report = scripts.path().join("report");
+    let run = |extra: &[&str]| {
+        Command::new(RAYCAST)
+            .args(["check", suite.to_str().unwrap(), "--renderer"])
+            .arg(&copier)
+            .args(["--report", report.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let refused = run(&[]);
+    let said = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{said}");
+    assert!(
+        said.contains("the suite lies under /opt, which every renderer may read")
+            && said.contains("--no-cage"),
+        "{said}"
+    );
+    assert!(refused.stdout.is_empty() && !report.exists());
+    // Told --no-cage, it grades, says so once, and every report records it.
+    let graded = run(&["--no-cage"]);
+    let said = String::from_utf8_lossy(&graded.stderr);
+    assert!(said.contains("raycast: check: --no-cage: "), "{said}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["cage"]["no_cage"], true);
+    let gradescope = std::fs::read_to_string(report.join("gradescope.json")).unwrap();
+    assert!(
+        gradescope.contains("graded with --no-cage"),
+        "{gradescope:.600}"
+    );
+}

@@ -77,6 +77,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
     let mut rule: Option<Rule> = None;
     let (mut partial, mut confinement, mut cage_note) = (false, None, None);
     let mut seconds = 0.0;
+    let mut no_cage = false;
     for shard in shards {
         let summary: Value = std::fs::read_to_string(shard.join("summary.json"))
             .ok()
@@ -94,6 +95,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
         }
         rule = Some(shard_rule);
         partial |= summary["partial"] == true;
+        no_cage |= summary["cage"]["no_cage"] == true;
         // Shards ran one after another or on other machines: their times add up.
         seconds += summary["seconds"].as_f64().unwrap_or(0.0);
         if confinement.is_none() {
@@ -132,6 +134,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
         confinement,
         cage_note,
         cleanup: None,
+        no_cage,
         partial,
         staging: Some(staging),
         build: None,

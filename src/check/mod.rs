@@ -70,6 +70,9 @@ pub struct CheckOptions {
     /// The most time the renderer's lines may take together (`--budget`, without `--class`:
     /// a class's budget is each student's); the lines left when it is spent are not run.
     pub budget: Option<Duration>,
+    /// Grade even where no wall keeps the renderer from the references (`--no-cage`): for a
+    /// student's own renderer on their own machine, never strangers'. Every report says so.
+    pub no_cage: bool,
 }
 
 impl CheckOptions {
@@ -87,6 +90,7 @@ impl CheckOptions {
             readable: Vec::new(),
             shard: None,
             budget: None,
+            no_cage: false,
         }
     }
 }
@@ -275,6 +279,8 @@ pub struct Checked {
     pub cage_note: Option<String>,
     /// What of its scratch check could not remove, if anything.
     pub cleanup: Option<String>,
+    /// Graded with `--no-cage`: without a wall known to hold.
+    pub no_cage: bool,
     /// Whether check was interrupted: some lines did not run (their pictures are errors).
     pub partial: bool,
     /// The report being built, its pictures written, when one was asked for.
@@ -306,6 +312,11 @@ impl Prepared {
 /// Reads the options' suite and makes its references, on `options.jobs` threads.
 pub fn prepare(options: &CheckOptions) -> Result<Prepared, String> {
     let mut suite = Suite::read(&options.suite)?;
+    // Before any renderer's code runs: a wall must hold, or the user said --no-cage.
+    let root = rustix::process::geteuid().is_root();
+    if !options.no_cage {
+        cage::Wall::find(&options.suite, root).holds()?;
+    }
     if let Some((k, n)) = options.shard {
         suite.lines = std::mem::take(&mut suite.lines)
             .into_iter()
@@ -465,6 +476,7 @@ pub fn grade_renderer(
         confinement,
         cage_note,
         cleanup,
+        no_cage: options.no_cage,
         partial: stop.load(Ordering::Relaxed),
         staging,
         build: None,
@@ -530,6 +542,7 @@ pub fn not_built(prepared: &Prepared, why: &str, staging: Option<Staging>) -> Ch
         confinement: None,
         cage_note: None,
         cleanup: None,
+        no_cage: false,
         partial: false,
         staging,
         build: None,
@@ -1153,6 +1166,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
         .as_ref()
         .map_or(serde_json::json!({}), Confinement::json);
     cage["note"] = serde_json::json!(checked.cage_note);
+    cage["no_cage"] = serde_json::json!(checked.no_cage);
     cage["cleanup"] = serde_json::json!(checked.cleanup);
     serde_json::json!({
         "raycast": env!("CARGO_PKG_VERSION"),

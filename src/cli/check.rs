@@ -15,6 +15,7 @@ pub const CHECK_USAGE: &str = "\
 usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
                      [--max-bad FRACTION] [--jobs N] [--timeout SECONDS] [--budget SECONDS]
                      [--shard K/N] [--memory SIZE] [--allow-read PATH]... [--keep-preview-options]
+                     [--no-cage]
        raycast check SUITE --class ROSTER --renderer CMD [--build CMD] [--build-timeout S]
                      [the options above]
        raycast check merge OUT DIR...
@@ -37,7 +38,9 @@ root, under Landlock (it reads the system's files, its own program's folder and 
 paths; it writes its work and output folders only), in a network namespace of its own, with
 --memory of address space (default 4G), files of at most 256 MiB, a private HOME and TMPDIR,
 and everything it started ended with it. Ctrl-C ends the renderers and writes what was graded,
-marked partial (exit 130). --budget bounds the renderer's lines together (a platform's
+marked partial (exit 130). Where nothing would keep the renderer from the references (no
+Landlock, or a suite under a system folder such as /opt), check refuses to grade; --no-cage
+grades anyway, for your own renderer on your own machine, and every report says so. --budget bounds the renderer's lines together (a platform's
 time limit): lines start in the suite's order, and those left when it is spent are not run.
 --class grades each folder of ROSTER as one student's submission: copied, built with --build
 in its folder (caged, --build-timeout seconds, default 120), its renderer (CMD's first word
@@ -174,6 +177,7 @@ fn parse_check_args(
                 options.timeout = Duration::from_secs_f64(s);
             }
             "--keep-preview-options" => options.keep_preview_options = true,
+            "--no-cage" => options.no_cage = true,
             "--class" => roster = Some(PathBuf::from(value(&mut args, "--class", "a folder")?)),
             "--build" => {
                 let command = value(&mut args, "--build", "the build's command")?;
@@ -288,6 +292,17 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
         return super::class::run_merge(&words);
     }
     let options = match parse_check_args(args) {
+        Ok(Some((options, class))) if options.no_cage => {
+            say(
+                std::io::stderr(),
+                "raycast: check: --no-cage: renderers are graded without a wall known to keep \
+                 them from the references; for your own renderer on your own machine only",
+            );
+            match class {
+                Some(class) => return super::class::run_class(options, class),
+                None => options,
+            }
+        }
         Ok(Some((options, Some(class)))) => return super::class::run_class(options, class),
         Ok(Some((options, None))) => options,
         Ok(None) => {

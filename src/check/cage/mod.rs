@@ -9,6 +9,7 @@ mod confine;
 mod reach;
 mod reap;
 mod supervisor;
+mod wall;
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -18,6 +19,7 @@ use std::time::{Duration, Instant};
 
 pub use reach::stage;
 pub use supervisor::supervise;
+pub use wall::Wall;
 
 /// The hidden first word of raycast's command line that makes it a line's supervisor; what
 /// follows is the line's request as JSON.

@@ -127,6 +127,11 @@ pub fn overview(checked: &Checked, groups: &[Group]) -> String {
             ""
         }
     );
+    if checked.no_cage {
+        text.push_str(
+            "graded with --no-cage: nothing was known to keep the renderer from the references\n",
+        );
+    }
     if let Some(failed) = failed_build(checked) {
         text.push_str(&failed);
     }

@@ -1,0 +1,131 @@
+//! No stranger's program is graded without a wall that is known to hold: before any line runs,
+//! check finds out whether the renderer will be kept from the suite's references and from
+//! writing outside its folders, and refuses to grade where nothing would (unless told
+//! `--no-cage`, which every report then records).
+
+use std::path::Path;
+
+use super::{Request, confine, reachable_by_others};
+
+/// What keeps a renderer from the references, as found before any line runs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Wall {
+    /// Landlock's state on this kernel, as the supervisor reports it.
+    pub landlock: String,
+    /// The system folder the suite lies in (which every renderer may read), if any.
+    pub suite_in_system: Option<String>,
+    /// Whether the renderer runs as another user (check runs as root) who cannot read the
+    /// references.
+    pub references_out_of_reach: bool,
+}
+
+impl Wall {
+    /// The wall for `suite`, on this machine, for a check running as root or not.
+    pub fn find(suite: &Path, root: bool) -> Wall {
+        let temp = std::env::temp_dir();
+        let probe = Request {
+            command: Vec::new(),
+            work: temp.clone(),
+            outputs: temp,
+            readable: Vec::new(),
+            limit: std::time::Duration::ZERO,
+            limits: super::Limits::default(),
+            user: None,
+        };
+        let suite = std::fs::canonicalize(suite).unwrap_or_else(|_| suite.to_path_buf());
+        Wall {
+            landlock: confine::landlock_state(&probe),
+            suite_in_system: confine::SYSTEM
+                .iter()
+                .find(|folder| suite.starts_with(folder))
+                .map(|folder| folder.to_string()),
+            references_out_of_reach: root && reachable_by_others(&suite.join("reference")).is_err(),
+        }
+    }
+
+    /// Whether Landlock holds the renderer to its folders on this kernel.
+    fn landlock_holds(&self) -> bool {
+        self.landlock.starts_with("fully") || self.landlock.starts_with("partially")
+    }
+
+    /// `Ok` where at least one wall keeps the references from the renderer and its writes in
+    /// its folders; else why not, and how to get one.
+    pub fn holds(&self) -> Result<(), String> {
+        if self.references_out_of_reach {
+            return Ok(());
+        }
+        if self.landlock_holds() {
+            return match &self.suite_in_system {
+                None => Ok(()),
+                Some(folder) => Err(format!(
+                    "the suite lies under {folder}, which every renderer may read (the system's \
+                     folders are open to it), so its references would be the renderer's to copy: \
+                     keep the suite in a folder of your own (your home, /srv), or give --no-cage \
+                     to grade anyway"
+                )),
+            };
+        }
+        Err(format!(
+            "nothing here keeps a renderer from the suite's references and from writing outside \
+             its folders: Landlock is {} (it needs Linux 5.13 or later with landlock among the \
+             kernel's security modules, and in a container a seccomp profile that allows the \
+             landlock system calls). Grading your own renderer on your own machine, give \
+             --no-cage; never grade other people's programs without a cage",
+            self.landlock
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wall(landlock: &str, system: Option<&str>, out_of_reach: bool) -> Wall {
+        Wall {
+            landlock: landlock.into(),
+            suite_in_system: system.map(String::from),
+            references_out_of_reach: out_of_reach,
+        }
+    }
+
+    #[test]
+    fn a_wall_must_hold_before_a_stranger_is_graded() {
+        assert!(wall("fully enforced", None, false).holds().is_ok());
+        assert!(
+            wall("partially enforced (an older kernel)", None, false)
+                .holds()
+                .is_ok()
+        );
+        // Landlock lets a renderer read the system's folders: a suite there gives its
+        // references away.
+        let under_opt = wall("fully enforced", Some("/opt"), false)
+            .holds()
+            .unwrap_err();
+        assert!(under_opt.starts_with("the suite lies under /opt, which every renderer may read"));
+        // Another user who cannot read the references holds, with or without Landlock.
+        assert!(wall("fully enforced", Some("/opt"), true).holds().is_ok());
+        assert!(
+            wall("not available on this kernel", None, true)
+                .holds()
+                .is_ok()
+        );
+        let none = wall("not available on this kernel", None, false)
+            .holds()
+            .unwrap_err();
+        assert!(
+            none.contains("Landlock is not available on this kernel"),
+            "{none}"
+        );
+        assert!(none.contains("give --no-cage"), "{none}");
+    }
+
+    #[test]
+    fn the_suite_in_a_system_folder_is_found() {
+        assert_eq!(
+            Wall::find(Path::new("/usr/share"), false).suite_in_system,
+            Some("/usr".to_string())
+        );
+        let own = tempfile::tempdir().unwrap();
+        assert_eq!(Wall::find(own.path(), false).suite_in_system, None);
+    }
+}
