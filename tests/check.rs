@@ -1134,3 +1134,65 @@ fn what_a_renderer_prints_reaches_people_as_data_and_within_the_platforms_sizes(
         "{gradescope:.2000}"
     );
 }
+
+#[test]
+fn a_picture_written_before_a_crash_is_compared_and_the_crash_blamed_on_the_exit() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = small_suite(dir.path(), &conformance, 1);
+    let suite = suite.to_str().unwrap();
+    // The right picture, then an abort on the way out (a double free in a destructor).
+    let aborts = script(
+        dir.path(),
+        "aborts.sh",
+        &format!(
+            "{} \"$@\" || exit 9\necho 'free(): double free detected in tcache 2' >&2\nkill -ABRT $$",
+            common::open_raycast()
+        ),
+    );
+    let report = dir.path().join("report");
+    let output = raycast(&[
+        "check",
+        suite,
+        "--renderer",
+        &aborts,
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    let out = stdout(&output);
+    assert_eq!(output.status.code(), Some(1), "{out}");
+    assert!(
+        out.contains(
+            "ERROR  output2_01, 0.000% of pixels off: crash_at_exit: Your picture matches the \
+             reference (0.000% of pixels off); then the renderer was killed by SIGABRT"
+        ),
+        "{out}"
+    );
+    assert!(out.contains("double free detected"), "{out}");
+    assert!(out.contains("destructors and clean-up code"), "{out}");
+    assert!(!out.contains("before writing its picture"), "{out}");
+    // The picture it wrote is in the report beside the reference.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
+            .unwrap();
+    assert!(
+        summary["images"][0]["pictures"]["actual"].is_string(),
+        "{summary}"
+    );
+    // A crash that leaves the picture cut short says so.
+    let cut = script(
+        dir.path(),
+        "cut.sh",
+        &format!(
+            "{} \"$@\" || exit 9\ntruncate -s 5000 \"$7\"\nexit 3",
+            common::open_raycast()
+        ),
+    );
+    let out = stdout(&raycast(&["check", suite, "--renderer", &cut]));
+    assert!(
+        out.contains("ERROR  output2_01: crash: The renderer exited with status 3 while its picture was being written: the file it left is cut short"),
+        "{out}"
+    );
+}

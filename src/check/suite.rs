@@ -327,6 +327,22 @@ pub fn parse_line(text: &str) -> Option<Line> {
     })
 }
 
+/// The assignment a picture belongs to, from its name: `output2_01`, `depth3_08` and
+/// `normals1_05` are A2, A3 and A1; a name without such a number is "other".
+pub fn assignment(name: &str) -> String {
+    let digits: String = name
+        .trim_start_matches(|c: char| c.is_ascii_alphabetic())
+        .chars()
+        .take_while(char::is_ascii_digit)
+        .collect();
+    let numbered = name.contains('_') && !digits.is_empty();
+    if numbered {
+        format!("A{digits}")
+    } else {
+        "other".to_string()
+    }
+}
+
 /// The name an image is graded under: its file name without the extension.
 pub fn image_name(file: &str) -> String {
     let name = Path::new(file)

@@ -18,6 +18,9 @@ pub struct Group {
     /// Other faults whose renders match every one of these pictures too: the pictures cannot
     /// tell them from `code`'s.
     pub equals: Vec<String>,
+    /// For the pictures no fault explains: what the pixels suggest (a guess's code, or
+    /// `unknown`) and for how many of them, the commonest first.
+    pub guesses: Vec<(String, usize)>,
 }
 
 /// Groups the failing pictures of `graded` by cause, after putting first, among each picture's
@@ -58,6 +61,7 @@ pub fn verdict(graded: &mut [Graded]) -> Vec<Group> {
     }
     let mut groups: Vec<Group> = Vec::new();
     let mut unexplained = Vec::new();
+    let mut guesses: Vec<(String, usize)> = Vec::new();
     for g in graded.iter().filter(|g| failing(g)) {
         match g.findings.first().filter(|f| !f.is_guess()) {
             Some(finding) => {
@@ -79,21 +83,36 @@ pub fn verdict(graded: &mut [Graded]) -> Vec<Group> {
                         code: Some(code),
                         images: vec![g.name.clone()],
                         equals: others,
+                        guesses: Vec::new(),
                     }),
                 }
             }
-            None => unexplained.push(g.name.clone()),
+            None => {
+                unexplained.push(g.name.clone());
+                let guess = g
+                    .findings
+                    .first()
+                    .map_or("unknown".to_string(), Finding::code);
+                match guesses.iter_mut().find(|(code, _)| *code == guess) {
+                    Some((_, n)) => *n += 1,
+                    None => guesses.push((guess, 1)),
+                }
+            }
         }
     }
-    // Biggest first; among equals, the order in which the suite first showed them.
-    groups.sort_by_key(|group| std::cmp::Reverse(group.images.len()));
     if !unexplained.is_empty() {
+        guesses.sort_by_key(|(_, n)| std::cmp::Reverse(*n));
         groups.push(Group {
             code: None,
             images: unexplained,
             equals: Vec::new(),
+            guesses,
         });
     }
+    // Biggest first, the pictures no fault explains and the time-outs counted like any group:
+    // "fix it first" names where most of the failures are. Among equals, one a fault explains
+    // (something to fix) before the unexplained, then the order the suite first showed them.
+    groups.sort_by_key(|group| (std::cmp::Reverse(group.images.len()), group.code.is_none()));
     groups
 }
 
@@ -129,6 +148,8 @@ pub fn entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
                 }
             )
         };
+        // The first group a fault explains, after an unexplained one that is bigger.
+        let first_explained = k > 0 && groups[..k].iter().all(|g| g.code.is_none());
         let headline = match (&group.code, k) {
             (Some(code), 0) => format!(
                 "{n} of {failing} failing picture{} {} explained by {code}{equally}: fix it \
@@ -136,7 +157,18 @@ pub fn entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
                 plural(failing),
                 if n == 1 { "is" } else { "are" }
             ),
+            (Some(code), _) if first_explained => format!(
+                "{n} more by {code}{equally}: the biggest group a fault explains, to fix next"
+            ),
             (Some(code), _) => format!("{n} more by {code}{equally}"),
+            (None, 0) => format!(
+                "{n} of {failing} failing picture{} no fault of the library explains, the \
+                 biggest group: look at them first, each beside its reference and heat map. \
+                 {}: {}",
+                plural(failing),
+                shared(group),
+                group.images.join(", ")
+            ),
             (None, _) => format!(
                 "{n} failing picture{} no fault explains: {}",
                 plural(n),
@@ -168,6 +200,28 @@ pub fn entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
     out
 }
 
+/// What the pictures no fault explains have in common: their assignments, and what their
+/// pixels suggest for most of them.
+fn shared(group: &Group) -> String {
+    let mut assignments: Vec<String> = group
+        .images
+        .iter()
+        .map(|name| super::suite::assignment(name))
+        .collect();
+    assignments.sort();
+    assignments.dedup();
+    let n = group.images.len();
+    let mut text = format!(
+        "{} of {}",
+        if n == 1 { "A picture" } else { "Pictures" },
+        assignments.join(", ")
+    );
+    if let Some((guess, m)) = group.guesses.first().filter(|(code, _)| code != "unknown") {
+        text.push_str(&format!("; the pixels suggest {guess} in {m} of {n}"));
+    }
+    text
+}
+
 /// The library's faults a code names (`a` or `a+b`); `None` for a code of no fault.
 fn faults_of(code: &str) -> Option<Vec<&'static super::faults::Fault>> {
     code.split('+').map(super::faults::fault).collect()
@@ -183,4 +237,71 @@ pub fn json(groups: &[Group]) -> Value {
             .map(|g| json!({ "fault": g.code, "lines": g.images, "equals": g.equals }))
             .collect(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::check::{Diagnosis, PictureKind, Pictures};
+
+    fn failing(name: &str, cause: Diagnosis) -> Graded {
+        Graded {
+            name: name.into(),
+            command: String::new(),
+            status: Status::Fail,
+            bad_fraction: Some(0.1),
+            findings: vec![Finding::Diagnosis(cause)],
+            explanation: String::new(),
+            actual: None,
+            reference: None,
+            stderr: String::new(),
+            seconds: 0.0,
+            against_raycast: false,
+            picture: PictureKind::Image,
+            worst_pixel: None,
+            pictures: Pictures::default(),
+            points: 1.0,
+            line: (0, 0),
+            moved_from: None,
+        }
+    }
+
+    #[test]
+    fn fix_it_first_is_the_biggest_group_even_unexplained() {
+        // Two time-outs and five pictures no fault explains (three look too dark or bright).
+        let mut graded = vec![
+            failing("output4_01", Diagnosis::TIMED_OUT),
+            failing("output4_02", Diagnosis::TIMED_OUT),
+            failing("output5_01", Diagnosis::COLOUR_SCALE),
+            failing("output5_02", Diagnosis::COLOUR_SCALE),
+            failing("output6_01", Diagnosis::COLOUR_SCALE),
+            failing("output6_02", Diagnosis::UNKNOWN),
+            failing("output6_03", Diagnosis::UNKNOWN),
+        ];
+        let groups = verdict(&mut graded);
+        let codes: Vec<Option<&str>> = groups.iter().map(|g| g.code.as_deref()).collect();
+        assert_eq!(codes, [None, Some("timed_out")]);
+        let lines = lines(&groups);
+        assert_eq!(
+            lines[0],
+            "verdict: 5 of 7 failing pictures no fault of the library explains, the biggest \
+             group: look at them first, each beside its reference and heat map. Pictures of A5, \
+             A6; the pixels suggest colour_scale in 3 of 5: output5_01, output5_02, output6_01, \
+             output6_02, output6_03"
+        );
+        assert_eq!(
+            lines[1],
+            "verdict: 2 more by timed_out: the biggest group a fault explains, to fix next"
+        );
+        // Equal in size, the group a fault explains comes first: something to fix.
+        let mut graded = vec![
+            failing("output2_01", Diagnosis::UNKNOWN),
+            failing("output2_02", Diagnosis::UNKNOWN),
+            failing("output2_03", Diagnosis::TIMED_OUT),
+            failing("output2_04", Diagnosis::TIMED_OUT),
+        ];
+        let groups = verdict(&mut graded);
+        assert_eq!(groups[0].code.as_deref(), Some("timed_out"));
+        assert_eq!(groups[1].code, None);
+    }
 }

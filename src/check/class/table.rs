@@ -4,6 +4,7 @@
 use serde_json::{Value, json};
 
 use crate::check::report::escape;
+pub use crate::check::suite::assignment;
 use crate::check::untrusted::visible;
 
 /// One student's row.
@@ -129,22 +130,6 @@ impl Row {
             .map(|(a, p, t)| format!("{a} {p}/{t}"))
             .collect::<Vec<_>>()
             .join(", ")
-    }
-}
-
-/// The assignment a picture belongs to, from its name: `output2_01`, `depth3_08` and
-/// `normals1_05` are A2, A3 and A1; a name without such a number is "other".
-pub fn assignment(name: &str) -> String {
-    let digits: String = name
-        .trim_start_matches(|c: char| c.is_ascii_alphabetic())
-        .chars()
-        .take_while(char::is_ascii_digit)
-        .collect();
-    let numbered = name.contains('_') && !digits.is_empty();
-    if numbered {
-        format!("A{digits}")
-    } else {
-        "other".to_string()
     }
 }
 

@@ -90,7 +90,7 @@ impl Diagnosis {
 // Decided by the caller (a run that failed, an image that is missing) or by no cause fitting.
 impl Diagnosis {
     /// The facts of a run, as opposed to guesses from its pixels.
-    const FACTS: [Diagnosis; 12] = [
+    const FACTS: [Diagnosis; 13] = [
         Diagnosis::CRASH,
         Diagnosis::TIMED_OUT,
         Diagnosis::OUT_OF_MEMORY,
@@ -98,6 +98,7 @@ impl Diagnosis {
         Diagnosis::INTERRUPTED,
         Diagnosis::OVER_BUDGET,
         Diagnosis::BUILD_FAILED,
+        Diagnosis::CRASH_AT_EXIT,
         Diagnosis::MISSING_OUTPUT,
         Diagnosis::UNREADABLE_OUTPUT,
         Diagnosis::WRONG_FORMAT,
@@ -111,6 +112,15 @@ impl Diagnosis {
         8,
         "The renderer crashed or reported an error before writing its picture: run the same \
         command line by hand and read its message.",
+    );
+
+    /// The renderer wrote its whole picture, then crashed or failed on its way out.
+    pub const CRASH_AT_EXIT: Diagnosis = Diagnosis::new(
+        "crash_at_exit",
+        8,
+        "The renderer wrote its whole picture and then crashed or failed on its way out: look \
+        at what runs after the picture is saved (destructors and clean-up code: a double free, \
+        a delete of memory not owned, an object freed twice by two owners).",
     );
 
     /// The renderer outlasted the line's time limit.
@@ -310,7 +320,7 @@ mod tests {
     #[test]
     fn codes_are_distinct_snake_case_with_explanations() {
         let codes: Vec<&str> = Diagnosis::all().map(|d| d.code()).collect();
-        assert_eq!(codes.len(), 28);
+        assert_eq!(codes.len(), 29);
         for (i, code) in codes.iter().enumerate() {
             assert!(
                 code.chars().all(|c| c.is_ascii_lowercase() || c == '_'),
