@@ -4,11 +4,13 @@
 //! line; failures first, with filters.
 //!
 //! The page is written with `format!` rather than a template crate: it is one small page with
-//! one repeated block, and every value put into it goes through [`escape`].
+//! one repeated block, and every value put into it goes through `escape`
+//! ([`super::untrusted::html`]).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use super::untrusted::html as escape;
 use super::{
     Checked, Finding, Graded, Group, Rule, Status, diagnose, summary_json, verdict_entries,
 };
@@ -206,22 +208,6 @@ fn safe(name: &str) -> String {
             }
         })
         .collect()
-}
-
-/// Text made safe to stand in HTML, in an element or an attribute.
-pub fn escape(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 /// A build that failed, above the verdict: how it ended and its last lines, the one reason
@@ -475,10 +461,6 @@ mod tests {
 
     #[test]
     fn escaping() {
-        assert_eq!(
-            escape("<a href=\"x\">&'"),
-            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
-        );
         assert_eq!(safe("out/put 3.tga"), "out_put_3.tga");
     }
 }

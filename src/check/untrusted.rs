@@ -1,6 +1,6 @@
 //! What renderers print and what submissions are named is data, never control: the one home of
-//! how such text is made safe to show (on a terminal, in a line of a table) and how much of it
-//! is kept.
+//! how such text is made safe to show (on a terminal, in a line of a table, in a page) and how
+//! much of it is kept.
 
 /// How many lines of a renderer's output a report keeps for a picture.
 pub const TAIL_LINES: usize = 20;
@@ -36,6 +36,22 @@ fn is_hidden(c: char) -> bool {
     matches!(c as u32, 0x80..=0x9f | 0x202a..=0x202e | 0x2066..=0x2069 | 0x2028 | 0x2029 | 0x200e | 0x200f | 0x061c)
 }
 
+/// Text made safe to stand in HTML, in an element or an attribute.
+pub fn html(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 /// The end of what a renderer printed, as a report keeps it: its last [`TAIL_LINES`] lines, at
 /// most [`TAIL_CHARS`] characters of them, with a note where more was cut.
 pub fn tail(text: &str) -> String {
@@ -55,6 +71,14 @@ pub fn tail(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn markup_is_escaped_for_a_page() {
+        assert_eq!(
+            html("<a href=\"x\">&'"),
+            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
+        );
+    }
 
     #[test]
     fn escapes_are_shown_not_obeyed() {

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use crate::check::class::ClassOptions;
-use crate::check::{self, CheckOptions, Rule, Status};
+use crate::check::{self, CheckOptions, Rule};
 use crate::image_io::{self, ImageFormat};
 
 /// The usage of the two subcommands.
@@ -248,40 +248,6 @@ fn parse_check_args(
     Ok(Some((options, Some(class))))
 }
 
-/// Prints the verdict (what to fix first, for all the lines at once), a line per picture and
-/// the count; returns how many failed.
-pub(super) fn print_grades(
-    out: &mut impl Write,
-    groups: &[check::Group],
-    graded: &[check::Graded],
-) -> usize {
-    // What a renderer printed reaches these lines: shown, never obeyed, one line each.
-    for line in check::verdict_lines(groups) {
-        let _ = writeln!(out, "{}", check::visible(&line));
-    }
-    for g in graded {
-        let _ = writeln!(out, "{}", check::visible(&check::verdict(g)));
-    }
-    let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
-    let failed = graded.len() - passed;
-    let _ = writeln!(out, "{passed} passed, {failed} failed");
-    failed
-}
-
-/// A flag that Ctrl-C, SIGTERM and SIGHUP set: the renderers running end, and what was graded
-/// so far is reported, marked partial.
-pub(super) fn stop_on_signals() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
-    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    for signal in [
-        signal_hook::consts::SIGINT,
-        signal_hook::consts::SIGTERM,
-        signal_hook::consts::SIGHUP,
-    ] {
-        let _ = signal_hook::flag::register(signal, stop.clone());
-    }
-    stop
-}
-
 /// `raycast check ...` (arguments after `check`).
 pub fn run_check(args: Vec<OsString>) -> ExitCode {
     if args.first().is_some_and(|a| a == "merge") {
@@ -317,7 +283,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             bar.inc(1);
         }
     };
-    let stop = stop_on_signals();
+    let stop = super::grades::stop_on_signals();
     let mut checked = match check::check(&options, &advance, &stop) {
         Ok(checked) => checked,
         Err(message) => {
@@ -356,7 +322,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     let groups = check::renderer_verdict(&mut checked.graded);
     let graded = &checked.graded;
     let mut out = std::io::stdout().lock();
-    let failed = print_grades(&mut out, &groups, graded);
+    let failed = super::grades::print_grades(&mut out, &groups, graded);
     if let Some(dir) = &options.report {
         if let Err(message) = check::write_report(&mut checked, &groups, options.rule) {
             say(

@@ -33,7 +33,7 @@ pub fn run_merge(args: &[String]) -> ExitCode {
             Err(message) => return fail(&message),
         };
         let mut out_text = std::io::stdout().lock();
-        super::check::print_grades(&mut out_text, &groups, &checked.graded);
+        super::grades::print_grades(&mut out_text, &groups, &checked.graded);
         return match check::write_report(&mut checked, &groups, rule) {
             Ok(()) => {
                 let _ = writeln!(
@@ -153,7 +153,7 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
             return fail(&format!("cannot open the scratch folder: {e}"));
         }
     }
-    let stop = super::check::stop_on_signals();
+    let stop = super::grades::stop_on_signals();
     let lines = prepared.suite().lines.len() as u64;
     let (pictures, max_points) = prepared.suite().pictures_and_points();
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {

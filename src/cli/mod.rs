@@ -5,6 +5,7 @@
 mod check;
 mod class;
 mod completions;
+mod grades;
 
 use std::ffi::OsString;
 use std::io::{IsTerminal, Read, Write};

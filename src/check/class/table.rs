@@ -3,9 +3,8 @@
 
 use serde_json::{Value, json};
 
-use crate::check::report::escape;
 pub use crate::check::suite::assignment;
-use crate::check::untrusted::visible;
+use crate::check::untrusted::{html as escape, visible};
 
 /// One student's row.
 #[derive(Debug, Clone, PartialEq)]

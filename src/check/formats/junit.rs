@@ -87,7 +87,7 @@ fn escape(text: &str) -> String {
             c => c,
         })
         .collect();
-    crate::check::report::escape(&allowed)
+    crate::check::untrusted::html(&allowed)
 }
 
 #[cfg(test)]
