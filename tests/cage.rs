@@ -39,7 +39,11 @@ struct World {
 
 impl World {
     fn new(conformance: &Path) -> World {
-        let dir = tempfile::tempdir().unwrap();
+        World::in_folder(conformance, tempfile::tempdir().unwrap())
+    }
+
+    /// The world laid out in `dir`, a new folder (opened to every user).
+    fn in_folder(conformance: &Path, dir: tempfile::TempDir) -> World {
         std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
         let suite = dir.path().join("suite");
         std::fs::create_dir_all(suite.join("reference")).unwrap();
@@ -507,9 +511,7 @@ fn the_report_is_whole_and_says_how_the_renderer_was_caged() {
     let Some(w) = world() else { return };
     let (out, code) = w.check(RAYCAST, &[], "no-token-report");
     assert_eq!(code, Some(0), "{out}");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(w.report.join("summary.json")).unwrap())
-            .unwrap();
+    let summary: serde_json::Value = common::summary_of(&w.report);
     assert_eq!(summary["partial"], false);
     let cage = &summary["cage"];
     for key in ["user", "landlock", "network_namespace", "subreaper"] {
@@ -750,9 +752,7 @@ fn a_renderer_never_runs_as_root_even_from_a_closed_folder() {
     std::fs::set_permissions(&home, std::fs::Permissions::from_mode(0o700)).unwrap();
     let (out, code) = w.check(tracer.to_str().unwrap(), &[], "no-token-closed");
     assert_eq!(code, Some(0), "{out}");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(w.report.join("summary.json")).unwrap())
-            .unwrap();
+    let summary: serde_json::Value = common::summary_of(&w.report);
     assert_eq!(summary["cage"]["user"], "uid 65534", "{summary}");
     let stderr = summary["images"][0]["stderr"].as_str().unwrap();
     assert!(stderr.contains("uid 65534, beside the program"), "{stderr}");
@@ -799,35 +799,19 @@ fn a_suite_renderers_may_read_is_not_graded_without_no_cage() {
         return;
     }
     // A suite under /opt, which every renderer may read as a system folder.
-    let opt = tempfile::Builder::new()
-        .prefix("raycast-suite-")
-        .tempdir_in("/opt")
-        .unwrap();
-    std::fs::set_permissions(opt.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
-    let suite = opt.path().join("suite");
-    std::fs::create_dir_all(suite.join("reference")).unwrap();
-    std::fs::write(
-        suite.join("COMMANDS.txt"),
-        "raytracer -input scene2_01_diffuse.txt -size 200 200 -output output2_01.tga\n",
-    )
-    .unwrap();
-    let reference = suite.join("reference/output2_01.png");
-    std::fs::copy(conformance.join("reference/output2_01.png"), &reference).unwrap();
-    std::os::unix::fs::symlink(conformance.join("scenes"), suite.join("scenes")).unwrap();
-    let scripts = tempfile::tempdir().unwrap();
-    std::fs::set_permissions(scripts.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+    let w = World::in_folder(
+        &conformance,
+        tempfile::Builder::new()
+            .prefix("raycast-suite-")
+            .tempdir_in("/opt")
+            .unwrap(),
+    );
     // It hands in the reference it can read as its own picture.
-    let copier = scripts.path().join("copier.sh");
-    std::fs::write(
-        &copier,
-        format!(
-            "#!/usr/bin/env bash\ncat '{}' > \"$7\"\n",
-            reference.display()
-        ),
-    )
-    .unwrap();
-    std::fs::set_permissions(&copier, std::fs::Permissions::from_mode(0o755)).unwrap();
-    let report = scripts.path().join("report");
+    let copier = w.renderer(
+        "copier.sh",
+        &format!("cat '{}' > \"$7\"", w.reference.display()),
+    );
+    let (suite, report) = (&w.suite, &w.report);
     let run = |extra: &[&str]| {
         Command::new(RAYCAST)
             .args(["check", suite.to_str().unwrap(), "--renderer"])
@@ -850,10 +834,7 @@ fn a_suite_renderers_may_read_is_not_graded_without_no_cage() {
     let graded = run(&["--no-cage"]);
     let said = String::from_utf8_lossy(&graded.stderr);
     assert!(said.contains("raycast: check: --no-cage: "), "{said}");
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
-            .unwrap();
-    assert_eq!(summary["cage"]["no_cage"], true);
+    assert_eq!(common::summary_of(report)["cage"]["no_cage"], true);
     let gradescope = std::fs::read_to_string(report.join("gradescope.json")).unwrap();
     assert!(
         gradescope.contains("graded with --no-cage"),

@@ -305,9 +305,7 @@ fn the_report_holds_what_it_says_and_works_in_a_browser() {
         report.to_str().unwrap(),
     ]);
     assert_eq!(output.status.code(), Some(1), "{}", stdout(&output));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
-            .unwrap();
+    let summary: serde_json::Value = common::summary_of(&report);
     assert_eq!(summary["passed"], 5);
     assert_eq!(summary["failed"], 1);
     let images = summary["images"].as_array().unwrap();
@@ -833,9 +831,7 @@ fn jobs_take_lines_one_at_a_time() {
     ]);
     assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
     // The renderer's log, from what it said on stderr (the cage lets it write nothing else).
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
-            .unwrap();
+    let summary: serde_json::Value = common::summary_of(&report);
     let text: String = summary["images"]
         .as_array()
         .unwrap()
@@ -894,9 +890,7 @@ fn the_report_shows_raycasts_ray_tree_where_a_picture_differs_most() {
         report.to_str().unwrap(),
     ]);
     assert_eq!(output.status.code(), Some(1), "{}", stdout(&output));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
-            .unwrap();
+    let summary: serde_json::Value = common::summary_of(&report);
     let worst = &summary["images"][0]["worst_pixel"];
     let (x, y) = (worst["x"].as_u64().unwrap(), worst["y"].as_u64().unwrap());
     // What `raycast -inspect X Y` prints for the line, word for word.
@@ -1109,9 +1103,7 @@ fn what_a_renderer_prints_reaches_people_as_data_and_within_the_platforms_sizes(
         ["0 passed, 4 failed"]
     );
     // The report keeps the end of what it printed, cut and saying so, once a line.
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
-            .unwrap();
+    let summary: serde_json::Value = common::summary_of(&report);
     for image in summary["images"].as_array().unwrap() {
         let kept = image["stderr"].as_str().unwrap();
         assert!(kept.starts_with("[cut: the last 2000 of "), "{kept:.80}");
@@ -1174,9 +1166,7 @@ fn a_picture_written_before_a_crash_is_compared_and_the_crash_blamed_on_the_exit
     assert!(out.contains("destructors and clean-up code"), "{out}");
     assert!(!out.contains("before writing its picture"), "{out}");
     // The picture it wrote is in the report beside the reference.
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
-            .unwrap();
+    let summary: serde_json::Value = common::summary_of(&report);
     assert!(
         summary["images"][0]["pictures"]["actual"].is_string(),
         "{summary}"

@@ -99,6 +99,24 @@ fn check(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// The class of `roster`, built with make, each `./raytracer` graded against `suite`, the
+/// report in `report`.
+fn grade_class(suite: &Path, roster: &Path, report: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        suite.to_str().unwrap(),
+        "--class",
+        roster.to_str().unwrap(),
+        "--build",
+        "make",
+        "--renderer",
+        "./raytracer",
+        "--report",
+        report.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    check(&args)
+}
+
 fn text(output: &Output) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned() + &String::from_utf8_lossy(&output.stderr)
 }
@@ -133,17 +151,7 @@ fn a_class_is_graded_in_one_command_with_its_table_and_formats() {
         ],
     );
     let report = dir.path().join("report");
-    let output = check(&[
-        suite.to_str().unwrap(),
-        "--class",
-        roster.to_str().unwrap(),
-        "--build",
-        "make",
-        "--renderer",
-        "./raytracer",
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let output = grade_class(&suite, &roster, &report, &[]);
     let out = text(&output);
     assert_eq!(output.status.code(), Some(0), "{out}");
     // The terminal's table: one row a student, the verdict naming each one's fault.
@@ -306,21 +314,12 @@ fn a_budget_leaves_a_slow_student_partial_results() {
     let suite = suite(dir.path(), &conformance, 6);
     let roster = roster(dir.path(), &[("slow", "slow")]);
     let report = dir.path().join("report");
-    let output = check(&[
-        suite.to_str().unwrap(),
-        "--class",
-        roster.to_str().unwrap(),
-        "--build",
-        "make",
-        "--renderer",
-        "./raytracer",
-        "--budget",
-        "1.5",
-        "--jobs",
-        "2",
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let output = grade_class(
+        &suite,
+        &roster,
+        &report,
+        &["--budget", "1.5", "--jobs", "2"],
+    );
     assert_eq!(output.status.code(), Some(0), "{}", text(&output));
     let summary = std::fs::read_to_string(report.join("slow/summary.json")).unwrap();
     let summary: serde_json::Value = serde_json::from_str(&summary).unwrap();
@@ -798,17 +797,7 @@ fn hostile_and_broken_submission_names_are_data_and_never_end_the_class() {
     std::fs::write(roster.join("notes.txt"), "not a submission\n").unwrap();
     open_to_all(dir.path());
     let report = dir.path().join("report");
-    let output = check(&[
-        suite.to_str().unwrap(),
-        "--class",
-        roster.to_str().unwrap(),
-        "--build",
-        "make",
-        "--renderer",
-        "./raytracer",
-        "--report",
-        report.to_str().unwrap(),
-    ]);
+    let output = grade_class(&suite, &roster, &report, &[]);
     let out = text(&output);
     assert_eq!(output.status.code(), Some(0), "{out}");
     // The terminal shows every name, escaped, one row each: no escape reaches it raw.

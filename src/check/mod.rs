@@ -868,56 +868,53 @@ fn grade(
         }
     };
     if let Some((cause, explanation)) = failed_run(ran, &options.limits) {
-        // A crash after a whole picture was written: the picture is compared and shown, and
-        // the crash blamed on what runs after it. The line still fails: the program did not
-        // end well.
-        if cause == Diagnosis::CRASH
-            && matches!(ran.ending, Ending::Failed { .. } | Ending::Signaled { .. })
-            && let Ok(actual) = output::read_output(path, (reference.width, reference.height))
-        {
-            let judgement = judge(&actual, &reference, options.rule);
-            let picture = if judgement.pass {
-                "Your picture matches the reference".to_string()
-            } else {
-                "Your picture was written whole but differs from the reference".to_string()
-            };
-            let off = judgement
-                .bad_fraction
-                .map(|f| format!(" ({:.3}% of pixels off)", 100.0 * f))
-                .unwrap_or_default();
-            let mut findings = vec![Finding::Diagnosis(Diagnosis::CRASH_AT_EXIT)];
-            findings.extend(judgement.diagnoses.into_iter().map(Finding::Diagnosis));
-            return Graded {
-                bad_fraction: judgement.bad_fraction,
-                actual: Some(actual),
-                reference: Some(reference),
-                ..graded(
-                    Status::Error,
-                    findings,
-                    format!(
-                        "{picture}{off}; then the renderer {}.{} {}",
-                        how_it_ended(&ran.ending),
-                        said(&ran.stderr),
-                        Diagnosis::CRASH_AT_EXIT.explanation()
-                    ),
-                )
-            };
-        }
-        // A picture left cut short or garbled by a crash is said to be, not "never written".
-        let explanation = match output::read_output(path, (reference.width, reference.height)) {
-            Err(unread)
-                if cause == Diagnosis::CRASH && unread.cause != Diagnosis::MISSING_OUTPUT =>
+        // What a crash left behind, read once: a whole picture, one cut short, or none.
+        let left = (cause == Diagnosis::CRASH)
+            .then(|| output::read_output(path, (reference.width, reference.height)));
+        let explanation = match left {
+            // A crash after a whole picture was written: the picture is compared and shown,
+            // and the crash blamed on what runs after it. The line still fails: the program
+            // did not end well.
+            Some(Ok(actual))
+                if matches!(ran.ending, Ending::Failed { .. } | Ending::Signaled { .. }) =>
             {
-                format!(
-                    "The renderer {} while its picture was being written: the file it left is \
-                     cut short or not a picture ({}).{} Look at what ends the program before the \
-                     picture is whole (an exception or a crash while writing it, a file not \
-                     closed).",
-                    how_it_ended(&ran.ending),
-                    unread.message,
-                    said(&ran.stderr)
-                )
+                let judgement = judge(&actual, &reference, options.rule);
+                let picture = if judgement.pass {
+                    "Your picture matches the reference"
+                } else {
+                    "Your picture was written whole but differs from the reference"
+                };
+                let off = judgement
+                    .bad_fraction
+                    .map(|f| format!(" ({:.3}% of pixels off)", 100.0 * f))
+                    .unwrap_or_default();
+                let mut findings = vec![Finding::Diagnosis(Diagnosis::CRASH_AT_EXIT)];
+                findings.extend(judgement.diagnoses.into_iter().map(Finding::Diagnosis));
+                return Graded {
+                    bad_fraction: judgement.bad_fraction,
+                    actual: Some(actual),
+                    reference: Some(reference),
+                    ..graded(
+                        Status::Error,
+                        findings,
+                        format!(
+                            "{picture}{off}; then the renderer {}.{} {}",
+                            how_it_ended(&ran.ending),
+                            said(&ran.stderr),
+                            Diagnosis::CRASH_AT_EXIT.explanation()
+                        ),
+                    )
+                };
             }
+            // A picture left cut short or garbled by a crash is said to be, not "never written".
+            Some(Err(unread)) if unread.cause != Diagnosis::MISSING_OUTPUT => format!(
+                "The renderer {} while its picture was being written: the file it left is cut \
+                 short or not a picture ({}).{} Look at what ends the program before the picture \
+                 is whole (an exception or a crash while writing it, a file not closed).",
+                how_it_ended(&ran.ending),
+                unread.message,
+                said(&ran.stderr)
+            ),
             _ => explanation,
         };
         return Graded {

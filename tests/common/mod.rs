@@ -139,3 +139,9 @@ pub fn open_raycast_folder() -> &'static str {
         .to_str()
         .unwrap()
 }
+
+/// The `summary.json` of a report of `raycast check`.
+pub fn summary_of(report: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(report.join("summary.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}

@@ -3,7 +3,7 @@
 //! seconds), a `failure` for a picture that fails and an `error` for one not made, the
 //! explanation and the renderer's last words in `system-out`.
 
-use super::{message, overview, seconds};
+use super::{message, overview, renderer_said, seconds};
 use crate::check::{Checked, Group, Status};
 
 /// The XML of `checked`.
@@ -55,13 +55,11 @@ pub fn xml(checked: &Checked, groups: &[Group]) -> String {
             ));
         }
         // The explanation is the failure's text: here only what ran and what it said.
-        let mut ran = format!("$ {}\n", g.command);
-        let said = crate::check::untrusted::tail(&g.stderr);
-        if !said.is_empty() {
-            ran.push_str("The renderer said:\n");
-            ran.push_str(&said);
-            ran.push('\n');
-        }
+        let ran = format!(
+            "$ {}\n{}",
+            g.command,
+            renderer_said(&crate::check::untrusted::tail(&g.stderr))
+        );
         xml.push_str(&format!(
             "      <system-out>{}</system-out>\n    </testcase>\n",
             escape(&ran)

@@ -225,13 +225,19 @@ pub fn output(checked: &Checked, g: &Graded) -> String {
             "The renderer's output for this line is under {}.\n",
             first.name
         )),
-        None => {
-            text.push_str("The renderer said:\n");
-            text.push_str(&said);
-            text.push('\n');
-        }
+        None => text.push_str(&renderer_said(&said)),
     }
     text
+}
+
+/// What the renderer said, kept as [`super::untrusted::tail`] keeps it, under its heading; ""
+/// when it said nothing.
+pub fn renderer_said(tail: &str) -> String {
+    if tail.is_empty() {
+        String::new()
+    } else {
+        format!("The renderer said:\n{tail}\n")
+    }
 }
 
 /// The whole run's seconds, by the clock: its build and its lines (which ran side by side, so
