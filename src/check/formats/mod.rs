@@ -230,8 +230,8 @@ pub fn output(checked: &Checked, g: &Graded) -> String {
     text
 }
 
-/// What the renderer said, kept as [`super::untrusted::tail`] keeps it, under its heading; ""
-/// when it said nothing.
+/// What the renderer said, its tail as the report keeps it (`untrusted::tail`), under its
+/// heading; "" when it said nothing.
 pub fn renderer_said(tail: &str) -> String {
     if tail.is_empty() {
         String::new()
