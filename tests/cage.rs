@@ -183,7 +183,11 @@ fn a_forger_never_passes() {
     let (out, code) = w.check(&copier, &[], "copier.sh");
     assert_eq!(code, Some(1), "{out}");
     assert_graded(&out, "ERROR  output2_01: crash");
-    assert_graded(&out, "cannot open");
+    // Not there at all in the renderer's own root; refused by Landlock where it has none.
+    assert!(
+        out.contains("No such file") || out.contains("cannot open"),
+        "{out}"
+    );
     // Finds the suite in check's command line, through /proc.
     let finder = w.renderer(
         "finder.sh",
@@ -638,6 +642,16 @@ fn check_run_by_an_ordinary_user_cages_the_renderer_too() {
         summary.contains("\"user\": \"check's own user\""),
         "{summary}"
     );
+    // Its own user namespace gives it the rest of the cage: its own root and namespaces.
+    let cage = &common::summary_of(&w.report)["cage"];
+    for held in [
+        "own_root",
+        "pid_namespace",
+        "ipc_namespace",
+        "network_namespace",
+    ] {
+        assert_eq!(cage[held], true, "{held}: {cage}");
+    }
     assert_eq!(left_running("user-token"), Vec::<String>::new());
 }
 
@@ -791,7 +805,7 @@ fn a_renderer_never_runs_as_root_even_from_a_closed_folder() {
 }
 
 #[test]
-fn a_suite_renderers_may_read_is_not_graded_without_no_cage() {
+fn a_suite_in_a_folder_renderers_may_read_is_hidden_or_refused() {
     let Some(conformance) = conformance_dir() else {
         return;
     };
@@ -821,15 +835,28 @@ fn a_suite_renderers_may_read_is_not_graded_without_no_cage() {
             .output()
             .unwrap()
     };
-    let refused = run(&[]);
-    let said = String::from_utf8_lossy(&refused.stderr);
-    assert_eq!(refused.status.code(), Some(2), "{said}");
-    assert!(
-        said.contains("the suite lies under /opt, which every renderer may read")
-            && said.contains("--no-cage"),
-        "{said}"
-    );
-    assert!(refused.stdout.is_empty() && !report.exists());
+    let first = run(&[]);
+    let said = String::from_utf8_lossy(&first.stderr);
+    if first.status.code() == Some(2) {
+        // No root of its own on this machine: Landlock alone would let it read /opt.
+        assert!(
+            said.contains("the suite lies under /opt, which every renderer may read")
+                && said.contains("--no-cage"),
+            "{said}"
+        );
+        assert!(first.stdout.is_empty() && !report.exists());
+    } else {
+        // In a root of its own the suite is hidden, even under /opt (an empty folder no one
+        // may open lies over it): graded, and the copier has nothing to copy.
+        let out = String::from_utf8_lossy(&first.stdout);
+        assert_eq!(first.status.code(), Some(1), "{out}{said}");
+        assert!(out.contains("ERROR  output2_01: crash"), "{out}");
+        assert!(
+            out.contains("suite/reference/output2_01.png: Permission denied"),
+            "{out}"
+        );
+        assert_eq!(common::summary_of(report)["cage"]["own_root"], true);
+    }
     // Told --no-cage, it grades, says so once, and every report records it.
     let graded = run(&["--no-cage"]);
     let said = String::from_utf8_lossy(&graded.stderr);
@@ -839,5 +866,145 @@ fn a_suite_renderers_may_read_is_not_graded_without_no_cage() {
     assert!(
         gradescope.contains("graded with --no-cage"),
         "{gradescope:.600}"
+    );
+}
+
+/// The System V shared memory segments of the machine, as `ipcs -m` lists them.
+fn shared_memory_segments() -> Vec<String> {
+    let listed = Command::new("ipcs")
+        .arg("-m")
+        .output()
+        .expect("ipcs (util-linux) lists the machine's shared memory");
+    String::from_utf8_lossy(&listed.stdout)
+        .lines()
+        .filter(|l| l.starts_with("0x"))
+        .map(String::from)
+        .collect()
+}
+
+#[test]
+fn no_side_door_reaches_outside_the_line() {
+    let Some(w) = world() else { return };
+    let python = Path::new("/usr/bin/python3");
+    assert!(python.exists(), "these tests need /usr/bin/python3");
+    // System V shared memory: each line sees none but its own, and none outlives it.
+    let before = shared_memory_segments();
+    let sharer = w.renderer(
+        "sharer.sh",
+        &format!(
+            "ipcs -m | grep -q '^0x' && {{ echo 'saw a segment of another line'; exit 1; }}
+             ipcmk -M 4096 > /dev/null || exit 1
+             {}",
+            render()
+        ),
+    );
+    for _ in 0..2 {
+        let (out, code) = w.check(&sharer, &[], "sharer.sh");
+        assert_eq!(code, Some(0), "{out}");
+    }
+    assert_eq!(shared_memory_segments(), before);
+    // A listener outside, reached by its socket's path (as D-Bus, docker.sock or an X server
+    // would be): never reached.
+    let sockets = tempfile::tempdir().unwrap();
+    std::fs::set_permissions(sockets.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
+    let path = sockets.path().join("listener.sock");
+    let listener = std::os::unix::net::UnixListener::bind(&path).unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o777)).unwrap();
+    listener.set_nonblocking(true).unwrap();
+    let caller = w.renderer(
+        "caller.sh",
+        &format!(
+            "/usr/bin/python3 -c 'import socket, sys
+s = socket.socket(socket.AF_UNIX)
+s.connect(sys.argv[1])
+s.sendall(b\"a line of the suite\")' '{}' && {{ echo 'reached the listener'; exit 1; }}
+             {}",
+            path.display(),
+            render()
+        ),
+    );
+    let (out, code) = w.check(&caller, &[], "caller.sh");
+    assert_eq!(code, Some(0), "{out}");
+    assert!(
+        listener.accept().is_err(),
+        "the listener heard the renderer"
+    );
+    // /tmp and /dev/shm are the line's own: written there, found nowhere else.
+    let marker = format!("raycast-marker-{}", std::process::id());
+    let temporary = w.renderer(
+        "temporary.sh",
+        &format!(
+            "echo x > /tmp/{marker} && echo x > /dev/shm/{marker} || exit 1
+             {}",
+            render()
+        ),
+    );
+    let (out, code) = w.check(&temporary, &[], "temporary.sh");
+    assert_eq!(code, Some(0), "{out}");
+    for folder in ["/tmp", "/dev/shm"] {
+        assert!(!Path::new(folder).join(&marker).exists(), "{folder}: {out}");
+    }
+    assert_eq!(
+        common::summary_of(&w.report)["cage"]["own_root"],
+        true,
+        "the lines ran in a root of their own"
+    );
+}
+
+#[test]
+fn a_bomb_that_reforks_as_it_is_killed_ends_with_its_line() {
+    let Some(w) = world() else { return };
+    let bomb = w.renderer(
+        "refork.sh",
+        &format!(
+            "for i in $(seq 60); do
+               ( while :; do (exec -a refork-token sleep 30) & wait; done ) &
+             done
+             sleep 0.3
+             {}",
+            render()
+        ),
+    );
+    // w.check asserts that no process carrying the token is left.
+    let (out, code) = w.check(&bomb, &[], "refork-token");
+    assert_eq!(code, Some(0), "{out}");
+    assert_eq!(common::summary_of(&w.report)["cage"]["pid_namespace"], true);
+}
+
+#[test]
+fn a_line_writes_no_more_than_its_disk_and_leaves_nothing() {
+    let Some(w) = world() else { return };
+    // 16 MiB: 16 MiB of bytes and 256 files and folders in all, whatever the folder.
+    let filler = w.renderer(
+        "filler.sh",
+        "dd if=/dev/zero of=fill bs=1M count=64 2>/dev/null
+         echo \"wrote $(stat -c %s fill) bytes\"
+         rm fill
+         for i in $(seq 1000); do mkdir -p /tmp/d$i 2>/dev/null || break; done
+         echo \"made $((i - 1)) folders\"
+         exit 1",
+    );
+    let (out, code) = w.check(&filler, &["--disk", "16M"], "filler.sh");
+    assert_eq!(code, Some(1), "{out}");
+    let number_after = |word: &str| -> u64 {
+        let at = out
+            .find(word)
+            .unwrap_or_else(|| panic!("no '{word}' in {out}"))
+            + word.len();
+        out[at..]
+            .split_whitespace()
+            .next()
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no number after '{word}' in {out}"))
+    };
+    assert!(number_after("wrote ") <= 16 << 20, "{out}");
+    assert!(number_after("made ") < 256, "{out}");
+    let usage = Command::new(RAYCAST)
+        .args(["check", "suite", "--renderer", "r", "--disk", "1T0"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        String::from_utf8_lossy(&usage.stderr).lines().next(),
+        Some("raycast: --disk needs a size such as 1G or 256M (at least 16M), found '1T0'")
     );
 }

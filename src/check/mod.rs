@@ -437,9 +437,11 @@ pub fn grade_renderer(
             .map_err(|e| format!("cannot open the scratch folder to the renderer: {e}"))?;
     }
     let started = std::time::Instant::now();
+    let hidden = hidden_from_renderers(options);
     let caged = Caged {
         command: renderer.command,
         readable: renderer.readable,
+        hidden: &hidden,
         user,
         stop,
         budget: renderer.budget.map(|b| (started, b)),
@@ -593,6 +595,8 @@ fn submission(
 struct Caged<'a> {
     command: &'a [String],
     readable: &'a [PathBuf],
+    /// What the renderer must not see even where it may read: the suite.
+    hidden: &'a [PathBuf],
     user: Option<(u32, u32)>,
     stop: &'a AtomicBool,
     /// When the renderer's lines began, and the time they may take together.
@@ -689,6 +693,11 @@ fn references_of(suite: &Suite, line: &Line) -> References {
         .collect()
 }
 
+/// The folders no renderer may see, even inside a folder it may read: the suite's.
+pub(crate) fn hidden_from_renderers(options: &CheckOptions) -> Vec<PathBuf> {
+    std::fs::canonicalize(&options.suite).into_iter().collect()
+}
+
 /// Runs one line in its cage and grades its images, each against its reference (read before
 /// any renderer ran); with the cage the line's supervisor found.
 fn grade_line(
@@ -731,6 +740,9 @@ fn grade_line(
                     work,
                     outputs: out.clone(),
                     readable: caged.readable.to_vec(),
+                    hidden: caged.hidden.to_vec(),
+                    root: Some(folder.join("root")),
+                    work_kept: false,
                     limit: left.map_or(options.timeout, |left| left.min(options.timeout)),
                     limits: options.limits,
                     user: caged.user,

@@ -61,7 +61,7 @@ fn inside(path: &Path) -> bool {
 }
 
 /// A line's folders: `work`, holding read-only copies of `files` from `scenes` and a private
-/// home and temporary folder, and `out`, empty; both owned by `user` where one is given (the
+/// home and temporary folder, `out` and `root`, empty; the first two owned by `user` where one is given (the
 /// line's own folder above them can be passed through, not listed).
 pub fn prepare(
     scenes: &Path,
@@ -73,7 +73,16 @@ pub fn prepare(
     let failed = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
     let work = folder.join("work");
     let out = folder.join("out");
-    for made in [folder, &work, &out, &work.join(".home"), &work.join(".tmp")] {
+    // The mount point of the renderer's own root (the cage's), empty.
+    let root = folder.join("root");
+    for made in [
+        folder,
+        &work,
+        &out,
+        &root,
+        &work.join(".home"),
+        &work.join(".tmp"),
+    ] {
         std::fs::create_dir_all(made).map_err(|e| failed(made, e))?;
     }
     std::fs::set_permissions(folder, std::fs::Permissions::from_mode(0o711))

@@ -14,8 +14,8 @@ use crate::image_io::{self, ImageFormat};
 pub const CHECK_USAGE: &str = "\
 usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
                      [--max-bad FRACTION] [--jobs N] [--timeout SECONDS] [--budget SECONDS]
-                     [--shard K/N] [--memory SIZE] [--allow-read PATH]... [--keep-preview-options]
-                     [--no-cage]
+                     [--shard K/N] [--memory SIZE] [--disk SIZE] [--allow-read PATH]...
+                     [--keep-preview-options] [--no-cage]
        raycast check SUITE --class ROSTER --renderer CMD [--build CMD] [--build-timeout S]
                      [the options above]
        raycast check merge OUT DIR...
@@ -34,10 +34,11 @@ them (quotes and backslashes; no expansion): --renderer \"python3 'my tracer.py'
 lines (--keep-preview-options passes them on). Lines run --jobs at a time (default: one a
 core), each handed out as a worker comes free; --shard K/N runs every Nth line from the Kth.
 Each line's renderer runs caged (docs/check.md, \"The cage\"): as user nobody when check runs as
-root, under Landlock (it reads the system's files, its own program's folder and --allow-read
-paths; it writes its work and output folders only), in a network namespace of its own, with
---memory of address space (default 4G), files of at most 256 MiB, a private HOME and TMPDIR,
-and everything it started ended with it. Ctrl-C ends the renderers and writes what was graded,
+root, in a root of its own (the system's folders, its own program's folder and --allow-read
+paths, read-only; its work and output folders and a private /tmp on --disk bytes, default 1G,
+gone with the line), under Landlock, in network, IPC and PID namespaces of its own, with
+--memory of address space a process (default 4G), files of at most 256 MiB, and everything it
+started ended with it. Ctrl-C ends the renderers and writes what was graded,
 marked partial (exit 130). Where nothing would keep the renderer from the references (no
 Landlock, or a suite under a system folder such as /opt), check refuses to grade; --no-cage
 grades anyway, for your own renderer on your own machine, and every report says so. --budget
@@ -208,6 +209,13 @@ fn parse_check_args(
                 options.limits.memory = size(&v).ok_or_else(|| {
                     format!("--memory needs a size such as 4G or 512M (at least 16M), found '{v}'")
                 })?;
+            }
+            "--disk" => {
+                let v = value(&mut args, "--disk", "a size such as 1G or 256M")?;
+                options.limits.disk = size(&v).ok_or_else(|| {
+                    format!("--disk needs a size such as 1G or 256M (at least 16M), found '{v}'")
+                })?;
+                options.limits.files = check::Limits::files_for(options.limits.disk);
             }
             "--allow-read" => {
                 let v = value(&mut args, "--allow-read", "a file or folder")?;

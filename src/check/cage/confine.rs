@@ -1,7 +1,7 @@
-//! What confines a renderer: a network namespace (entered by its supervisor), and, between
-//! fork and exec, resource limits,
-//! death with its supervisor, and Landlock's rules (the system's files and its own submission
-//! readable; its work and output folders writable; no TCP; no signals out of its domain).
+//! What confines a renderer: user, network, IPC and PID namespaces (entered by its supervisor),
+//! and, between fork and exec, resource limits, death with its init, no new privileges, and
+//! Landlock's rules (the system's files and its own submission readable; its work, output and
+//! private temporary folders writable; no TCP; no signals out of its domain).
 
 // The one system call here with no safe wrapper, `unshare`, needs an unsafe block.
 #![allow(unsafe_code)]
@@ -28,27 +28,47 @@ const SYSTEM_SINKS: &[&str] = &["/dev/null", "/dev/zero", "/dev/full"];
 
 /// Which namespaces the supervisor entered.
 pub struct Namespaces {
-    /// A user namespace (taken without root, to make the other).
+    /// A user namespace (taken without root, to make the others), mapping check's user to itself.
     pub user: bool,
-    /// A network namespace: no interface but a loopback that is down.
+    /// A network namespace: no interface but a loopback that is down (and no abstract UNIX
+    /// sockets of the machine's).
     pub network: bool,
+    /// An IPC namespace: System V shared memory, semaphores, message queues and POSIX message
+    /// queues private to the line, and gone with it.
+    pub ipc: bool,
+    /// A PID namespace: the supervisor's next child is its first process, and every process in
+    /// it ends when that one does.
+    pub pid: bool,
 }
 
-/// Puts the supervisor in a new network namespace, as far as the kernel allows: without root,
-/// in a user namespace of its own first (it keeps the user's files and ids outside), which
-/// lets it make the other. No PID namespace: the renderer would be its first process, which
-/// ignores its own signals (an abort() would be misnamed); the subreaper and Landlock's signal
-/// scope give what it would.
+/// Puts the supervisor in new namespaces, as far as the kernel allows: without root, in a user
+/// namespace of its own first (check's user mapped to itself, so the renderer's files are its
+/// own and its program keeps no capability), which lets it make the others. The PID namespace
+/// takes effect for the supervisor's children: its first child, the line's init, is process 1
+/// there; the renderer is that init's child, so a renderer's abort() is still its own.
 pub fn enter_namespaces() -> Namespaces {
     use rustix::thread::UnshareFlags;
-    // SAFETY: neither flag unshares the file descriptor table, the one case in which
+    // SAFETY: none of these flags unshares the file descriptor table, the one case in which
     // `unshare` affects memory safety; the supervisor is single-threaded here.
     let enter = |flags| unsafe { rustix::thread::unshare_unsafe(flags) }.is_ok();
-    let user = !rustix::process::geteuid().is_root() && enter(UnshareFlags::NEWUSER);
+    let (uid, gid) = (rustix::process::getuid(), rustix::process::getgid());
+    let user = !uid.is_root() && enter(UnshareFlags::NEWUSER) && map_to_itself(uid, gid);
     Namespaces {
         user,
         network: enter(UnshareFlags::NEWNET),
+        ipc: enter(UnshareFlags::NEWIPC),
+        pid: enter(UnshareFlags::NEWPID),
     }
+}
+
+/// Maps the user and group outside to themselves in the new user namespace (without a map,
+/// nothing it made could own a file).
+fn map_to_itself(uid: rustix::process::Uid, gid: rustix::process::Gid) -> bool {
+    let write = |file: &str, text: String| std::fs::write(format!("/proc/self/{file}"), text);
+    let (uid, gid) = (uid.as_raw(), gid.as_raw());
+    write("setgroups", "deny".into()).is_ok()
+        && write("uid_map", format!("{uid} {uid} 1")).is_ok()
+        && write("gid_map", format!("{gid} {gid} 1")).is_ok()
 }
 
 /// The renderer's environment: the PATH, a private HOME and TMPDIR in its work folder, and a
@@ -70,11 +90,15 @@ pub fn environment(request: &Request) -> Vec<(String, String)> {
 }
 
 /// Landlock's rules for `request`.
-fn ruleset(request: &Request) -> Result<RulesetCreated, RulesetError> {
+fn ruleset(request: &Request, own_root: bool) -> Result<RulesetCreated, RulesetError> {
     // The rights of Landlock's sixth version (Linux 6.12); an older kernel enforces those it
     // has (best effort), and the report says "partially".
     let abi = ABI::V6;
-    let writable: [&PathBuf; 2] = [&request.work, &request.outputs];
+    let mut writable: Vec<PathBuf> = vec![request.work.clone(), request.outputs.clone()];
+    if own_root {
+        // Its own root's /tmp and /dev/shm, on the line's tmpfs: nobody else's.
+        writable.extend(PRIVATE_TEMPORARY.iter().map(PathBuf::from));
+    }
     Ruleset::default()
         .handle_access(AccessFs::from_all(abi))?
         .handle_access(AccessNet::from_all(abi))?
@@ -86,15 +110,18 @@ fn ruleset(request: &Request) -> Result<RulesetCreated, RulesetError> {
             &request.readable,
             AccessFs::from_read(abi),
         ))?
-        .add_rules(path_beneath_rules(writable, AccessFs::from_all(abi)))
+        .add_rules(path_beneath_rules(&writable, AccessFs::from_all(abi)))
 }
+
+/// The temporary folders of a renderer's own root (see `root.rs`): private to its line.
+pub(super) const PRIVATE_TEMPORARY: &[&str] = &["/tmp", "/dev/shm"];
 
 /// Whether Landlock will hold the renderer, in words for the report: the rules are tried on a
 /// thread that ends at once (Landlock binds the thread that asks, and what it starts).
 pub fn landlock_state(request: &Request) -> String {
     let request = request.clone();
     let tried = std::thread::Builder::new().spawn(move || {
-        match ruleset(&request).and_then(|r| r.restrict_self()) {
+        match ruleset(&request, false).and_then(|r| r.restrict_self()) {
             Ok(status) => match status.ruleset {
                 RulesetStatus::FullyEnforced => "fully enforced".to_string(),
                 RulesetStatus::PartiallyEnforced => "partially enforced (an older kernel)".into(),
@@ -115,6 +142,7 @@ pub fn landlock_state(request: &Request) -> String {
 pub fn in_child(
     request: &Request,
     count_processes: bool,
+    own_root: bool,
 ) -> impl FnMut() -> std::io::Result<()> + Send + Sync + 'static {
     let request = request.clone();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
@@ -134,7 +162,7 @@ pub fn in_child(
             lower(Resource::Nproc, limits.processes)?;
         }
         // Where Landlock is missing the renderer runs without it (the report says so).
-        if let Ok(ruleset) = ruleset(&request) {
+        if let Ok(ruleset) = ruleset(&request, own_root) {
             let _ = ruleset.restrict_self();
         }
         Ok(())

@@ -1,13 +1,18 @@
 //! The cage a renderer under test runs in. Every line's renderer is started by a supervisor of
 //! its own (raycast itself, started with [`SUPERVISE`]): a small single-threaded process that
-//! confines the renderer as far as the kernel allows (an unprivileged user when check runs as
-//! root; Landlock; its own network namespace; resource limits; a private HOME and TMPDIR), enforces the line's deadline, and ends everything the renderer started before it
-//! reports, setsid and double forks included. check itself only waits for the supervisor's
-//! report, with a deadline of its own behind the supervisor's.
+//! enters the line's namespaces (user, network, IPC, PID) and forks the line's init, which
+//! builds the renderer's own root (a mount namespace: the system's folders read-only, its own
+//! program, its folders on a size-limited tmpfs, a private /tmp; `root.rs`) and runs the
+//! renderer confined as far as the kernel allows (an unprivileged user when check runs as root;
+//! Landlock; resource limits; a private HOME and TMPDIR), enforces the line's deadline, and
+//! ends everything the renderer started before it reports, setsid, double forks and fork bombs
+//! included. check itself only waits for the supervisor's report, with a deadline of its own
+//! behind the supervisor's.
 
 mod confine;
 mod reach;
 mod reap;
+mod root;
 mod supervisor;
 mod wall;
 
@@ -37,17 +42,32 @@ pub struct Limits {
     pub processes: u64,
     /// Open files.
     pub open_files: u64,
+    /// The bytes its own root holds: everything it writes, in every folder (`--disk`).
+    pub disk: u64,
+    /// The files and folders its own root holds: one for each 64 KiB of `disk` (a course's
+    /// scene and picture are larger), at least 256.
+    pub files: u64,
+}
+
+impl Limits {
+    /// The files and folders a line may make in `disk` bytes.
+    pub fn files_for(disk: u64) -> u64 {
+        (disk / (64 << 10)).max(256)
+    }
 }
 
 impl Default for Limits {
     /// 4 GiB of memory, files of up to 256 MiB (the largest image check reads), 256 processes,
-    /// 256 open files; no core files.
+    /// 256 open files, 1 GiB and 16,384 files written in all (a course's picture is under a
+    /// megabyte); no core files.
     fn default() -> Limits {
         Limits {
             memory: 4 << 30,
             file_size: crate::check::MAX_IMAGE_BYTES,
             processes: 256,
             open_files: 256,
+            disk: 1 << 30,
+            files: Limits::files_for(1 << 30),
         }
     }
 }
@@ -63,6 +83,14 @@ pub struct Request {
     pub outputs: PathBuf,
     /// Folders and files it may read beyond the system's: its own submission.
     pub readable: Vec<PathBuf>,
+    /// Folders it must never see, even inside a readable one: the suite.
+    pub hidden: Vec<PathBuf>,
+    /// An empty folder for its own root to be mounted on (see `root.rs`); `None`: it runs
+    /// among the machine's files, confined by the rest of the cage.
+    pub root: Option<PathBuf>,
+    /// Whether its work folder is bound in place, its writes kept (a build writes its program
+    /// into the submission), rather than copied into its own root, its writes dropped.
+    pub work_kept: bool,
     /// Its wall-clock time.
     pub limit: Duration,
     /// Its resource limits.
@@ -78,11 +106,16 @@ impl Request {
             "work": self.work,
             "outputs": self.outputs,
             "readable": self.readable,
+            "hidden": self.hidden,
+            "root": self.root,
+            "work_kept": self.work_kept,
             "limit_ms": self.limit.as_millis() as u64,
             "memory": self.limits.memory,
             "file_size": self.limits.file_size,
             "processes": self.limits.processes,
             "open_files": self.limits.open_files,
+            "disk": self.limits.disk,
+            "files": self.limits.files,
             "user": self.user.map(|(u, g)| [u, g]),
         })
     }
@@ -131,12 +164,17 @@ impl Request {
                 .into_iter()
                 .map(PathBuf::from)
                 .collect(),
+            hidden: strings("hidden")?.into_iter().map(PathBuf::from).collect(),
+            root: value["root"].as_str().map(PathBuf::from),
+            work_kept: value["work_kept"].as_bool().unwrap_or(false),
             limit: Duration::from_millis(number("limit_ms")?),
             limits: Limits {
                 memory: number("memory")?,
                 file_size: number("file_size")?,
                 processes: number("processes")?,
                 open_files: number("open_files")?,
+                disk: number("disk")?,
+                files: number("files")?,
             },
             user,
         })
@@ -191,7 +229,7 @@ pub struct Ran {
 
 /// Which of the cage's mechanisms were in force for a run, as its supervisor found the kernel
 /// (where one is missing the renderer runs anyway, and the report says so).
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Confinement {
     /// Who the renderer ran as.
     pub user: String,
@@ -201,6 +239,27 @@ pub struct Confinement {
     pub network_namespace: bool,
     /// Whether its supervisor adopted its orphans (PR_SET_CHILD_SUBREAPER) to end them.
     pub subreaper: bool,
+    /// Whether it had an IPC namespace of its own (System V and POSIX IPC private to it).
+    pub ipc_namespace: bool,
+    /// Whether its line had a PID namespace (every process of the line ends with it).
+    pub pid_namespace: bool,
+    /// Whether it ran in a root of its own (the system's folders, its own and nothing else;
+    /// its writes bounded), or, if not, why not.
+    pub own_root: Result<(), String>,
+}
+
+impl Default for Confinement {
+    fn default() -> Confinement {
+        Confinement {
+            user: String::new(),
+            landlock: String::new(),
+            network_namespace: false,
+            subreaper: false,
+            ipc_namespace: false,
+            pid_namespace: false,
+            own_root: Err("not tried".into()),
+        }
+    }
 }
 
 impl Confinement {
@@ -211,6 +270,12 @@ impl Confinement {
             "landlock": self.landlock,
             "network_namespace": self.network_namespace,
             "subreaper": self.subreaper,
+            "ipc_namespace": self.ipc_namespace,
+            "pid_namespace": self.pid_namespace,
+            "own_root": match &self.own_root {
+                Ok(()) => serde_json::Value::Bool(true),
+                Err(why) => serde_json::Value::String(why.clone()),
+            },
         })
     }
 
@@ -220,12 +285,25 @@ impl Confinement {
             landlock: value["landlock"].as_str()?.to_string(),
             network_namespace: value["network_namespace"].as_bool()?,
             subreaper: value["subreaper"].as_bool()?,
+            // Reports written before these were kept did not have them.
+            ipc_namespace: value["ipc_namespace"].as_bool().unwrap_or(false),
+            pid_namespace: value["pid_namespace"].as_bool().unwrap_or(false),
+            own_root: match &value["own_root"] {
+                serde_json::Value::Bool(true) => Ok(()),
+                serde_json::Value::String(why) => Err(why.clone()),
+                _ => Err("not recorded".into()),
+            },
         })
     }
 
-    /// Whether every mechanism held: Landlock in full, no network, the tree adopted.
+    /// Whether every mechanism held: Landlock in full, no network, private IPC, every process
+    /// ended with the line, a root of its own.
     pub fn is_whole(&self) -> bool {
-        self.landlock == "fully enforced" && self.network_namespace && self.subreaper
+        self.landlock == "fully enforced"
+            && self.network_namespace
+            && self.ipc_namespace
+            && (self.pid_namespace || self.subreaper)
+            && self.own_root.is_ok()
     }
 
     /// One line for the terminal: what held the renderer, and what was missing.
@@ -237,12 +315,22 @@ impl Confinement {
                 format!("no {what}")
             }
         };
+        let root = match &self.own_root {
+            Ok(()) => "a root of its own".to_string(),
+            Err(why) => format!("the machine's files (no root of its own: {why})"),
+        };
         format!(
-            "renderer caged as {}; Landlock {}; {}; {}",
+            "renderer caged as {}; Landlock {}; {}; {}; {}; {}",
             self.user,
             self.landlock,
             yes_no(self.network_namespace, "network namespace"),
-            yes_no(self.subreaper, "subreaper"),
+            yes_no(self.ipc_namespace, "IPC namespace"),
+            if self.pid_namespace {
+                "PID namespace".to_string()
+            } else {
+                yes_no(self.subreaper, "subreaper")
+            },
+            root,
         )
     }
 }
@@ -446,6 +534,9 @@ mod tests {
             work: "/tmp/x/work".into(),
             outputs: "/tmp/x/out".into(),
             readable: vec!["/home/s".into()],
+            hidden: vec!["/home/suite".into()],
+            root: Some("/tmp/x/root".into()),
+            work_kept: false,
             limit: Duration::from_millis(2500),
             limits: Limits::default(),
             user: Some((65534, 65533)),

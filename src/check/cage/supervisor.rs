@@ -1,13 +1,16 @@
 //! A line's supervisor: raycast started as `raycast __supervise REQUEST`. It stays
-//! single-threaded (so that the renderer's process can be prepared between fork and exec), puts
-//! itself in a new network namespace where the kernel lets it, becomes the subreaper of
-//! everything the renderer starts, runs the renderer confined, and reports how it ended on its
-//! stdout, as one JSON object, once nothing the renderer started is left.
+//! single-threaded (so that it can fork its init, and the renderer's process can be prepared
+//! between fork and exec), enters the line's namespaces where the kernel lets it, forks the
+//! line's init (the first process of its PID namespace), which builds the renderer's own root,
+//! runs the renderer confined and tells the supervisor how it ended; the supervisor reports
+//! that on its stdout, as one JSON object, once nothing the renderer started is left.
 
 // Preparing the renderer between fork and exec (`pre_exec`) needs an unsafe block.
 #![allow(unsafe_code)]
 
+use std::io::{Read, Write};
 use std::os::fd::AsFd;
+use std::os::unix::net::UnixStream;
 use std::os::unix::process::CommandExt;
 use std::process::{Command, ExitCode, Stdio};
 use std::sync::Arc;
@@ -16,7 +19,8 @@ use std::time::{Duration, Instant};
 
 use rustix::process::{Pid, Signal, WaitOptions};
 
-use super::{Confinement, Ending, Request, confine, reap};
+use super::confine::Namespaces;
+use super::{Confinement, Ending, Request, confine, reap, root};
 
 /// The supervisor's whole life: `request` is the JSON check passed. Its report goes to stdout;
 /// the renderer's stderr and stdout go to the supervisor's stderr.
@@ -51,7 +55,112 @@ fn run(request: &Request) -> (Ending, Confinement) {
     cage.landlock = confine::landlock_state(request);
     let namespaces = confine::enter_namespaces();
     cage.network_namespace = namespaces.network;
+    cage.ipc_namespace = namespaces.ipc;
+    cage.pid_namespace = namespaces.pid;
+    // Where there is no PID namespace, what outlives the init is adopted here, and ended.
     cage.subreaper = rustix::process::set_child_subreaper(Some(rustix::process::getpid())).is_ok();
+    let (report, for_init) = match UnixStream::pair() {
+        Ok(pair) => pair,
+        Err(e) => {
+            return (
+                Ending::NotStarted(format!("no channel to its init: {e}")),
+                cage,
+            );
+        }
+    };
+    let start = Instant::now();
+    // SAFETY: the supervisor is single-threaded here (the Landlock probe's thread has been
+    // joined), so the child is a whole copy of a process in which no other thread held a
+    // lock; it may allocate and run ordinary code, and leaves by _exit.
+    let init = match unsafe { libc::fork() } {
+        -1 => {
+            let e = std::io::Error::last_os_error();
+            return (
+                Ending::NotStarted(format!("its init could not start: {e}")),
+                cage,
+            );
+        }
+        0 => {
+            drop(report);
+            let (ending, cage) = init(request, &namespaces, cage, &stop);
+            let said = serde_json::json!({ "ending": ending_json(&ending), "cage": cage.json() });
+            let _ = (&for_init).write_all(said.to_string().as_bytes());
+            // SAFETY: _exit ends the init at once, without the supervisor's exit handlers;
+            // as the PID namespace's first process, it takes every other one with it.
+            unsafe { libc::_exit(0) }
+        }
+        pid => Pid::from_raw(pid),
+    };
+    drop(for_init);
+    let Some(init) = init else {
+        return (
+            Ending::NotStarted("its init has no process id".into()),
+            cage,
+        );
+    };
+    // The init keeps the line's deadline; this one, a little later, holds if the init cannot.
+    let backstop = request.limit + INIT_GRACE;
+    let mut ended_here = None;
+    loop {
+        match rustix::process::waitpid(Some(init), WaitOptions::NOHANG) {
+            Ok(Some(_)) | Err(_) => break,
+            Ok(None) => {}
+        }
+        let why = if stop.load(Ordering::Relaxed) || rustix::process::getppid() != parent {
+            Some(Ending::Interrupted)
+        } else if start.elapsed() >= backstop {
+            Some(Ending::TimedOut(request.limit))
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            // The init first: with it goes its PID namespace, every process in it.
+            let _ = rustix::process::kill_process(init, Signal::KILL);
+            let _ = rustix::process::waitpid(Some(init), WaitOptions::empty());
+            ended_here = Some(why);
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    reap::end_descendants();
+    let mut said = String::new();
+    let _ = report.set_nonblocking(true);
+    let _ = (&report).take(64 * 1024).read_to_string(&mut said);
+    let told: Option<serde_json::Value> = serde_json::from_str(&said).ok();
+    match (ended_here, told) {
+        (Some(ending), _) => (ending, cage),
+        (None, Some(told)) => (
+            ending_of(&told["ending"]),
+            Confinement::from_json(&told["cage"]).unwrap_or(cage),
+        ),
+        (None, None) => (
+            Ending::NotStarted("its init ended without a word (killed by the renderer?)".into()),
+            cage,
+        ),
+    }
+}
+
+/// How long past the line's deadline the supervisor waits for the line's init, which keeps the
+/// deadline itself and then gives back the pictures.
+const INIT_GRACE: Duration = Duration::from_millis(1500);
+
+/// The line's init: the first process of the line's PID namespace (where the kernel gives
+/// one), in a mount namespace of its own. It moves into the renderer's own root, runs the
+/// renderer, enforces the deadline, ends every other process of the line, and gives back the
+/// pictures.
+fn init(
+    request: &Request,
+    namespaces: &Namespaces,
+    mut cage: Confinement,
+    stop: &AtomicBool,
+) -> (Ending, Confinement) {
+    // With the supervisor gone, the init (and so its namespace) goes.
+    let _ = rustix::process::set_parent_process_death_signal(Some(Signal::KILL));
+    // A session of its own: no controlling terminal, so /dev/tty is never the teacher's
+    // terminal, to write escapes to past check.
+    let _ = rustix::process::setsid();
+    let root = own_root(request, namespaces.pid);
+    cage.own_root = root.as_ref().map(|_| ()).map_err(Clone::clone);
     let Some((program, own)) = request.command.split_first() else {
         return (Ending::NotStarted("no renderer given".into()), cage);
     };
@@ -73,11 +182,11 @@ fn run(request: &Request) -> (Ending, Confinement) {
     }
     // The renderer's own process count: another user's, or a user namespace's.
     let counted = request.user.is_some() || namespaces.user;
-    let prepare = confine::in_child(request, counted);
-    // SAFETY: the closure runs in the forked child before exec. The supervisor is
-    // single-threaded (signal-hook's handlers need no thread), so no lock is held by another
-    // thread at the fork, and what the closure does (prctl, setrlimit, Landlock's system calls
-    // and its small allocations) is safe there.
+    let prepare = confine::in_child(request, counted, root.is_ok());
+    // SAFETY: the closure runs in the forked child before exec. The init is single-threaded
+    // (signal-hook's handlers need no thread), so no lock is held by another thread at the
+    // fork, and what the closure does (prctl, setrlimit, Landlock's system calls and its small
+    // allocations) is safe there.
     unsafe {
         command.pre_exec(prepare);
     }
@@ -91,8 +200,8 @@ fn run(request: &Request) -> (Ending, Confinement) {
     let renderer = Pid::from_raw(child.id() as i32);
     // The renderer's status is taken below with wait() (waitpid(-1): any child, whatever its
     // process group; rustix's waitpid(None) is waitpid(0), the caller's group only, which
-    // missed setsid orphans), which also reaps the orphans the supervisor adopts; `child` is
-    // never waited on.
+    // missed setsid orphans), which also reaps the orphans the init adopts; `child` is never
+    // waited on.
     drop(child);
     let ending = loop {
         match rustix::process::wait(WaitOptions::NOHANG) {
@@ -106,9 +215,9 @@ fn run(request: &Request) -> (Ending, Confinement) {
             }
             Ok(Some(_)) => continue,
             Ok(None) => {}
-            Err(e) => break Ending::NotStarted(format!("its supervisor lost it: {e}")),
+            Err(e) => break Ending::NotStarted(format!("its init lost it: {e}")),
         }
-        if stop.load(Ordering::Relaxed) || rustix::process::getppid() != parent {
+        if stop.load(Ordering::Relaxed) {
             break Ending::Interrupted;
         }
         if start.elapsed() >= request.limit {
@@ -119,8 +228,24 @@ fn run(request: &Request) -> (Ending, Confinement) {
     if let Some(renderer) = renderer {
         let _ = rustix::process::kill_process(renderer, Signal::KILL);
     }
-    reap::end_descendants();
+    if namespaces.pid {
+        reap::end_namespace();
+    } else {
+        reap::end_descendants();
+    }
+    if let (Ok(root), false) = (&root, request.work_kept) {
+        root.give_back_pictures(&request.outputs, request.limits.file_size);
+    }
     (ending, cage)
+}
+
+/// A mount namespace for the init, and the renderer's own root in it.
+fn own_root(request: &Request, fresh_proc: bool) -> Result<root::Root, String> {
+    use rustix::thread::UnshareFlags;
+    // SAFETY: NEWNS does not unshare the file descriptor table; the init is single-threaded.
+    unsafe { rustix::thread::unshare_unsafe(UnshareFlags::NEWNS) }
+        .map_err(|e| format!("no mount namespace: {e}"))?;
+    root::enter(request, fresh_proc)
 }
 
 fn ending_json(ending: &Ending) -> serde_json::Value {

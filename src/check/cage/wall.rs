@@ -17,6 +17,9 @@ pub struct Wall {
     /// Whether the renderer runs as another user (check runs as root) who cannot read the
     /// references.
     pub references_out_of_reach: bool,
+    /// Whether a line gets a root of its own here (the suite hidden in it, its writes on its
+    /// own tmpfs), as a probe line found; if not, why not.
+    pub own_root: Result<(), String>,
 }
 
 impl Wall {
@@ -28,12 +31,16 @@ impl Wall {
             work: temp.clone(),
             outputs: temp,
             readable: Vec::new(),
+            hidden: Vec::new(),
+            root: None,
+            work_kept: false,
             limit: std::time::Duration::ZERO,
             limits: super::Limits::default(),
             user: None,
         };
         let suite = std::fs::canonicalize(suite).unwrap_or_else(|_| suite.to_path_buf());
         Wall {
+            own_root: own_root_probe(&suite),
             landlock: confine::landlock_state(&probe),
             suite_in_system: confine::SYSTEM
                 .iter()
@@ -51,7 +58,7 @@ impl Wall {
     /// `Ok` where at least one wall keeps the references from the renderer and its writes in
     /// its folders; else why not, and how to get one.
     pub fn holds(&self) -> Result<(), String> {
-        if self.references_out_of_reach {
+        if self.references_out_of_reach || self.own_root.is_ok() {
             return Ok(());
         }
         if self.landlock_holds() {
@@ -65,14 +72,45 @@ impl Wall {
                 )),
             };
         }
+        let own_root = self.own_root.as_ref().err().map_or("", String::as_str);
         Err(format!(
             "nothing here keeps a renderer from the suite's references and from writing outside \
-             its folders: Landlock is {} (it needs Linux 5.13 or later with landlock among the \
+             its folders: a line gets no root of its own ({own_root}; it needs user and mount \
+             namespaces: as root, or with unprivileged user namespaces allowed, and in a \
+             container the CAP_SYS_ADMIN capability or a seccomp profile that allows unshare and \
+             mount), and Landlock is {} (it needs Linux 5.13 or later with landlock among the \
              kernel's security modules, and in a container a seccomp profile that allows the \
              landlock system calls). Grading your own renderer on your own machine, give \
              --no-cage; never grade other people's programs without a cage",
             self.landlock
         ))
+    }
+}
+
+/// Runs a line with nothing to run, to see whether its init gets a root of its own with the
+/// suite hidden: the cage's own verdict, on this machine, before any stranger's code runs.
+fn own_root_probe(suite: &Path) -> Result<(), String> {
+    let folder = tempfile::tempdir().map_err(|e| format!("no scratch folder: {e}"))?;
+    let [work, outputs, root] = ["work", "out", "root"].map(|name| folder.path().join(name));
+    for made in [&work, &outputs, &root] {
+        std::fs::create_dir(made).map_err(|e| format!("{}: {e}", made.display()))?;
+    }
+    let probe = Request {
+        command: Vec::new(),
+        work,
+        outputs,
+        readable: Vec::new(),
+        hidden: vec![suite.to_path_buf()],
+        root: Some(root),
+        work_kept: false,
+        limit: std::time::Duration::from_secs(5),
+        limits: super::Limits::default(),
+        user: None,
+    };
+    let never = std::sync::atomic::AtomicBool::new(false);
+    match super::run(&probe, &never).confinement {
+        Some(cage) => cage.own_root,
+        None => Err("the probe line's supervisor said nothing".into()),
     }
 }
 
@@ -85,6 +123,7 @@ mod tests {
             landlock: landlock.into(),
             suite_in_system: system.map(String::from),
             references_out_of_reach: out_of_reach,
+            own_root: Err("no mount namespace: Operation not permitted".into()),
         }
     }
 
@@ -117,6 +156,16 @@ mod tests {
             "{none}"
         );
         assert!(none.contains("give --no-cage"), "{none}");
+        assert!(
+            none.contains("a line gets no root of its own (no mount namespace"),
+            "{none}"
+        );
+        // A root of its own hides the suite wherever it lies, with Landlock or without.
+        let own = Wall {
+            own_root: Ok(()),
+            ..wall("not available on this kernel", Some("/opt"), false)
+        };
+        assert!(own.holds().is_ok());
     }
 
     #[test]

@@ -197,6 +197,8 @@ pub fn grade_student(
         }
         None => None,
     };
+    // The build's own root is mounted on a folder beside the copy, never in it.
+    let build_root = tempfile::tempdir_in(scratch).map_err(|e| e.to_string())?;
     let built = class.build.as_ref().map(|build| {
         let mut command = build.clone();
         command[0] = in_submission(&command[0], &copy);
@@ -205,6 +207,9 @@ pub fn grade_student(
             work: copy.clone(),
             outputs: copy.clone(),
             readable: readable.clone(),
+            hidden: super::hidden_from_renderers(options),
+            root: Some(build_root.path().to_path_buf()),
+            work_kept: true,
             limit: class.build_timeout,
             limits: options.limits,
             user,
