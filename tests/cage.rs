@@ -1008,3 +1008,62 @@ fn a_line_writes_no_more_than_its_disk_and_leaves_nothing() {
         Some("raycast: --disk needs a size such as 1G or 256M (at least 16M), found '1T0'")
     );
 }
+
+#[test]
+fn a_careless_renderer_is_told_the_cage_kept_it_from_its_files() {
+    let Some(w) = world() else { return };
+    // CMake's layout: the program in build/bin reads the data beside the sources, found from
+    // its own place. Its project is its own to read: it passes.
+    let project = w.scripts.join("tracer");
+    std::fs::create_dir_all(project.join("build/bin")).unwrap();
+    std::fs::create_dir_all(project.join("data")).unwrap();
+    std::fs::write(project.join("CMakeLists.txt"), "project(tracer)\n").unwrap();
+    std::fs::write(project.join("data/sky.txt"), "blue\n").unwrap();
+    let program = project.join("build/bin/tracer.sh");
+    std::fs::write(
+        &program,
+        format!(
+            "#!/usr/bin/env bash\ngrep -q blue \"$(dirname \"$0\")/../../data/sky.txt\" || exit 1\n{}\n",
+            render()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&program, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let (out, code) = w.check(program.to_str().unwrap(), &[], "tracer.sh");
+    assert_eq!(code, Some(0), "{out}");
+    // One that reads a file outside its project: the cage is named, with the fix.
+    let outside = w.canary.join("kept.txt");
+    let reader = w.renderer(
+        "reader.sh",
+        &format!(
+            "cat '{}' > /dev/null || exit 1\n{}",
+            outside.display(),
+            render()
+        ),
+    );
+    let (out, code) = w.check(&reader, &[], "reader.sh");
+    assert_eq!(code, Some(1), "{out}");
+    assert_graded(
+        &out,
+        &format!(
+            "ERROR  output2_01: cage_refused: The renderer exited with status 1. It said: cat: {}",
+            outside.display()
+        ),
+    );
+    assert_graded(
+        &out,
+        &format!(
+            "by hand it can read it, under check it cannot. If it needs it, give check \
+             --allow-read {}.",
+            w.canary.display()
+        ),
+    );
+    assert!(!out.contains("run the same command line by hand"), "{out}");
+    // Given the --allow-read it was told, it passes.
+    let (out, code) = w.check(
+        &reader,
+        &["--allow-read", w.canary.to_str().unwrap()],
+        "reader.sh",
+    );
+    assert_eq!(code, Some(0), "{out}");
+}

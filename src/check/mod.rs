@@ -12,6 +12,8 @@ pub mod formats;
 mod guard;
 pub mod merge;
 mod output;
+mod project;
+mod refused;
 mod report;
 mod rule;
 mod run;
@@ -553,8 +555,9 @@ pub fn not_built(prepared: &Prepared, why: &str, staging: Option<Staging>) -> Ch
 }
 
 /// What the renderer may read: its program and every word of its command that names a file
-/// or folder (a script, a data folder), each with the folder it is in unless that folder holds
-/// the suite (whose references a renderer must not read), and what `--allow-read` adds.
+/// or folder (a script, a data folder), and a script's interpreter, each with its own project's
+/// folders (`project.rs`) unless they hold the suite (whose references a renderer must not
+/// read), and what `--allow-read` adds.
 fn submission(
     renderer: &[String],
     executable: &Path,
@@ -568,14 +571,25 @@ fn submission(
         .skip(1)
         .map(PathBuf::from)
         .filter(|p| p.exists());
-    for path in std::iter::once(executable.to_path_buf()).chain(named) {
-        let path = std::fs::canonicalize(&path).unwrap_or(path);
-        let folder = match path.parent() {
-            Some(folder) if !path.is_dir() && !suite.starts_with(folder) => folder.to_path_buf(),
-            _ => path,
-        };
-        if !readable.contains(&folder) {
-            readable.push(folder);
+    let programs: Vec<PathBuf> = std::iter::once(executable.to_path_buf())
+        .chain(named)
+        .map(|p| std::path::absolute(&p).unwrap_or(p))
+        .collect();
+    // A script brings its interpreter's (a virtual environment's python, say) too.
+    let interpreters: Vec<PathBuf> = programs
+        .iter()
+        .filter_map(|p| project::interpreter(p))
+        .collect();
+    for path in programs.iter().chain(&interpreters) {
+        for folder in project::own_folders(path, &suite) {
+            if !readable.contains(&folder) {
+                readable.push(folder);
+            }
+        }
+        // A program whose own folder holds the suite: the program alone.
+        let alone = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
+        if alone.parent().is_some_and(|f| suite.starts_with(f)) && !readable.contains(&alone) {
+            readable.push(alone);
         }
     }
     for path in allowed {
@@ -786,6 +800,13 @@ fn grade_line(
             graded
         })
         .collect();
+    let reach = refused::Reach {
+        readable: caged.readable,
+        hidden: caged.hidden,
+        line: folder,
+        program: Path::new(caged.command.first().map_or("", String::as_str)),
+    };
+    blame_the_cage(&mut graded, &ran.stderr, &reach);
     explain_by_simulation(options, suite, line, &mut graded);
     for g in graded.iter_mut().filter(|g| g.status == Status::Fail) {
         let (Some(actual), Some(reference)) = (&g.actual, &g.reference) else {
@@ -804,6 +825,39 @@ fn grade_line(
         }
     }
     (graded, ran.confinement)
+}
+
+/// Where a picture is missing because the renderer was kept from a file of its own (its words
+/// say so), the cause is the cage, not the renderer, and the fix an `--allow-read`: never
+/// "run it by hand", which works.
+fn blame_the_cage(graded: &mut [Graded], said: &str, reach: &refused::Reach) {
+    let by_the_cage = |g: &Graded| {
+        g.status == Status::Error
+            && g.findings.iter().any(|f| {
+                matches!(f, Finding::Diagnosis(d) if *d == Diagnosis::CRASH || *d == Diagnosis::MISSING_OUTPUT)
+            })
+    };
+    if !graded.iter().any(by_the_cage) {
+        return;
+    }
+    let Some(advice) = refused::cage_refused(said, reach) else {
+        return;
+    };
+    for g in graded.iter_mut().filter(|g| by_the_cage(g)) {
+        let generic = [
+            Diagnosis::CRASH.explanation(),
+            Diagnosis::MISSING_OUTPUT.explanation(),
+            OWN_MESSAGE_ADVICE,
+        ];
+        let mut explanation = g.explanation.clone();
+        for words in generic {
+            if let Some(kept) = explanation.strip_suffix(words) {
+                explanation = kept.trim_end().to_string();
+            }
+        }
+        g.findings = vec![Finding::Diagnosis(Diagnosis::CAGE_REFUSED)];
+        g.explanation = format!("{explanation} {advice}");
+    }
 }
 
 /// What a renderer printed, with the line's scratch paths (gone once check ends) as the
@@ -1004,12 +1058,13 @@ fn missing_output(kind: PictureKind, file: &str, stderr: &str) -> String {
              that the file is written before the program exits."
         )
     } else {
-        format!(
-            "{what}{words} Its own message is the likely reason: fix what it names (a scene \
-             it cannot read, an option it does not know), then run the line by hand."
-        )
+        format!("{what}{words} {OWN_MESSAGE_ADVICE}")
     }
 }
+
+/// The advice where a renderer's own message is the likely reason a picture is missing.
+const OWN_MESSAGE_ADVICE: &str = "Its own message is the likely reason: fix what it names (a \
+     scene it cannot read, an option it does not know), then run the line by hand.";
 
 /// How much of the renderer's last words an explanation quotes.
 const SAID_CHARS: usize = 300;

@@ -90,8 +90,9 @@ impl Diagnosis {
 // Decided by the caller (a run that failed, an image that is missing) or by no cause fitting.
 impl Diagnosis {
     /// The facts of a run, as opposed to guesses from its pixels.
-    const FACTS: [Diagnosis; 13] = [
+    const FACTS: [Diagnosis; 14] = [
         Diagnosis::CRASH,
+        Diagnosis::CAGE_REFUSED,
         Diagnosis::TIMED_OUT,
         Diagnosis::OUT_OF_MEMORY,
         Diagnosis::OUTPUT_TOO_LARGE,
@@ -112,6 +113,16 @@ impl Diagnosis {
         8,
         "The renderer crashed or reported an error before writing its picture: run the same \
         command line by hand and read its message.",
+    );
+
+    /// The renderer failed because the cage kept it from a file of its own (data, a library)
+    /// outside what it may read: it works by hand.
+    pub const CAGE_REFUSED: Diagnosis = Diagnosis::new(
+        "cage_refused",
+        8,
+        "The cage that check runs renderers in kept the renderer from a file it reads, outside \
+        the system's folders, its own project's folders and the --allow-read paths: by hand it \
+        works. Give check --allow-read with the folder that holds it.",
     );
 
     /// The renderer wrote its whole picture, then crashed or failed on its way out.
@@ -320,7 +331,7 @@ mod tests {
     #[test]
     fn codes_are_distinct_snake_case_with_explanations() {
         let codes: Vec<&str> = Diagnosis::all().map(|d| d.code()).collect();
-        assert_eq!(codes.len(), 29);
+        assert_eq!(codes.len(), 30);
         for (i, code) in codes.iter().enumerate() {
             assert!(
                 code.chars().all(|c| c.is_ascii_lowercase() || c == '_'),
