@@ -146,6 +146,7 @@ fn trace(bencher: Bencher, name: &str, threads: usize) {
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
         counter: None,
+        stop: None,
         sampling: Default::default(),
         keep_film: false,
     };

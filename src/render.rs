@@ -63,6 +63,44 @@ pub struct RenderSettings {
     pub progress: bool,
     /// Where someone else watches the render's progress (the preview's page), if anyone.
     pub counter: Option<&'static RenderCounter>,
+    /// A flag that ends the render early once set (check was asked to stop): the bands or rows
+    /// not begun are left as they are, and the pictures are unfinished.
+    pub stop: Option<&'static StopFlag>,
+}
+
+/// A flag another thread (or a signal handler) sets to end renders early: check's, set by
+/// Ctrl-C, SIGTERM or SIGHUP.
+#[derive(Debug, Default)]
+pub struct StopFlag(std::sync::Arc<AtomicBool>);
+
+impl StopFlag {
+    /// A flag not yet set, for the program's whole life (one a run: renders on any thread
+    /// read it).
+    pub fn leaked() -> &'static StopFlag {
+        Box::leak(Box::default())
+    }
+
+    /// Sets it: every render that reads it ends early.
+    pub fn set(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether it is set.
+    pub fn is_set(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+
+    /// The flag itself, for a signal handler to set (`signal_hook::flag::register`).
+    pub fn shared(&self) -> std::sync::Arc<AtomicBool> {
+        self.0.clone()
+    }
+}
+
+// Two flags are the same flag: there is nothing else to compare.
+impl PartialEq for StopFlag {
+    fn eq(&self, other: &StopFlag) -> bool {
+        std::ptr::eq(self, other)
+    }
 }
 
 /// A render's progress for a watcher on another thread: the parts done, of the total.
@@ -114,7 +152,13 @@ impl RenderSettings {
             keep_film: false,
             progress: false,
             counter: None,
+            stop: None,
         }
+    }
+
+    /// Whether the render was asked to stop.
+    pub fn stopped(&self) -> bool {
+        self.stop.is_some_and(StopFlag::is_set)
     }
 }
 
@@ -402,7 +446,7 @@ fn render_bands<V: Variant, B: Bands>(
         let mut scratch = Scratch::default();
         loop {
             let index = next.fetch_add(1, Ordering::Relaxed);
-            if index >= layout.band_count || stop.load(Ordering::Relaxed) {
+            if index >= layout.band_count || stop.load(Ordering::Relaxed) || settings.stopped() {
                 return scratch.counts;
             }
             let rows = layout.rows(index);
@@ -550,6 +594,9 @@ fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V)
         .enumerate()
         .map(|(j, row)| {
             let mut scratch = Scratch::default();
+            if settings.stopped() {
+                return scratch.counts;
+            }
             let mut positions = vec![glam::Vec2::ZERO; n];
             for (i, pixel) in row.chunks_mut(n).enumerate() {
                 let index = j as u64 * u64::from(width) + i as u64;

@@ -468,6 +468,7 @@ fn render(scene: &Scene, shade_back: bool) -> Result<(), TestCaseError> {
         },
         progress: false,
         counter: None,
+        stop: None,
         sampling: Default::default(),
         keep_film: false,
     };

@@ -1047,6 +1047,7 @@ fn render_scene(scene: &Scene, size: u32) -> raycast::Rendered {
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
         counter: None,
+        stop: None,
         sampling: Default::default(),
         keep_film: false,
     };
@@ -1200,6 +1201,7 @@ fn surfaces_too_small_for_f32_still_face_the_ray() {
         trace: raycast::trace::TraceSettings::default(),
         progress: false,
         counter: None,
+        stop: None,
         sampling: Default::default(),
         keep_film: false,
     };

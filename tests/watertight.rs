@@ -1191,6 +1191,7 @@ fn check_case(index: usize, case: &Case, folder: &Path, failures: &mut Vec<Strin
         },
         progress: false,
         counter: None,
+        stop: None,
         sampling: Default::default(),
         keep_film: false,
     };

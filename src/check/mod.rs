@@ -23,7 +23,9 @@ pub(crate) mod untrusted;
 mod verdict;
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
+
+use crate::render::StopFlag;
 use std::time::Duration;
 
 use rayon::prelude::*;
@@ -311,8 +313,9 @@ impl Prepared {
     }
 }
 
-/// Reads the options' suite and makes its references, on `options.jobs` threads.
-pub fn prepare(options: &CheckOptions) -> Result<Prepared, String> {
+/// Reads the options' suite and makes its references, on `options.jobs` threads; once `stop`
+/// is set, the references not yet rendered say so.
+pub fn prepare(options: &CheckOptions, stop: &'static StopFlag) -> Result<Prepared, String> {
     let mut suite = Suite::read(&options.suite)?;
     // Before any renderer's code runs: a wall must hold, or the user said --no-cage.
     let root = rustix::process::geteuid().is_root();
@@ -337,7 +340,7 @@ pub fn prepare(options: &CheckOptions) -> Result<Prepared, String> {
             .lines
             .par_iter()
             .with_max_len(1)
-            .map(|line| references_of(&suite, line))
+            .map(|line| references_of(&suite, line, stop))
             .collect()
     });
     Ok(Prepared {
@@ -365,7 +368,7 @@ pub struct Renderer<'a> {
 pub fn check(
     options: &CheckOptions,
     progress: &(dyn Fn() + Sync),
-    stop: &AtomicBool,
+    stop: &'static StopFlag,
 ) -> Result<Checked, String> {
     let executable = run::check_program(&options.renderer)?;
     let mut command = options.renderer.clone();
@@ -396,7 +399,7 @@ pub fn check(
     };
     // Made before the lines run: a report folder that cannot be one is an error at once.
     let staging = options.report.as_deref().map(Staging::new).transpose()?;
-    let prepared = prepare(options)?;
+    let prepared = prepare(options, stop)?;
     let renderer = Renderer {
         command: &command,
         readable: &readable,
@@ -415,7 +418,7 @@ pub fn grade_renderer(
     renderer: &Renderer,
     staging: Option<Staging>,
     progress: &(dyn Fn() + Sync),
-    stop: &AtomicBool,
+    stop: &'static StopFlag,
 ) -> Result<Checked, String> {
     let suite = &prepared.suite;
     // A renderer never runs as root (check() runs it from open copies where it must).
@@ -481,7 +484,7 @@ pub fn grade_renderer(
         cage_note,
         cleanup,
         no_cage: options.no_cage,
-        partial: stop.load(Ordering::Relaxed),
+        partial: stop.is_set(),
         staging,
         build: None,
         seconds: started.elapsed().as_secs_f64(),
@@ -612,7 +615,7 @@ struct Caged<'a> {
     /// What the renderer must not see even where it may read: the suite.
     hidden: &'a [PathBuf],
     user: Option<(u32, u32)>,
-    stop: &'a AtomicBool,
+    stop: &'static StopFlag,
     /// When the renderer's lines began, and the time they may take together.
     budget: Option<(std::time::Instant, Duration)>,
 }
@@ -679,7 +682,7 @@ type References = Vec<(Result<Image, String>, bool)>;
 
 /// Reads the references of `line`'s images, rendering the line with raycast for those the suite
 /// lacks (once for all of them).
-fn references_of(suite: &Suite, line: &Line) -> References {
+fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> References {
     let own = std::sync::OnceLock::new();
     line.outputs
         .iter()
@@ -690,7 +693,7 @@ fn references_of(suite: &Suite, line: &Line) -> References {
                 None => {
                     let pictures = own.get_or_init(|| {
                         cache::pictures(line, &suite.scenes, || {
-                            simulate::course_pictures(line, &suite.scenes)
+                            simulate::course_pictures(line, &suite.scenes, stop)
                         })
                     });
                     let picture = match pictures {
@@ -732,7 +735,7 @@ fn grade_line(
     let left = caged
         .budget
         .map(|(start, budget)| budget.saturating_sub(start.elapsed()));
-    let (ran, out) = if caged.stop.load(Ordering::Relaxed) {
+    let (ran, out) = if caged.stop.is_set() {
         (ran_only(Ending::Interrupted), folder.join("out"))
     } else if let (Some(left), Some((_, budget))) = (left, caged.budget)
         && left.is_zero()
@@ -807,7 +810,7 @@ fn grade_line(
         program: Path::new(caged.command.first().map_or("", String::as_str)),
     };
     blame_the_cage(&mut graded, &ran.stderr, &reach);
-    explain_by_simulation(options, suite, line, &mut graded);
+    explain_by_simulation(options, suite, line, &mut graded, caged.stop);
     for g in graded.iter_mut().filter(|g| g.status == Status::Fail) {
         let (Some(actual), Some(reference)) = (&g.actual, &g.reference) else {
             continue;
@@ -878,6 +881,7 @@ fn explain_by_simulation(
     suite: &Suite,
     line: &Line,
     graded: &mut [Graded],
+    stop: &'static StopFlag,
 ) {
     let failing: Vec<(usize, &Image)> = graded
         .iter()
@@ -889,9 +893,18 @@ fn explain_by_simulation(
         return;
     }
     let indices: Vec<usize> = failing.iter().map(|&(k, _)| k).collect();
-    let Ok(simulated) = simulate::simulate(line, &suite.scenes, &failing, options.rule) else {
+    let simulated = match simulate::simulate(line, &suite.scenes, &failing, options.rule, stop) {
+        Ok(simulated) => simulated,
         // A line raycast cannot render itself leaves the guesses as they are.
-        return;
+        Err(simulate::Unfinished::Failed(_)) => return,
+        // Asked to stop: the pixels' guesses stand, said to be no more than that.
+        Err(simulate::Unfinished::Stopped) => {
+            for k in indices {
+                let g = &mut graded[k];
+                g.explanation = format!("{DIAGNOSIS_UNFINISHED} {}", g.explanation);
+            }
+            return;
+        }
     };
     for (k, result) in indices.into_iter().zip(simulated) {
         if result.matches.is_empty() {
@@ -902,6 +915,10 @@ fn explain_by_simulation(
         g.explanation = finding::explain(&g.findings, g.picture);
     }
 }
+
+/// What a picture whose diagnosis was cut short says first.
+const DIAGNOSIS_UNFINISHED: &str = "Diagnosis not finished: check was interrupted; from the \
+     pixels alone:";
 
 fn file_name(name: &str) -> String {
     Path::new(name)
@@ -930,6 +947,13 @@ fn grade(
     let reference = match reference {
         Ok(image) => image,
         Err(why) => {
+            // check was stopped before the line ran (and perhaps before its reference was
+            // rendered): that is what the line says.
+            if ran.ending == Ending::Interrupted
+                && let Some((cause, explanation)) = failed_run(ran, &options.limits)
+            {
+                return graded(Status::Error, vec![Finding::Diagnosis(cause)], explanation);
+            }
             return graded(Status::Error, vec![], format!("No reference image: {why}."));
         }
     };

@@ -9,8 +9,9 @@ use std::path::Path;
 use super::faults::{FAULTS, Fault, LineScene, Plant};
 use super::rule::{Rule, compare};
 use super::suite::Line;
-use crate::job::{Command, parse_args, render_pictures};
+use crate::job::{Command, parse_args, render_pictures_until};
 use crate::parse::read_scene;
+use crate::render::StopFlag;
 use crate::scene::Scene;
 use crate::shade::Image;
 
@@ -141,15 +142,34 @@ fn channels_swapped(image: &Image) -> Image {
     }
 }
 
+/// Why a line was not simulated to the end.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Unfinished {
+    /// check was asked to stop.
+    Stopped,
+    /// raycast cannot render the line itself.
+    Failed(String),
+}
+
+/// What a render says when check was asked to stop before it ended.
+pub const STOPPED: &str = "check was interrupted before raycast finished rendering it";
+
 /// The pictures raycast makes of `line` (as the course's renderer), in the order of the line's
-/// images: the reference of a line whose suite has none.
-pub fn course_pictures(line: &Line, scenes: &Path) -> Result<Vec<Image>, String> {
+/// images: the reference of a line whose suite has none. `Err` where check was asked to stop
+/// before they were done ([`STOPPED`]).
+pub fn course_pictures(
+    line: &Line,
+    scenes: &Path,
+    stop: &'static StopFlag,
+) -> Result<Vec<Image>, String> {
     let prepared = prepare(line, scenes)?;
-    let pictures = render_pictures(
+    let pictures = render_pictures_until(
         &prepared.line.options,
         &prepared.line.scene,
         crate::render::Exact,
+        stop,
     )
+    .ok_or(STOPPED)?
     .pictures;
     Ok(prepared
         .slots
@@ -205,14 +225,16 @@ fn mean_difference(picture: Option<&Image>, actual: &Image) -> f64 {
 }
 
 /// For each of `failing` (the index of an image among the line's outputs, and the student's
-/// picture of it), the faults whose render matches it.
+/// picture of it), the faults whose render matches it. Ends between renders, and within one,
+/// once `stop` is set.
 pub fn simulate(
     line: &Line,
     scenes: &Path,
     failing: &[(usize, &Image)],
     rule: Rule,
-) -> Result<Vec<Simulated>, String> {
-    let prepared = prepare(line, scenes)?;
+    stop: &'static StopFlag,
+) -> Result<Vec<Simulated>, Unfinished> {
+    let prepared = prepare(line, scenes).map_err(Unfinished::Failed)?;
     // Each failing picture, and each undone by a fault that only moves its pixels (a flip, the
     // channels swapped): a render that matches one of those is that fault with another.
     let undone: Vec<Vec<(&'static Fault, Image)>> = failing
@@ -227,7 +249,9 @@ pub fn simulate(
     let permuted: std::cell::RefCell<Vec<Vec<Tried>>> =
         std::cell::RefCell::new(vec![Vec::new(); failing.len()]);
     let render = |plant: Plant, faults: &[&'static Fault], parameters: &[(&'static str, f64)]| {
-        let pictures = render_pictures(&prepared.line.options, &prepared.line.scene, plant);
+        let pictures =
+            render_pictures_until(&prepared.line.options, &prepared.line.scene, plant, stop)
+                .ok_or(Unfinished::Stopped)?;
         let bad = |picture: Option<&Image>, actual: &Image| {
             picture
                 .and_then(|picture| compare(picture, actual, rule.tolerance))
@@ -256,7 +280,7 @@ pub fn simulate(
                 }
             }
         }
-        (bads, errors)
+        Ok((bads, errors))
     };
     let mut tried: Vec<Tried> = Vec::new();
     for fault in FAULTS {
@@ -266,7 +290,7 @@ pub fn simulate(
             }
             let plant = Plant::one(candidate.planted);
             let parameters: Vec<_> = candidate.parameter.into_iter().collect();
-            let (bad, error) = render(plant, &[fault], &parameters);
+            let (bad, error) = render(plant, &[fault], &parameters)?;
             tried.push(Tried {
                 plant,
                 faults: vec![fault],
@@ -290,11 +314,13 @@ pub fn simulate(
     let plain: Vec<f64> = if unexplained.is_empty() {
         Vec::new()
     } else {
-        let course = render_pictures(
+        let course = render_pictures_until(
             &prepared.line.options,
             &prepared.line.scene,
             crate::render::Exact,
-        );
+            stop,
+        )
+        .ok_or(Unfinished::Stopped)?;
         failing
             .iter()
             .map(|&(image, actual)| {
@@ -353,16 +379,16 @@ pub fn simulate(
                 let mut parameters = first.parameters.clone();
                 parameters.extend(second.parameters.iter().copied());
                 let faults = vec![first.faults[0], second.faults[0]];
-                let (bad, error) = render(plant, &faults, &parameters);
-                Tried {
+                let (bad, error) = render(plant, &faults, &parameters)?;
+                Ok(Tried {
                     plant,
                     faults,
                     parameters,
                     bad,
                     error,
-                }
+                })
             })
-            .collect();
+            .collect::<Result<_, Unfinished>>()?;
         results[k].matches = matches(&pairs, k, rule);
         tried.extend(pairs);
     }

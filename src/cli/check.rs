@@ -292,7 +292,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
         }
     };
     let stop = super::grades::stop_on_signals();
-    let mut checked = match check::check(&options, &advance, &stop) {
+    let mut checked = match check::check(&options, &advance, stop) {
         Ok(checked) => checked,
         Err(message) => {
             say(std::io::stderr(), &format!("raycast: check: {message}"));

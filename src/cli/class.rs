@@ -3,7 +3,6 @@
 
 use std::io::Write;
 use std::process::ExitCode;
-use std::sync::atomic::Ordering;
 
 use crate::check::class::{self, ClassOptions, table};
 use crate::check::{self, CheckOptions, Staging};
@@ -136,7 +135,9 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
         Ok(staging) => staging,
         Err(message) => return fail(&message),
     };
-    let prepared = match check::prepare(&options) {
+    // Heard from the start: a stop while the references render ends those too.
+    let stop = super::grades::stop_on_signals();
+    let prepared = match check::prepare(&options, stop) {
         Ok(prepared) => prepared,
         Err(message) => return fail(&message),
     };
@@ -153,7 +154,6 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
             return fail(&format!("cannot open the scratch folder: {e}"));
         }
     }
-    let stop = super::grades::stop_on_signals();
     let lines = prepared.suite().lines.len() as u64;
     let (pictures, max_points) = prepared.suite().pictures_and_points();
     let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
@@ -172,7 +172,7 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
     };
     let mut rows = Vec::new();
     for student in &students {
-        if stop.load(Ordering::Relaxed) {
+        if stop.is_set() {
             break;
         }
         if let Some(bar) = &bar {
@@ -188,7 +188,7 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
             scratch.path(),
             report.as_deref(),
             &advance,
-            &stop,
+            stop,
         );
         match graded {
             Ok(graded) => rows.push(table::Row::of(&graded.name, &folder, &graded.summary)),
@@ -212,7 +212,7 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
     if let Err(message) = check::remove_scratch(scratch) {
         eprintln!("raycast: check: warning: {message}");
     }
-    let partial = stop.load(Ordering::Relaxed);
+    let partial = stop.is_set();
     let mut out = std::io::stdout().lock();
     let _ = write!(out, "{}", table::terminal(&rows));
     if let Some(staging) = staging {

@@ -28,14 +28,14 @@ pub(super) fn print_grades(
 
 /// A flag that Ctrl-C, SIGTERM and SIGHUP set: the renderers running end, and what was graded
 /// so far is reported, marked partial.
-pub(super) fn stop_on_signals() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
-    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+pub(super) fn stop_on_signals() -> &'static crate::render::StopFlag {
+    let stop = crate::render::StopFlag::leaked();
     for signal in [
         signal_hook::consts::SIGINT,
         signal_hook::consts::SIGTERM,
         signal_hook::consts::SIGHUP,
     ] {
-        let _ = signal_hook::flag::register(signal, stop.clone());
+        let _ = signal_hook::flag::register(signal, stop.shared());
     }
     stop
 }

@@ -44,7 +44,31 @@ pub fn render_pictures_counted<V: Variant>(
     variant: V,
     counter: Option<&'static crate::render::RenderCounter>,
 ) -> Pictures {
-    let settings = render_settings(options, counter);
+    pictures_of(options, scene, variant, render_settings(options, counter))
+}
+
+/// [`render_pictures`], ended early once `stop` is set: `None` then (the pictures would be
+/// unfinished).
+pub fn render_pictures_until<V: Variant>(
+    options: &Options,
+    scene: &Scene,
+    variant: V,
+    stop: &'static crate::render::StopFlag,
+) -> Option<Pictures> {
+    let settings = RenderSettings {
+        stop: Some(stop),
+        ..render_settings(options, None)
+    };
+    let pictures = pictures_of(options, scene, variant, settings);
+    (!stop.is_set()).then_some(pictures)
+}
+
+fn pictures_of<V: Variant>(
+    options: &Options,
+    scene: &Scene,
+    variant: V,
+    settings: RenderSettings,
+) -> Pictures {
     // Only the filter picture asked for: nothing to trace.
     let traced = options.output.is_some()
         || options.normals.is_some()
@@ -95,6 +119,7 @@ fn render_settings(
         keep_film: options.render_samples.is_some(),
         progress: std::io::stderr().is_terminal(),
         counter,
+        stop: None,
     }
 }
 

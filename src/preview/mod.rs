@@ -94,13 +94,14 @@ pub fn serve(
     };
     let port = options.preview.port.unwrap_or(0);
     let server = PreviewServer::bind(port, token, shown, options).map_err(Error::Preview)?;
+    let quit = server.quit_flag();
+    // Ctrl-C ends the preview as 'q' does: exit 0. Only one handler may be set per process.
+    // Set before the address is printed: whoever reads it may press Ctrl-C at once.
+    let on_interrupt = quit.clone();
+    ctrlc::set_handler(move || on_interrupt.store(true, Ordering::SeqCst)).ok();
     writeln!(out, "{}", server.url())
         .and_then(|()| out.flush())
         .ok();
-    let quit = server.quit_flag();
-    // Ctrl-C ends the preview as 'q' does: exit 0. Only one handler may be set per process.
-    let on_interrupt = quit.clone();
-    ctrlc::set_handler(move || on_interrupt.store(true, Ordering::SeqCst)).ok();
     watch::watch(options, server.shown(), server.announcer())?;
     started()?;
     if !options.preview.no_browser && webbrowser::open(&server.url()).is_err() {

@@ -16,10 +16,10 @@ mod root;
 mod supervisor;
 mod wall;
 
+use crate::render::StopFlag;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 pub use reach::stage;
@@ -345,7 +345,7 @@ const SUPERVISOR_GRACE: Duration = Duration::from_secs(3);
 
 /// Runs `request` under a supervisor and waits for its report. `stop` asks for the run to end
 /// early (check was interrupted): the supervisor is told, and ends the renderer's tree.
-pub fn run(request: &Request, stop: &AtomicBool) -> Ran {
+pub fn run(request: &Request, stop: &StopFlag) -> Ran {
     let start = Instant::now();
     let not_started = |why: String| Ran {
         ending: Ending::NotStarted(why),
@@ -380,7 +380,7 @@ pub fn run(request: &Request, stop: &AtomicBool) -> Ran {
             Ok(Some(status)) => break Some(status),
             Ok(None) if start.elapsed() >= backstop => break None,
             Ok(None) => {
-                if stop.load(Ordering::Relaxed) && !told {
+                if stop.is_set() && !told {
                     signal(child.id(), rustix::process::Signal::TERM);
                     told = true;
                 }

@@ -107,8 +107,7 @@ fn own_root_probe(suite: &Path) -> Result<(), String> {
         limits: super::Limits::default(),
         user: None,
     };
-    let never = std::sync::atomic::AtomicBool::new(false);
-    match super::run(&probe, &never).confinement {
+    match super::run(&probe, &crate::render::StopFlag::default()).confinement {
         Some(cage) => cage.own_root,
         None => Err("the probe line's supervisor said nothing".into()),
     }

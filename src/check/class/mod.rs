@@ -5,8 +5,8 @@
 
 pub mod table;
 
+use crate::render::StopFlag;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use super::cage::{self, Ending, Ran, Request};
@@ -158,7 +158,7 @@ pub fn grade_student(
     scratch: &Path,
     report: Option<&Path>,
     progress: &(dyn Fn() + Sync),
-    stop: &AtomicBool,
+    stop: &'static StopFlag,
 ) -> Result<Graded, String> {
     // A link could name any folder of the machine (copied, it would be the renderer's to
     // read): only a folder of the roster itself is a submission.
@@ -244,7 +244,7 @@ pub fn grade_student(
     if checked.staging.is_some() {
         super::write_report(&mut checked, &groups, options.rule)?;
     }
-    if stop.load(Ordering::Relaxed) {
+    if stop.is_set() {
         checked.partial = true;
     }
     Ok(Graded {
