@@ -54,7 +54,13 @@ fn faulty_renderer(dir: &Path, token: &str) -> PathBuf {
 }
 
 fn start_check(suite: &Path, renderer: &Path, report: &Path) -> Child {
+    start_check_in(suite, renderer, report, &std::env::temp_dir())
+}
+
+/// `start_check`, check's scratch made in `temporary`.
+fn start_check_in(suite: &Path, renderer: &Path, report: &Path, temporary: &Path) -> Child {
     Command::new(RAYCAST)
+        .env("TMPDIR", temporary)
         .args(["check", suite.to_str().unwrap(), "--renderer"])
         .arg(renderer)
         .args(["--report", report.to_str().unwrap(), "--jobs", "1"])
@@ -66,8 +72,8 @@ fn start_check(suite: &Path, renderer: &Path, report: &Path) -> Child {
         .unwrap()
 }
 
-/// The processes whose parent is `pid` and whose command line holds `word`.
-fn children_with(pid: u32, word: &str) -> usize {
+/// The processes whose parent is `pid` and whose command line holds `word` and `token`.
+fn children_with(pid: u32, word: &str, token: &str) -> usize {
     std::fs::read_dir("/proc")
         .unwrap()
         .flatten()
@@ -78,14 +84,15 @@ fn children_with(pid: u32, word: &str) -> usize {
                 .and_then(|at| stat[at + 1..].split_whitespace().nth(1))
                 .and_then(|p| p.parse::<u32>().ok());
             let cmdline = std::fs::read(entry.path().join("cmdline")).unwrap_or_default();
-            parent == Some(pid) && String::from_utf8_lossy(&cmdline).contains(word)
+            let cmdline = String::from_utf8_lossy(&cmdline);
+            parent == Some(pid) && cmdline.contains(word) && cmdline.contains(token)
         })
         .count()
 }
 
-/// Waits until check's renderer has run and ended (a line's supervisor came and went): the
-/// diagnosis has begun.
-fn wait_for_diagnosis(check: &mut Child) {
+/// Waits until check's renderer (`token`) has run and ended (its line's supervisor came and
+/// went; the cage's probe before the lines names no renderer): the diagnosis has begun.
+fn wait_for_diagnosis(check: &mut Child, token: &str) {
     let start = Instant::now();
     let mut seen = false;
     loop {
@@ -93,7 +100,7 @@ fn wait_for_diagnosis(check: &mut Child) {
             check.try_wait().unwrap().is_none(),
             "check ended before its diagnosis began"
         );
-        let running = children_with(check.id(), "__supervise") > 0;
+        let running = children_with(check.id(), "__supervise", token) > 0;
         if seen && !running {
             return;
         }
@@ -155,7 +162,7 @@ fn a_stop_during_diagnosis_ends_check_at_once_with_a_whole_report() {
         let renderer = faulty_renderer(dir.path(), "diagnosed-token");
         let report = dir.path().join("report");
         let mut check = start_check(&suite, &renderer, &report);
-        wait_for_diagnosis(&mut check);
+        wait_for_diagnosis(&mut check, "diagnosed-token");
         let (code, out, took) = stop(check, signal);
         assert!(
             took < STOPS_WITHIN,
@@ -193,4 +200,54 @@ fn a_stop_while_references_render_ends_check_at_once() {
     assert!(out.contains("ERROR  big23: interrupted"), "{out}");
     assert_eq!(common::summary_of(&report)["partial"], true);
     assert_eq!(left_running("referenced-token"), 0);
+}
+
+#[test]
+fn a_second_stop_ends_check_now_and_still_leaves_nothing_behind() {
+    let Some(later) = common::later_dir("the stopping tests") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let temporary = dir.path().join("tmp");
+    std::fs::create_dir(&temporary).unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&temporary, std::fs::Permissions::from_mode(0o777)).unwrap();
+    let suite = suite(dir.path(), &later, 240, 7..8);
+    let renderer = faulty_renderer(dir.path(), "twice-token");
+    let report = dir.path().join("report");
+    let mut check = start_check_in(&suite, &renderer, &report, &temporary);
+    wait_for_diagnosis(&mut check, "twice-token");
+    let pid = check.id().to_string();
+    let sent = Instant::now();
+    for _ in 0..2 {
+        assert!(
+            Command::new("kill")
+                .args(["-INT", &pid])
+                .status()
+                .unwrap()
+                .success()
+        );
+    }
+    let output = check.wait_with_output().unwrap();
+    assert!(sent.elapsed() < STOPS_WITHIN, "{:?}", sent.elapsed());
+    assert_eq!(output.status.code(), Some(130));
+    let said = String::from_utf8_lossy(&output.stderr);
+    // Ended at once, or (where the first stop was quicker than the second signal) as asked
+    // the first time, with its report: either way nothing of it is left.
+    assert!(
+        said.contains("raycast: check: stopped at once; no report written")
+            || report.join("summary.json").is_file(),
+        "{said}"
+    );
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while left_running("twice-token") > 0 && Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    assert_eq!(left_running("twice-token"), 0);
+    let left: Vec<_> = std::fs::read_dir(&temporary)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    assert!(left.is_empty(), "scratch left behind: {left:?}");
 }

@@ -17,6 +17,7 @@ mod refused;
 mod report;
 mod rule;
 mod run;
+mod scratch;
 mod simulate;
 mod suite;
 pub(crate) mod untrusted;
@@ -36,7 +37,7 @@ pub use finding::Finding;
 pub use output::{MAX_IMAGE_BYTES, read_image};
 pub use report::{Pictures, Staging, write_report};
 pub use rule::{Comparison, Rule, compare};
-pub use run::remove_scratch;
+pub use scratch::{Scratch, remove_all_now as remove_scratch_now};
 pub use simulate::FaultMatch;
 pub use suite::{Line, PictureKind, Suite};
 pub use untrusted::visible;
@@ -389,7 +390,7 @@ pub fn check(
         &options.suite,
     )?;
     // Never as root: what the unprivileged user cannot reach is run from an open copy.
-    let copies = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
+    let copies = Scratch::new()?;
     let (command, readable, copied) = match cage::unprivileged_user(&readable) {
         Some(Err(_)) => {
             let staged = cage::stage(&command, &readable, copies.path())?;
@@ -434,7 +435,7 @@ pub fn grade_renderer(
             ));
         }
     };
-    let scratch = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
+    let scratch = Scratch::new()?;
     if user.is_some() {
         use std::os::unix::fs::PermissionsExt;
         // Passed through by the renderer's user to its own line's folders, never listed.
@@ -477,7 +478,7 @@ pub fn grade_renderer(
     if !changed.is_empty() {
         void(&mut graded, &changed);
     }
-    let cleanup = run::remove_scratch(scratch).err();
+    let cleanup = scratch.remove().err();
     Ok(Checked {
         graded,
         confinement,

@@ -104,30 +104,6 @@ pub fn prepare(
     Ok((work, out))
 }
 
-/// Removes a scratch folder, first giving back the rights a renderer may have taken from the
-/// folders it made (one of mode 000 could not be emptied otherwise); `Err` names what could not
-/// be removed, for a warning: a failed clean-up is never silent.
-pub fn remove_scratch(scratch: tempfile::TempDir) -> Result<(), String> {
-    fn open_up(path: &Path) {
-        use std::os::unix::fs::PermissionsExt;
-        let is_folder = std::fs::symlink_metadata(path).is_ok_and(|m| m.is_dir());
-        if is_folder {
-            let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o700));
-            for entry in std::fs::read_dir(path).into_iter().flatten().flatten() {
-                open_up(&entry.path());
-            }
-        }
-    }
-    let path = scratch.keep();
-    open_up(&path);
-    std::fs::remove_dir_all(&path).map_err(|e| {
-        format!(
-            "the scratch folder {} could not be removed ({e}): remove it by hand",
-            path.display()
-        )
-    })
-}
-
 /// Whether the renderer's program can run at all: found (on `PATH` for a bare name), a file,
 /// executable. Asked once before any line, so that a wrong path is one clear error, not a
 /// crash on every line.

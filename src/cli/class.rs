@@ -141,9 +141,9 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
         Ok(prepared) => prepared,
         Err(message) => return fail(&message),
     };
-    let scratch = match tempfile::tempdir() {
+    let scratch = match check::Scratch::new() {
         Ok(scratch) => scratch,
-        Err(e) => return fail(&format!("cannot make a scratch folder: {e}")),
+        Err(message) => return fail(&message),
     };
     {
         use std::os::unix::fs::PermissionsExt;
@@ -209,7 +209,7 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    if let Err(message) = check::remove_scratch(scratch) {
+    if let Err(message) = scratch.remove() {
         eprintln!("raycast: check: warning: {message}");
     }
     let partial = stop.is_set();

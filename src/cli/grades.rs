@@ -29,13 +29,30 @@ pub(super) fn print_grades(
 /// A flag that Ctrl-C, SIGTERM and SIGHUP set: the renderers running end, and what was graded
 /// so far is reported, marked partial.
 pub(super) fn stop_on_signals() -> &'static crate::render::StopFlag {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let stop = crate::render::StopFlag::leaked();
-    for signal in [
-        signal_hook::consts::SIGINT,
-        signal_hook::consts::SIGTERM,
-        signal_hook::consts::SIGHUP,
-    ] {
-        let _ = signal_hook::flag::register(signal, stop.shared());
+    match signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+        Ok(mut signals) => {
+            std::thread::spawn(move || {
+                let mut heard = 0;
+                for _ in signals.forever() {
+                    heard += 1;
+                    stop.set();
+                    // A second time: now. The renderers end with their supervisors, which
+                    // watch check; the scratch goes here; the report is not written.
+                    if heard > 1 {
+                        crate::check::remove_scratch_now();
+                        eprintln!("raycast: check: stopped at once; no report written");
+                        std::process::exit(130);
+                    }
+                }
+            });
+        }
+        Err(_) => {
+            for signal in [SIGINT, SIGTERM, SIGHUP] {
+                let _ = signal_hook::flag::register(signal, stop.shared());
+            }
+        }
     }
     stop
 }
