@@ -71,7 +71,11 @@ pub struct RenderSettings {
 /// A flag another thread (or a signal handler) sets to end renders early: check's, set by
 /// Ctrl-C, SIGTERM or SIGHUP.
 #[derive(Debug, Default)]
-pub struct StopFlag(std::sync::Arc<AtomicBool>);
+pub struct StopFlag {
+    flag: std::sync::Arc<AtomicBool>,
+    /// Set with the flag where the cause is time (check's `--deadline`), not a person.
+    out_of_time: AtomicBool,
+}
 
 impl StopFlag {
     /// A flag not yet set, for the program's whole life (one a run: renders on any thread
@@ -82,17 +86,28 @@ impl StopFlag {
 
     /// Sets it: every render that reads it ends early.
     pub fn set(&self) {
-        self.0.store(true, Ordering::Relaxed);
+        self.flag.store(true, Ordering::Relaxed);
+    }
+
+    /// Sets it because time ran out.
+    pub fn set_out_of_time(&self) {
+        self.out_of_time.store(true, Ordering::Relaxed);
+        self.set();
     }
 
     /// Whether it is set.
     pub fn is_set(&self) -> bool {
-        self.0.load(Ordering::Relaxed)
+        self.flag.load(Ordering::Relaxed)
+    }
+
+    /// Whether it was set because time ran out (and not first by a person).
+    pub fn is_out_of_time(&self) -> bool {
+        self.out_of_time.load(Ordering::Relaxed)
     }
 
     /// The flag itself, for a signal handler to set (`signal_hook::flag::register`).
     pub fn shared(&self) -> std::sync::Arc<AtomicBool> {
-        self.0.clone()
+        self.flag.clone()
     }
 }
 

@@ -251,3 +251,44 @@ fn a_second_stop_ends_check_now_and_still_leaves_nothing_behind() {
         .collect();
     assert!(left.is_empty(), "scratch left behind: {left:?}");
 }
+
+#[test]
+fn a_deadline_shorter_than_the_diagnoses_still_grades_and_reports_in_time() {
+    let Some(later) = common::later_dir("the stopping tests") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &later, 240, 11..14);
+    let renderer = faulty_renderer(dir.path(), "deadline-token");
+    let report = dir.path().join("report");
+    let start = Instant::now();
+    let output = Command::new(RAYCAST)
+        .args(["check", suite.to_str().unwrap(), "--renderer"])
+        .arg(&renderer)
+        .args(["--report", report.to_str().unwrap(), "--jobs", "1"])
+        .args(["--deadline", "6"])
+        .args(["--allow-read", common::open_raycast_folder()])
+        .output()
+        .unwrap();
+    let took = start.elapsed();
+    let out = String::from_utf8_lossy(&output.stdout);
+    // Its work stops 1 s before the deadline; the report is written in that second.
+    assert!(
+        took < Duration::from_secs(6) + STOPS_WITHIN / 4,
+        "{took:?}: {out}"
+    );
+    assert_eq!(output.status.code(), Some(1), "{out}");
+    assert!(
+        out.contains("check's --deadline came: the pictures not graded count as failed"),
+        "{out}"
+    );
+    // What was diagnosed in part says so; what was not reached is over budget.
+    assert!(
+        out.contains("Diagnosis not finished: check's --deadline came; from the pixels alone:")
+            || out.contains("over_budget: check's --deadline came before this line was graded"),
+        "{out}"
+    );
+    assert_eq!(common::summary_of(&report)["partial"], true);
+    assert!(report.join("gradescope.json").is_file());
+    assert_eq!(left_running("deadline-token"), 0);
+}

@@ -75,6 +75,10 @@ pub struct CheckOptions {
     /// The most time the renderer's lines may take together (`--budget`, without `--class`:
     /// a class's budget is each student's); the lines left when it is spent are not run.
     pub budget: Option<Duration>,
+    /// The whole run's time (`--deadline`: a platform's hard limit). The caller sets the stop
+    /// flag out of time before it ends, leaving time for the report; check then stops as it
+    /// does when asked, the lines not reached and the diagnoses cut short said to be so.
+    pub deadline: Option<Duration>,
     /// Grade even where no wall keeps the renderer from the references (`--no-cage`): for a
     /// student's own renderer on their own machine, never strangers'. Every report says so.
     pub no_cage: bool,
@@ -95,6 +99,7 @@ impl CheckOptions {
             readable: Vec::new(),
             shard: None,
             budget: None,
+            deadline: None,
             no_cage: false,
         }
     }
@@ -737,7 +742,7 @@ fn grade_line(
         .budget
         .map(|(start, budget)| budget.saturating_sub(start.elapsed()));
     let (ran, out) = if caged.stop.is_set() {
-        (ran_only(Ending::Interrupted), folder.join("out"))
+        (ran_only(stopped(caged.stop)), folder.join("out"))
     } else if let (Some(left), Some((_, budget))) = (left, caged.budget)
         && left.is_zero()
     {
@@ -766,6 +771,9 @@ fn grade_line(
                     user: caged.user,
                 };
                 let mut ran = cage::run(&request, caged.stop);
+                if ran.ending == Ending::Interrupted {
+                    ran.ending = stopped(caged.stop);
+                }
                 // Stopped at the budget's end rather than at --timeout: the budget is the cause.
                 if let (Ending::TimedOut(after), Some((_, budget))) = (&ran.ending, caged.budget)
                     && *after < options.timeout
@@ -900,9 +908,17 @@ fn explain_by_simulation(
         Err(simulate::Unfinished::Failed(_)) => return,
         // Asked to stop: the pixels' guesses stand, said to be no more than that.
         Err(simulate::Unfinished::Stopped) => {
+            let why = if stop.is_out_of_time() {
+                "check's --deadline came"
+            } else {
+                "check was interrupted"
+            };
             for k in indices {
                 let g = &mut graded[k];
-                g.explanation = format!("{DIAGNOSIS_UNFINISHED} {}", g.explanation);
+                g.explanation = format!(
+                    "Diagnosis not finished: {why}; from the pixels alone: {}",
+                    g.explanation
+                );
             }
             return;
         }
@@ -917,9 +933,14 @@ fn explain_by_simulation(
     }
 }
 
-/// What a picture whose diagnosis was cut short says first.
-const DIAGNOSIS_UNFINISHED: &str = "Diagnosis not finished: check was interrupted; from the \
-     pixels alone:";
+/// How a line ends that check stopped: interrupted by a person, or out of time.
+fn stopped(stop: &StopFlag) -> Ending {
+    if stop.is_out_of_time() {
+        Ending::DeadlineCame
+    } else {
+        Ending::Interrupted
+    }
+}
 
 fn file_name(name: &str) -> String {
     Path::new(name)
@@ -950,7 +971,7 @@ fn grade(
         Err(why) => {
             // check was stopped before the line ran (and perhaps before its reference was
             // rendered): that is what the line says.
-            if ran.ending == Ending::Interrupted
+            if matches!(ran.ending, Ending::Interrupted | Ending::DeadlineCame)
                 && let Some((cause, explanation)) = failed_run(ran, &options.limits)
             {
                 return graded(Status::Error, vec![Finding::Diagnosis(cause)], explanation);
@@ -1160,6 +1181,10 @@ fn failed_run(ran: &Ran, limits: &Limits) -> Option<(Diagnosis, String)> {
         Ending::Interrupted => (
             Diagnosis::INTERRUPTED,
             "check was interrupted before this line ended.".to_string(),
+        ),
+        Ending::DeadlineCame => (
+            Diagnosis::OVER_BUDGET,
+            "check's --deadline came before this line was graded: it counts as failed.".to_string(),
         ),
         Ending::OverBudget(budget) => (
             Diagnosis::OVER_BUDGET,

@@ -14,7 +14,8 @@ use crate::image_io::{self, ImageFormat};
 pub const CHECK_USAGE: &str = "\
 usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
                      [--max-bad FRACTION] [--jobs N] [--timeout SECONDS] [--budget SECONDS]
-                     [--shard K/N] [--memory SIZE] [--disk SIZE] [--allow-read PATH]...
+                     [--deadline SECONDS] [--shard K/N] [--memory SIZE] [--disk SIZE]
+                     [--allow-read PATH]...
                      [--keep-preview-options] [--no-cage]
        raycast check SUITE --class ROSTER --renderer CMD [--build CMD] [--build-timeout S]
                      [the options above]
@@ -43,7 +44,9 @@ marked partial (exit 130). Where nothing would keep the renderer from the refere
 Landlock, or a suite under a system folder such as /opt), check refuses to grade; --no-cage
 grades anyway, for your own renderer on your own machine, and every report says so. --budget
 bounds the renderer's lines together (a platform's time limit): lines start in the suite's
-order, and those left when it is spent are not run.
+order, and those left when it is spent are not run. --deadline bounds the whole run,
+diagnoses included (a platform's hard limit): check stops its work 5% before it (at least 1 s)
+and writes its report with what it graded, as when Ctrl-C stops it, but exits 1, not 130.
 --class grades each folder of ROSTER as one student's submission: copied, built with --build
 in its folder (caged, --build-timeout seconds, default 120), its renderer (CMD's first word
 taken inside the submission) graded; the class's table on the terminal and in DIR/class.csv
@@ -198,6 +201,10 @@ fn parse_check_args(
                 let v = value(&mut args, "--budget", "a number of seconds")?;
                 class.budget = Some(seconds(&v, "--budget")?);
             }
+            "--deadline" => {
+                let v = value(&mut args, "--deadline", "a number of seconds")?;
+                options.deadline = Some(seconds(&v, "--deadline")?);
+            }
             "--shard" => {
                 let v = value(&mut args, "--shard", "K/N")?;
                 options.shard = Some(shard(&v).ok_or_else(|| {
@@ -292,6 +299,7 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
         }
     };
     let stop = super::grades::stop_on_signals();
+    super::grades::stop_at_deadline(stop, options.deadline);
     let mut checked = match check::check(&options, &advance, stop) {
         Ok(checked) => checked,
         Err(message) => {
@@ -340,6 +348,13 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             return ExitCode::from(2);
         }
         let _ = writeln!(out, "report: {}", dir.join("index.html").display());
+    }
+    if checked.partial && stop.is_out_of_time() {
+        let _ = writeln!(
+            out,
+            "check's --deadline came: the pictures not graded count as failed"
+        );
+        return ExitCode::from(1);
     }
     if checked.partial {
         let _ = writeln!(

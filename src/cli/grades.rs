@@ -26,6 +26,24 @@ pub(super) fn print_grades(
     failed
 }
 
+/// Sets `stop` out of time when the run's `deadline` is near: 5% of it (at least 1 s, at most
+/// 15 s) is kept for the report and the platforms' files, which are written whole before it.
+pub(super) fn stop_at_deadline(
+    stop: &'static crate::render::StopFlag,
+    deadline: Option<std::time::Duration>,
+) {
+    use std::time::Duration;
+    let Some(deadline) = deadline else {
+        return;
+    };
+    let kept = (deadline / 20).clamp(Duration::from_secs(1), Duration::from_secs(15));
+    let work = deadline.saturating_sub(kept);
+    std::thread::spawn(move || {
+        std::thread::sleep(work);
+        stop.set_out_of_time();
+    });
+}
+
 /// A flag that Ctrl-C, SIGTERM and SIGHUP set: the renderers running end, and what was graded
 /// so far is reported, marked partial.
 pub(super) fn stop_on_signals() -> &'static crate::render::StopFlag {

@@ -200,6 +200,8 @@ pub enum Ending {
     TimedOut(Duration),
     /// check was interrupted (Ctrl-C, SIGTERM, SIGHUP) while it ran, and ended it.
     Interrupted,
+    /// check's whole run was out of time (`--deadline`) before this line ran or while it ran.
+    DeadlineCame,
     /// It was not run: the renderer's time budget (`--budget`) was spent before its turn.
     OverBudget(Duration),
     /// The renderer's time budget (`--budget`) ran out while it ran, after `after`.

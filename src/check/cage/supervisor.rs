@@ -255,6 +255,7 @@ fn ending_json(ending: &Ending) -> serde_json::Value {
         Ending::Signaled { signal } => serde_json::json!({ "signal": signal }),
         Ending::TimedOut(limit) => serde_json::json!({ "timed_out_ms": limit.as_millis() as u64 }),
         Ending::Interrupted => serde_json::json!({ "interrupted": true }),
+        Ending::DeadlineCame => serde_json::json!({ "deadline_came": true }),
         Ending::OverBudget(budget) => {
             serde_json::json!({ "over_budget_ms": budget.as_millis() as u64 })
         }
@@ -287,6 +288,9 @@ pub(super) fn ending_of(value: &serde_json::Value) -> Ending {
     if value["interrupted"].as_bool() == Some(true) {
         return Ending::Interrupted;
     }
+    if value["deadline_came"].as_bool() == Some(true) {
+        return Ending::DeadlineCame;
+    }
     if let Some(ms) = value["over_budget_ms"].as_u64() {
         return Ending::OverBudget(Duration::from_millis(ms));
     }
@@ -316,6 +320,7 @@ mod tests {
             Ending::Signaled { signal: 11 },
             Ending::TimedOut(Duration::from_millis(1500)),
             Ending::Interrupted,
+            Ending::DeadlineCame,
             Ending::OverBudget(Duration::from_secs(90)),
             Ending::BudgetRanOut {
                 budget: Duration::from_secs(90),

@@ -52,6 +52,7 @@ impl Built {
                 format!("the build did not finish within {} s", limit.as_secs_f64())
             }
             Ending::Interrupted => "check was interrupted during the build".to_string(),
+            Ending::DeadlineCame => "check's --deadline came during the build".to_string(),
             Ending::OverBudget(_) | Ending::BudgetRanOut { .. } => {
                 "the build was not run".to_string()
             }
@@ -214,7 +215,11 @@ pub fn grade_student(
             limits: options.limits,
             user,
         };
-        Built::of(&cage::run(&request, stop))
+        let mut ran = cage::run(&request, stop);
+        if ran.ending == Ending::Interrupted {
+            ran.ending = super::stopped(stop);
+        }
+        Built::of(&ran)
     });
     let mut command = options.renderer.clone();
     command[0] = in_submission(&command[0], &copy);
