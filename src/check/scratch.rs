@@ -33,8 +33,9 @@ impl Scratch {
         &self.path
     }
 
-    /// Removes it (see [`remove`]); `Err` names what could not be removed, for a warning: a
-    /// failed clean-up is never silent.
+    /// Removes it, first giving back the rights a renderer may have taken from the folders it
+    /// made; `Err` names what could not be removed, for a warning: a failed clean-up is never
+    /// silent.
     pub fn remove(mut self) -> Result<(), String> {
         forget(&self.path);
         // Removed here, not again when dropped.
