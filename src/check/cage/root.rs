@@ -11,7 +11,7 @@ use std::fs;
 use std::io;
 use std::os::fd::{AsFd, OwnedFd};
 use std::os::unix::fs::{DirBuilderExt, PermissionsExt};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use rustix::fs::{Mode, OFlags};
 use rustix::mount::{MountFlags, MountPropagationFlags, UnmountFlags};
@@ -93,12 +93,17 @@ pub fn enter(request: &Request, fresh_proc: bool) -> Result<Root, String> {
     for temporary in confine::PRIVATE_TEMPORARY {
         open_folder(&inside(Path::new(temporary)), 0o1777)?;
     }
-    for path in &request.readable {
-        // What lies in a system folder is there already.
-        if confine::SYSTEM.iter().any(|s| path.starts_with(s)) {
+    // Outer folders first; what lies in one bound already, or in a system folder, is there.
+    let mut readable: Vec<&Path> = request.readable.iter().map(PathBuf::as_path).collect();
+    readable.sort_by_key(|path| path.components().count());
+    let mut bound: Vec<&Path> = Vec::new();
+    for path in readable {
+        let there = |outer: &&Path| path.starts_with(outer);
+        if confine::SYSTEM.iter().map(Path::new).any(|s| there(&s)) || bound.iter().any(there) {
             continue;
         }
         bind_read_only(path, &inside(path))?;
+        bound.push(path);
     }
     // The suite (and anything else check keeps from renderers) stays hidden even where a
     // readable path holds it: an empty folder over it.
