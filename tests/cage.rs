@@ -107,9 +107,30 @@ impl World {
     /// the check's exit status. Asserts that the suite and the canary are unchanged and that
     /// no process carrying `token` in its command line is left.
     fn check(&self, renderer: &str, extra: &[&str], token: &str) -> (String, Option<i32>) {
+        self.check_by(false, renderer, extra, token)
+    }
+
+    /// [`World::check`], run by an ordinary user (user 65534, through `setpriv`) where `ordinary`
+    /// and the tests run as root.
+    fn check_by(
+        &self,
+        ordinary: bool,
+        renderer: &str,
+        extra: &[&str],
+        token: &str,
+    ) -> (String, Option<i32>) {
         let before = self.state();
         let start = Instant::now();
-        let mut child = Command::new(RAYCAST)
+        let mut command = if ordinary {
+            let mut setpriv = Command::new("setpriv");
+            setpriv
+                .args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+                .arg(common::open_raycast());
+            setpriv
+        } else {
+            Command::new(RAYCAST)
+        };
+        let mut child = command
             .args([
                 "check",
                 self.suite.to_str().unwrap(),
@@ -1066,4 +1087,69 @@ fn a_careless_renderer_is_told_the_cage_kept_it_from_its_files() {
         "reader.sh",
     );
     assert_eq!(code, Some(0), "{out}");
+}
+
+#[test]
+fn the_side_doors_stay_closed_when_an_ordinary_user_runs_check() {
+    let Some(w) = world() else { return };
+    if !rustix_is_root() {
+        // Already an ordinary user: the other tests ran as one.
+        return;
+    }
+    // The report is written by the ordinary user.
+    std::fs::set_permissions(
+        w.report.parent().unwrap(),
+        std::fs::Permissions::from_mode(0o777),
+    )
+    .unwrap();
+    let before = shared_memory_segments();
+    let sharer = w.renderer(
+        "user-sharer.sh",
+        &format!(
+            "ipcs -m | grep -q '^0x' && {{ echo 'saw a segment of another line'; exit 1; }}
+             ipcmk -M 4096 > /dev/null || exit 1
+             echo x > /tmp/user-marker && echo x > /dev/shm/user-marker || exit 1
+             {}",
+            render()
+        ),
+    );
+    for _ in 0..2 {
+        let (out, code) = w.check_by(true, &sharer, &[], "user-sharer.sh");
+        assert_eq!(code, Some(0), "{out}");
+    }
+    assert_eq!(shared_memory_segments(), before);
+    for folder in ["/tmp", "/dev/shm"] {
+        assert!(!Path::new(folder).join("user-marker").exists(), "{folder}");
+    }
+    let bomb = w.renderer(
+        "user-refork.sh",
+        &format!(
+            "for i in $(seq 40); do
+               ( while :; do (exec -a user-refork-token sleep 30) & wait; done ) &
+             done
+             sleep 0.3
+             {}",
+            render()
+        ),
+    );
+    let (out, code) = w.check_by(true, &bomb, &[], "user-refork-token");
+    assert_eq!(code, Some(0), "{out}");
+    let filler = w.renderer(
+        "user-filler.sh",
+        "dd if=/dev/zero of=fill bs=1M count=64 2>/dev/null
+         echo \"wrote $(stat -c %s fill) bytes\"
+         exit 1",
+    );
+    let (out, code) = w.check_by(true, &filler, &["--disk", "16M"], "user-filler.sh");
+    assert_eq!(code, Some(1), "{out}");
+    let wrote: u64 = out
+        .split("wrote ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{out}"));
+    assert!(wrote <= 16 << 20, "{out}");
+    let cage = &common::summary_of(&w.report)["cage"];
+    assert_eq!(cage["user"], "check's own user", "{cage}");
+    assert_eq!(cage["own_root"], true, "{cage}");
 }
