@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::data_dir;
+use common::{data_dir, left_running};
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
@@ -165,21 +165,6 @@ impl World {
         assert_eq!(left_running(token), Vec::<String>::new(), "{out}");
         (out, output.status.code())
     }
-}
-
-/// The command lines of the processes that carry `token`.
-fn left_running(token: &str) -> Vec<String> {
-    let mut found = Vec::new();
-    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
-        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
-            continue;
-        };
-        let cmdline = String::from_utf8_lossy(&cmdline).replace('\0', " ");
-        if cmdline.contains(token) {
-            found.push(cmdline);
-        }
-    }
-    found
 }
 
 /// A line of raycast's own render, for renderers that do their harm and then render.

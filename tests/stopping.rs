@@ -138,18 +138,6 @@ fn stop(check: Child, signal: &str) -> (Option<i32>, String, Duration) {
     )
 }
 
-/// The processes still carrying `token` (the renderer's script's name).
-fn left_running(token: &str) -> usize {
-    std::fs::read_dir("/proc")
-        .unwrap()
-        .flatten()
-        .filter(|entry| {
-            let cmdline = std::fs::read(entry.path().join("cmdline")).unwrap_or_default();
-            String::from_utf8_lossy(&cmdline).contains(token)
-        })
-        .count()
-}
-
 #[test]
 fn a_stop_during_diagnosis_ends_check_at_once_with_a_whole_report() {
     let Some(later) = common::later_dir("the stopping tests") else {
@@ -176,7 +164,11 @@ fn a_stop_during_diagnosis_ends_check_at_once_with_a_whole_report() {
         let summary = common::summary_of(&report);
         assert_eq!(summary["partial"], true, "SIG{signal}");
         assert!(report.join("index.html").is_file());
-        assert_eq!(left_running("diagnosed-token"), 0, "SIG{signal}");
+        assert_eq!(
+            common::left_running("diagnosed-token").len(),
+            0,
+            "SIG{signal}"
+        );
     }
 }
 
@@ -199,7 +191,7 @@ fn a_stop_while_references_render_ends_check_at_once() {
     assert!(out.contains("ERROR  big0: interrupted"), "{out}");
     assert!(out.contains("ERROR  big23: interrupted"), "{out}");
     assert_eq!(common::summary_of(&report)["partial"], true);
-    assert_eq!(left_running("referenced-token"), 0);
+    assert_eq!(common::left_running("referenced-token").len(), 0);
 }
 
 #[test]
@@ -240,10 +232,10 @@ fn a_second_stop_ends_check_now_and_still_leaves_nothing_behind() {
         "{said}"
     );
     let deadline = Instant::now() + Duration::from_secs(5);
-    while left_running("twice-token") > 0 && Instant::now() < deadline {
+    while !common::left_running("twice-token").is_empty() && Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(20));
     }
-    assert_eq!(left_running("twice-token"), 0);
+    assert_eq!(common::left_running("twice-token").len(), 0);
     let left: Vec<_> = std::fs::read_dir(&temporary)
         .unwrap()
         .flatten()
@@ -290,5 +282,5 @@ fn a_deadline_shorter_than_the_diagnoses_still_grades_and_reports_in_time() {
     );
     assert_eq!(common::summary_of(&report)["partial"], true);
     assert!(report.join("gradescope.json").is_file());
-    assert_eq!(left_running("deadline-token"), 0);
+    assert_eq!(common::left_running("deadline-token").len(), 0);
 }

@@ -745,7 +745,7 @@ fn grade_line(
         .budget
         .map(|(start, budget)| budget.saturating_sub(start.elapsed()));
     let (ran, out) = if caged.stop.is_set() {
-        (ran_only(stopped(caged.stop)), folder.join("out"))
+        (ran_only(Ending::stopped(caged.stop)), folder.join("out"))
     } else if let (Some(left), Some((_, budget))) = (left, caged.budget)
         && left.is_zero()
     {
@@ -774,9 +774,6 @@ fn grade_line(
                     user: caged.user,
                 };
                 let mut ran = cage::run(&request, caged.stop);
-                if ran.ending == Ending::Interrupted {
-                    ran.ending = stopped(caged.stop);
-                }
                 // Stopped at the budget's end rather than at --timeout: the budget is the cause.
                 if let (Ending::TimedOut(after), Some((_, budget))) = (&ran.ending, caged.budget)
                     && *after < options.timeout
@@ -933,15 +930,6 @@ fn explain_by_simulation(
         let g = &mut graded[k];
         g.findings = result.matches.into_iter().map(Finding::Fault).collect();
         g.explanation = finding::explain(&g.findings, g.picture);
-    }
-}
-
-/// How a line ends that check stopped: interrupted by a person, or out of time.
-fn stopped(stop: &StopFlag) -> Ending {
-    if stop.is_out_of_time() {
-        Ending::DeadlineCame
-    } else {
-        Ending::Interrupted
     }
 }
 

@@ -5,6 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
+use super::cage::SYSTEM;
+
 /// What the renderer could read, as the cage was told.
 pub struct Reach<'a> {
     /// Its readable folders and files beyond the system's.
@@ -36,12 +38,6 @@ const CANNOT_OPEN: &[&str] = &[
 
 /// The dynamic loader's words for a library it could not find.
 const LIBRARY_MISSING: &str = "error while loading shared libraries: ";
-
-/// The folders the system's files are in: readable to every renderer already.
-const SYSTEM: &[&str] = &[
-    "/bin", "/sbin", "/usr", "/lib", "/lib32", "/lib64", "/libx32", "/etc", "/opt", "/proc",
-    "/sys", "/dev",
-];
 
 /// Why the cage is the likely cause of what `said` shows, and the `--allow-read` that fixes
 /// it; `None` where nothing it said points at the cage.

@@ -145,3 +145,18 @@ pub fn summary_of(report: &Path) -> serde_json::Value {
     let text = std::fs::read_to_string(report.join("summary.json")).unwrap();
     serde_json::from_str(&text).unwrap()
 }
+
+/// The command lines of the processes that carry `token`.
+pub fn left_running(token: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+        let Ok(cmdline) = std::fs::read(entry.path().join("cmdline")) else {
+            continue;
+        };
+        let cmdline = String::from_utf8_lossy(&cmdline).replace('\0', " ");
+        if cmdline.contains(token) {
+            found.push(cmdline);
+        }
+    }
+    found
+}

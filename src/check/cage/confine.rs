@@ -18,7 +18,7 @@ use super::Request;
 
 /// The folders of the system a program needs to run (its libraries, interpreters, settings,
 /// devices and the kernel's views): readable, never writable.
-pub(super) const SYSTEM: &[&str] = &[
+pub const SYSTEM: &[&str] = &[
     "/bin", "/sbin", "/usr", "/lib", "/lib32", "/lib64", "/libx32", "/etc", "/opt", "/proc",
     "/sys", "/dev",
 ];

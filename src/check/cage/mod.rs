@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+pub use confine::SYSTEM;
 pub use reach::stage;
 pub use supervisor::supervise;
 pub use wall::Wall;
@@ -428,11 +429,28 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
             confinement: None,
         };
     };
+    let ending = match supervisor::ending_of(&report["ending"]) {
+        // The supervisor knows only that it was told to stop; check knows why.
+        Ending::Interrupted => Ending::stopped(stop),
+        ending => ending,
+    };
     Ran {
-        ending: supervisor::ending_of(&report["ending"]),
+        ending,
         stderr,
         seconds,
         confinement: Confinement::from_json(&report["cage"]),
+    }
+}
+
+impl Ending {
+    /// How a run ends that check stopped: interrupted by a person, or out of time
+    /// (`--deadline`).
+    pub fn stopped(stop: &StopFlag) -> Ending {
+        if stop.is_out_of_time() {
+            Ending::DeadlineCame
+        } else {
+            Ending::Interrupted
+        }
     }
 }
 

@@ -25,23 +25,15 @@ pub struct Wall {
 impl Wall {
     /// The wall for `suite`, on this machine, for a check running as root or not.
     pub fn find(suite: &Path, root: bool) -> Wall {
-        let temp = std::env::temp_dir();
-        let probe = Request {
-            command: Vec::new(),
-            work: temp.clone(),
-            outputs: temp,
-            readable: Vec::new(),
-            hidden: Vec::new(),
-            root: None,
-            work_kept: false,
-            limit: std::time::Duration::ZERO,
-            limits: super::Limits::default(),
-            user: None,
-        };
         let suite = std::fs::canonicalize(suite).unwrap_or_else(|_| suite.to_path_buf());
+        // One probe line tells both: Landlock's state and whether a line gets its own root.
+        let probe = probe(&suite);
         Wall {
-            own_root: own_root_probe(&suite),
-            landlock: confine::landlock_state(&probe),
+            landlock: match &probe {
+                Ok(cage) => cage.landlock.clone(),
+                Err(why) => format!("not tried ({why})"),
+            },
+            own_root: probe.and_then(|cage| cage.own_root),
             suite_in_system: confine::SYSTEM
                 .iter()
                 .find(|folder| suite.starts_with(folder))
@@ -87,9 +79,10 @@ impl Wall {
     }
 }
 
-/// Runs a line with nothing to run, to see whether its init gets a root of its own with the
-/// suite hidden: the cage's own verdict, on this machine, before any stranger's code runs.
-fn own_root_probe(suite: &Path) -> Result<(), String> {
+/// Runs a line with nothing to run, to see what its cage holds (Landlock, a root of its own
+/// with the suite hidden): the cage's own verdict, on this machine, before any stranger's code
+/// runs.
+fn probe(suite: &Path) -> Result<super::Confinement, String> {
     let folder = tempfile::tempdir().map_err(|e| format!("no scratch folder: {e}"))?;
     let [work, outputs, root] = ["work", "out", "root"].map(|name| folder.path().join(name));
     for made in [&work, &outputs, &root] {
@@ -107,10 +100,9 @@ fn own_root_probe(suite: &Path) -> Result<(), String> {
         limits: super::Limits::default(),
         user: None,
     };
-    match super::run(&probe, &crate::render::StopFlag::default()).confinement {
-        Some(cage) => cage.own_root,
-        None => Err("the probe line's supervisor said nothing".into()),
-    }
+    super::run(&probe, &crate::render::StopFlag::default())
+        .confinement
+        .ok_or_else(|| "the probe line's supervisor said nothing".to_string())
 }
 
 #[cfg(test)]

@@ -215,11 +215,7 @@ pub fn grade_student(
             limits: options.limits,
             user,
         };
-        let mut ran = cage::run(&request, stop);
-        if ran.ending == Ending::Interrupted {
-            ran.ending = super::stopped(stop);
-        }
-        Built::of(&ran)
+        Built::of(&cage::run(&request, stop))
     });
     let mut command = options.renderer.clone();
     command[0] = in_submission(&command[0], &copy);
