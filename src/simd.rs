@@ -226,17 +226,20 @@ impl Path {
 
     /// Every path this CPU has, narrowest first.
     pub fn available() -> Vec<Path> {
-        let mut paths = vec![Path::Portable];
+        // Only x86_64 has wider paths (Apple silicon's NEON is the portable path's own).
         #[cfg(target_arch = "x86_64")]
         {
+            let mut paths = vec![Path::Portable];
             if cpu_has_avx() {
                 paths.push(Path::Avx);
             }
             if cpu_has_avx512() {
                 paths.push(Path::Avx512);
             }
+            paths
         }
-        paths
+        #[cfg(not(target_arch = "x86_64"))]
+        vec![Path::Portable]
     }
 
     /// The path [`dispatch`] takes: the widest this CPU has, within `RAYCAST_SIMD`'s cap (a

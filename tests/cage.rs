@@ -3,6 +3,10 @@
 //! right (a forger never passes), check ends within its deadline, nothing the renderer started
 //! is left running, a canary folder and the suite are unchanged, and the cause is named.
 
+// The cage these tests break into is Linux's (namespaces, Landlock, its own root); the other
+// systems' cages are tested by their own module's tests and, for Windows, CI's Wine job.
+#![cfg(target_os = "linux")]
+
 mod common;
 
 use common::{data_dir, left_running};

@@ -125,7 +125,10 @@ fn scratch(shared: &Path) -> tempfile::TempDir {
             let entry = entry.unwrap();
             let link = dir.path().join(entry.file_name());
             if !link.exists() {
+                #[cfg(unix)]
                 std::os::unix::fs::symlink(entry.path(), link).unwrap();
+                #[cfg(not(unix))]
+                std::fs::copy(entry.path(), link).unwrap();
             }
         }
     }

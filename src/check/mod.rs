@@ -12,6 +12,7 @@ mod finding;
 pub mod formats;
 mod guard;
 pub mod merge;
+pub(crate) mod modes;
 mod output;
 mod project;
 mod refused;
@@ -85,6 +86,9 @@ pub struct CheckOptions {
     /// Grade even where no wall keeps the renderer from the references (`--no-cage`): for a
     /// student's own renderer on their own machine, never strangers'. Every report says so.
     pub no_cage: bool,
+    /// Whether the programs graded are other people's (a class): where the cage cannot keep a
+    /// renderer's reads and writes (Windows), they are graded only with `--no-cage`.
+    pub others: bool,
 }
 
 impl CheckOptions {
@@ -104,6 +108,7 @@ impl CheckOptions {
             budget: None,
             deadline: None,
             no_cage: false,
+            others: false,
         }
     }
 }
@@ -327,9 +332,9 @@ impl Prepared {
 pub fn prepare(options: &CheckOptions, stop: &'static StopFlag) -> Result<Prepared, String> {
     let mut suite = Suite::read(&options.suite)?;
     // Before any renderer's code runs: a wall must hold, or the user said --no-cage.
-    let root = rustix::process::geteuid().is_root();
+    let root = cage::is_root();
     if !options.no_cage {
-        cage::Wall::find(&options.suite, root).holds()?;
+        cage::Wall::find(&options.suite, root).holds(options.others)?;
     }
     if let Some((k, n)) = options.shard {
         suite.lines = std::mem::take(&mut suite.lines)
@@ -445,9 +450,8 @@ pub fn grade_renderer(
     };
     let scratch = Scratch::new()?;
     if user.is_some() {
-        use std::os::unix::fs::PermissionsExt;
         // Passed through by the renderer's user to its own line's folders, never listed.
-        std::fs::set_permissions(scratch.path(), std::fs::Permissions::from_mode(0o711))
+        modes::set_mode(scratch.path(), 0o711)
             .map_err(|e| format!("cannot open the scratch folder to the renderer: {e}"))?;
     }
     let started = std::time::Instant::now();

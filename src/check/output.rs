@@ -161,14 +161,18 @@ fn decode(bytes: &[u8], format: image::ImageFormat, most: u64) -> Result<Image, 
 /// Opens `path` for reading only if it is a plain file, without blocking on a FIFO (which
 /// would hang the check); unless `follow_links`, not through a symbolic link either.
 fn open_plain(path: &Path, follow_links: bool) -> Result<std::fs::File, Unread> {
-    use std::os::unix::fs::OpenOptionsExt;
     let mut open = std::fs::OpenOptions::new();
     open.read(true);
-    let mut flags = rustix::fs::OFlags::NONBLOCK;
-    if !follow_links {
-        flags |= rustix::fs::OFlags::NOFOLLOW;
+    // Windows has no FIFOs in the file system, and the link is refused below before opening.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        let mut flags = rustix::fs::OFlags::NONBLOCK;
+        if !follow_links {
+            flags |= rustix::fs::OFlags::NOFOLLOW;
+        }
+        open.custom_flags(flags.bits() as i32);
     }
-    open.custom_flags(flags.bits() as i32);
     let kind = std::fs::symlink_metadata(path).map(|m| m.file_type());
     if !follow_links && kind.as_ref().is_ok_and(|k| k.is_symlink()) {
         return Err(unread(

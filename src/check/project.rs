@@ -162,6 +162,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(unix)]
     fn a_virtual_environment_is_read_whole() {
         let dir = tempfile::tempdir().unwrap();
         let base = std::fs::canonicalize(dir.path()).unwrap();

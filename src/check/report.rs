@@ -71,9 +71,7 @@ impl Staging {
         }
         let fail = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
         {
-            use std::os::unix::fs::PermissionsExt;
-            std::fs::set_permissions(self.path(), std::fs::Permissions::from_mode(0o755))
-                .map_err(|e| fail(self.path(), e))?;
+            super::modes::set_mode(self.path(), 0o755).map_err(|e| fail(self.path(), e))?;
         }
         let dir = self.place.clone();
         let parent = self

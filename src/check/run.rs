@@ -69,7 +69,7 @@ pub fn prepare(
     folder: &Path,
     user: Option<(u32, u32)>,
 ) -> Result<(PathBuf, PathBuf), String> {
-    use std::os::unix::fs::PermissionsExt;
+    use super::modes;
     let failed = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
     let work = folder.join("work");
     let out = folder.join("out");
@@ -85,20 +85,18 @@ pub fn prepare(
     ] {
         std::fs::create_dir_all(made).map_err(|e| failed(made, e))?;
     }
-    std::fs::set_permissions(folder, std::fs::Permissions::from_mode(0o711))
-        .map_err(|e| failed(folder, e))?;
+    modes::set_mode(folder, 0o711).map_err(|e| failed(folder, e))?;
     for file in files {
         let target = work.join(file);
         if let Some(parent) = target.parent() {
             std::fs::create_dir_all(parent).map_err(|e| failed(parent, e))?;
         }
         std::fs::copy(scenes.join(file), &target).map_err(|e| failed(&scenes.join(file), e))?;
-        std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o444))
-            .map_err(|e| failed(&target, e))?;
+        modes::set_mode(&target, 0o444).map_err(|e| failed(&target, e))?;
     }
     if let Some((uid, gid)) = user {
         for owned in [&work, &out, &work.join(".home"), &work.join(".tmp")] {
-            std::os::unix::fs::chown(owned, Some(uid), Some(gid)).map_err(|e| failed(owned, e))?;
+            modes::give(owned, (uid, gid)).map_err(|e| failed(owned, e))?;
         }
     }
     Ok((work, out))
@@ -108,17 +106,17 @@ pub fn prepare(
 /// executable. Asked once before any line, so that a wrong path is one clear error, not a
 /// crash on every line.
 pub fn check_program(program: &[String]) -> Result<PathBuf, String> {
-    use std::os::unix::fs::PermissionsExt;
     let Some(executable) = program.first() else {
         return Err("--renderer is empty: which program should be graded?".into());
     };
-    let path = if executable.contains('/') {
-        resolve(executable)
+    // A path (`./raytracer`, `x64\Release\raytracer.exe` on Windows), or a name for the PATH.
+    let path = if Path::new(executable).components().count() > 1 {
+        with_program_extension(resolve(executable))
     } else {
         let on_path = std::env::var_os("PATH")
             .map(|p| {
                 std::env::split_paths(&p)
-                    .map(|d| d.join(executable))
+                    .map(|d| with_program_extension(d.join(executable)))
                     .collect::<Vec<_>>()
             })
             .unwrap_or_default();
@@ -137,7 +135,7 @@ pub fn check_program(program: &[String]) -> Result<PathBuf, String> {
     if !metadata.is_file() {
         return Err(format!("--renderer: '{}' is not a file", path.display()));
     }
-    if metadata.permissions().mode() & 0o111 == 0 {
+    if !super::modes::is_executable(&metadata) {
         return Err(format!(
             "--renderer: '{}' is not executable (chmod +x it, or name its interpreter: \
              --renderer \"python3 {}\")",
@@ -146,6 +144,19 @@ pub fn check_program(program: &[String]) -> Result<PathBuf, String> {
         ));
     }
     Ok(path)
+}
+
+/// On Windows a program named without its extension (`raytracer`, as the course's command lines
+/// name it) is found as the system finds it: `raytracer.exe`. Elsewhere, and where the name
+/// is a file already, `path` itself.
+fn with_program_extension(path: PathBuf) -> PathBuf {
+    if cfg!(windows) && path.extension().is_none() && !path.is_file() {
+        let exe = path.with_extension("exe");
+        if exe.is_file() {
+            return exe;
+        }
+    }
+    path
 }
 
 /// A renderer named by a relative path (`./raytracer`) runs from its work folder, so it is made

@@ -65,13 +65,16 @@ pub fn remove_all_now() {
 }
 
 /// Removes a scratch folder, first giving back the rights a renderer may have taken from the
-/// folders it made (one of mode 000 could not be emptied otherwise).
+/// folders it made (one of mode 000 could not be emptied otherwise) and, on Windows, from its
+/// files (a read-only file cannot be deleted there).
 fn remove(path: &Path) -> Result<(), String> {
     fn open_up(path: &Path) {
-        use std::os::unix::fs::PermissionsExt;
-        let is_folder = std::fs::symlink_metadata(path).is_ok_and(|m| m.is_dir());
-        if is_folder {
-            let _ = std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o700));
+        let metadata = std::fs::symlink_metadata(path);
+        if cfg!(windows) && metadata.as_ref().is_ok_and(|m| m.is_file()) {
+            let _ = super::modes::set_mode(path, 0o600);
+        }
+        if metadata.is_ok_and(|m| m.is_dir()) {
+            let _ = super::modes::set_mode(path, 0o700);
             for entry in std::fs::read_dir(path).into_iter().flatten().flatten() {
                 open_up(&entry.path());
             }

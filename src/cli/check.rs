@@ -29,8 +29,9 @@ raycast's own render of the same line). It names the likely cause of each mismat
 --report writes DIR/summary.json, DIR/index.html and the grades for Gradescope
 (gradescope.json), PrairieLearn (prairielearn.json), JUnit readers (junit.xml) and GitHub
 Classroom (github-classroom.json), each picture worth the points SUITE/POINTS gives it (one by
-default). CMD is the renderer's command, one argument split into words as a POSIX shell splits
-them (quotes and backslashes; no expansion): --renderer \"python3 'my tracer.py'\". -gui,
+default). CMD is the renderer's command, one argument split into words as the system's shell splits
+them (POSIX quotes and backslashes, no expansion; on Windows, double quotes, backslashes kept):
+--renderer \"python3 'my tracer.py'\". -gui,
 -tessellation and -gouraud, which only drive the course's OpenGL preview, are dropped from the
 lines (--keep-preview-options passes them on). Lines run --jobs at a time (default: one a
 core), each handed out as a worker comes free; --shard K/N runs every Nth line from the Kth.
@@ -152,7 +153,7 @@ fn parse_check_args(
         match text.as_str() {
             "--renderer" => {
                 let command = value(&mut args, "--renderer", "the renderer's command")?;
-                options.renderer = shlex::split(&command).ok_or_else(|| {
+                options.renderer = super::words::split(&command).ok_or_else(|| {
                     format!("--renderer: unbalanced quotes or a trailing backslash in '{command}'")
                 })?;
             }
@@ -186,7 +187,7 @@ fn parse_check_args(
             "--build" => {
                 let command = value(&mut args, "--build", "the build's command")?;
                 class.build = Some(
-                    shlex::split(&command)
+                    super::words::split(&command)
                         .filter(|words| !words.is_empty())
                         .ok_or_else(|| {
                             format!("--build: no command, or unbalanced quotes in '{command}'")

@@ -126,7 +126,8 @@ fn finish(staging: Staging, rows: &[table::Row], partial: bool) -> Result<(), St
 
 /// Grades every student of `class.roster`; exit status 0 once the class is graded (whatever
 /// the grades), 130 when interrupted, 2 for a usage or suite problem.
-pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
+pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
+    options.others = true;
     let students = match class::students(&class.roster, class.shard) {
         Ok(students) => students,
         Err(message) => return fail(&message),
@@ -147,10 +148,8 @@ pub fn run_class(options: CheckOptions, class: ClassOptions) -> ExitCode {
         Err(message) => return fail(&message),
     };
     {
-        use std::os::unix::fs::PermissionsExt;
         // Passed through by the renderers' user to each student's copy, never listed.
-        let opened =
-            std::fs::set_permissions(scratch.path(), std::fs::Permissions::from_mode(0o711));
+        let opened = check::modes::set_mode(scratch.path(), 0o711);
         if let Err(e) = opened {
             return fail(&format!("cannot open the scratch folder: {e}"));
         }

@@ -44,33 +44,43 @@ pub(super) fn stop_at_deadline(
     });
 }
 
-/// A flag that Ctrl-C, SIGTERM and SIGHUP set: the renderers running end, and what was graded
-/// so far is reported, marked partial.
+/// A flag that Ctrl-C, SIGTERM and SIGHUP set (on Windows Ctrl-C, Ctrl-Break and the console's
+/// closing): the renderers running end, and what was graded so far is reported, marked partial.
+/// A second time, check ends at once: the renderers end with their supervisors, which watch
+/// check; the scratch goes here; the report is not written.
 pub(super) fn stop_on_signals() -> &'static crate::render::StopFlag {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let stop = crate::render::StopFlag::leaked();
-    match signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
-        Ok(mut signals) => {
-            std::thread::spawn(move || {
-                let mut heard = 0;
-                for _ in signals.forever() {
-                    heard += 1;
-                    stop.set();
-                    // A second time: now. The renderers end with their supervisors, which
-                    // watch check; the scratch goes here; the report is not written.
-                    if heard > 1 {
-                        crate::check::remove_scratch_now();
-                        eprintln!("raycast: check: stopped at once; no report written");
-                        std::process::exit(130);
-                    }
-                }
-            });
+    let heard = std::sync::atomic::AtomicUsize::new(0);
+    let on_signal = move || {
+        stop.set();
+        if heard.fetch_add(1, std::sync::atomic::Ordering::Relaxed) > 0 {
+            crate::check::remove_scratch_now();
+            eprintln!("raycast: check: stopped at once; no report written");
+            std::process::exit(130);
         }
-        Err(_) => {
-            for signal in [SIGINT, SIGTERM, SIGHUP] {
-                let _ = signal_hook::flag::register(signal, stop.shared());
+    };
+    #[cfg(unix)]
+    {
+        use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+        match signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
+            Ok(mut signals) => {
+                std::thread::spawn(move || {
+                    for _ in signals.forever() {
+                        on_signal();
+                    }
+                });
+            }
+            Err(_) => {
+                for signal in [SIGINT, SIGTERM, SIGHUP] {
+                    let _ = signal_hook::flag::register(signal, stop.shared());
+                }
             }
         }
+    }
+    #[cfg(not(unix))]
+    {
+        // With its "termination" feature, ctrlc hears the console's Ctrl-C, Ctrl-Break and close.
+        let _ = ctrlc::set_handler(on_signal);
     }
     stop
 }

@@ -45,7 +45,13 @@ const PARALLEL_BYTES: usize = 1 << 20;
 /// piece's lines and `v` statements, which tells every piece the number of its first line and
 /// how many vertices lie above it, so that each reads its faces' indices, and words its errors,
 /// exactly as one reading of the whole file would. The error reported is the first in the file.
+/// A byte-order mark at its start (Notepad's UTF-8) is no part of the mesh.
 pub fn parse_obj(path: &Path, bytes: &[u8]) -> Result<ObjMesh, Diagnostic> {
+    let mut mark = [0; 4];
+    let mark = super::parser::BYTE_ORDER_MARK
+        .encode_utf8(&mut mark)
+        .as_bytes();
+    let bytes = bytes.strip_prefix(mark).unwrap_or(bytes);
     let threads = rayon::current_num_threads();
     if threads == 1 || bytes.len() < PARALLEL_BYTES {
         // No line makes more than one vertex.
@@ -563,6 +569,15 @@ mod tests {
         let mesh = parse(text).unwrap();
         assert_eq!(mesh.positions[2], Vec3::new(1.0, 1.0, 0.0));
         assert_eq!(mesh.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 1, 3]]);
+    }
+
+    #[test]
+    fn a_file_saved_by_notepad_reads_as_the_same_mesh() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let notepad = format!("\u{feff}{}", text.replace('\n', "\r\n"));
+        let (plain, saved) = (parse(text).unwrap(), parse(&notepad).unwrap());
+        assert_eq!(saved.positions, plain.positions);
+        assert_eq!(saved.triangles, plain.triangles);
     }
 
     #[test]

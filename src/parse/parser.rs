@@ -42,6 +42,9 @@ pub const MAX_MAGNITUDE: f64 = 1e9;
 /// What a number out of [`MAX_MAGNITUDE`]'s range is refused as.
 pub const NUMBER_IN_RANGE: &str = "a number between -1e9 and 1e9";
 
+/// What Windows' Notepad writes before UTF-8 text.
+pub const BYTE_ORDER_MARK: char = '\u{feff}';
+
 /// Reads and parses a scene file.
 pub fn read_scene(path: &Path) -> std::result::Result<SceneDescription, Error> {
     let bytes = std::fs::read(path).map_err(|source| Error::Read {
@@ -63,7 +66,9 @@ pub fn parse_scene_bytes(path: &Path, bytes: &[u8]) -> Result<SceneDescription> 
 }
 
 /// Parses scene text; `path` is only used to name the file in messages and to find meshes later.
+/// A byte-order mark at its start (Notepad's UTF-8) is no part of the scene.
 pub fn parse_scene(path: &Path, text: &str) -> Result<SceneDescription> {
+    let text = text.strip_prefix(BYTE_ORDER_MARK).unwrap_or(text);
     Parser {
         path,
         lexer: Lexer::new(text),

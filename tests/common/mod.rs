@@ -115,6 +115,7 @@ pub fn open_raycast() -> &'static str {
             std::fs::create_dir_all(&dir).unwrap();
             let partial = dir.join(format!("raycast.{}", std::process::id()));
             std::fs::copy(RAYCAST, &partial).unwrap();
+            #[cfg(unix)]
             std::fs::set_permissions(
                 &partial,
                 <std::fs::Permissions as std::os::unix::fs::PermissionsExt>::from_mode(0o755),
@@ -122,6 +123,7 @@ pub fn open_raycast() -> &'static str {
             .unwrap();
             std::fs::rename(&partial, &copy).unwrap();
         }
+        #[cfg(unix)]
         std::fs::set_permissions(
             &dir,
             <std::fs::Permissions as std::os::unix::fs::PermissionsExt>::from_mode(0o755),

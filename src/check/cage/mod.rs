@@ -9,23 +9,44 @@
 //! included. check itself only waits for the supervisor's report, with a deadline of its own
 //! behind the supervisor's.
 
-mod confine;
-mod reach;
-mod reap;
-mod root;
-mod supervisor;
-mod wall;
+mod report;
+
+// One room per system, each with the same interface: `supervise` (a line's supervisor), `Wall`
+// (what keeps a renderer from the references, found before any line runs), `SYSTEM` (the
+// folders every program may read), `is_root`, `unprivileged_user` and `stage` (a renderer
+// never runs as root), and how check starts and stops a supervisor.
+#[cfg(target_os = "linux")]
+mod linux;
+#[cfg(target_os = "linux")]
+use linux as system;
+#[cfg(all(unix, not(target_os = "linux")))]
+mod macos;
+#[cfg(all(unix, not(target_os = "linux")))]
+use macos as system;
+#[cfg(windows)]
+mod windows;
+#[cfg(windows)]
+use windows as system;
+#[cfg(not(target_os = "linux"))]
+mod same_user;
 
 use crate::render::StopFlag;
 use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-pub use confine::SYSTEM;
-pub use reach::stage;
-pub use supervisor::supervise;
-pub use wall::Wall;
+pub use system::{SYSTEM, Wall, is_root, stage, supervise, unprivileged_user};
+/// A renderer's command and what it may read, made reachable for an unprivileged user.
+#[derive(Debug)]
+pub struct Staged {
+    /// The command, its words that named a copied path renamed into the copy.
+    pub command: Vec<String>,
+    /// What it may read, copies in place of what the user could not reach.
+    pub readable: Vec<PathBuf>,
+    /// What was copied, for the report; `None` when nothing needed copying.
+    pub note: Option<String>,
+}
 
 /// The hidden first word of raycast's command line that makes it a line's supervisor; what
 /// follows is the line's request as JSON.
@@ -249,6 +270,14 @@ pub struct Confinement {
     /// Whether it ran in a root of its own (the system's folders, its own and nothing else;
     /// its writes bounded), or, if not, why not.
     pub own_root: Result<(), String>,
+    /// The system it ran on: "linux", "macos" or "windows" (the fields above are Linux's).
+    pub system: String,
+    /// Windows: whether its line ran in a job object (every process ended with the line, their
+    /// memory and number bounded together, no UI), or why not.
+    pub job: Result<(), String>,
+    /// macOS: whether the system's sandbox (`sandbox-exec`) kept it from the network and its
+    /// writes in its folders, the suite out of its reach; on Windows why nothing does.
+    pub sandbox: Result<(), String>,
 }
 
 impl Default for Confinement {
@@ -261,6 +290,9 @@ impl Default for Confinement {
             ipc_namespace: false,
             pid_namespace: false,
             own_root: Err("not tried".into()),
+            system: std::env::consts::OS.to_string(),
+            job: Err(format!("not on {}", std::env::consts::OS)),
+            sandbox: Err(format!("not on {}", std::env::consts::OS)),
         }
     }
 }
@@ -268,21 +300,30 @@ impl Default for Confinement {
 impl Confinement {
     /// As the report writes it.
     pub fn json(&self) -> serde_json::Value {
+        let held = |mechanism: &Result<(), String>| match mechanism {
+            Ok(()) => serde_json::Value::Bool(true),
+            Err(why) => serde_json::Value::String(why.clone()),
+        };
         serde_json::json!({
+            "system": self.system,
+            "job": held(&self.job),
+            "sandbox": held(&self.sandbox),
             "user": self.user,
             "landlock": self.landlock,
             "network_namespace": self.network_namespace,
             "subreaper": self.subreaper,
             "ipc_namespace": self.ipc_namespace,
             "pid_namespace": self.pid_namespace,
-            "own_root": match &self.own_root {
-                Ok(()) => serde_json::Value::Bool(true),
-                Err(why) => serde_json::Value::String(why.clone()),
-            },
+            "own_root": held(&self.own_root),
         })
     }
 
     pub(crate) fn from_json(value: &serde_json::Value) -> Option<Confinement> {
+        let held = |value: &serde_json::Value| match value {
+            serde_json::Value::Bool(true) => Ok(()),
+            serde_json::Value::String(why) => Err(why.clone()),
+            _ => Err("not recorded".into()),
+        };
         Some(Confinement {
             user: value["user"].as_str()?.to_string(),
             landlock: value["landlock"].as_str()?.to_string(),
@@ -291,17 +332,23 @@ impl Confinement {
             // Reports written before these were kept did not have them.
             ipc_namespace: value["ipc_namespace"].as_bool().unwrap_or(false),
             pid_namespace: value["pid_namespace"].as_bool().unwrap_or(false),
-            own_root: match &value["own_root"] {
-                serde_json::Value::Bool(true) => Ok(()),
-                serde_json::Value::String(why) => Err(why.clone()),
-                _ => Err("not recorded".into()),
-            },
+            own_root: held(&value["own_root"]),
+            // Reports written before other systems were caged were Linux's.
+            system: value["system"].as_str().unwrap_or("linux").to_string(),
+            job: held(&value["job"]),
+            sandbox: held(&value["sandbox"]),
         })
     }
 
-    /// Whether every mechanism held: Landlock in full, no network, private IPC, every process
-    /// ended with the line, a root of its own.
+    /// Whether every mechanism of its system held: on Linux Landlock in full, no network,
+    /// private IPC, every process ended with the line, a root of its own; on macOS the sandbox
+    /// and the line's process group; on Windows the job object and (never yet) a sandbox.
     pub fn is_whole(&self) -> bool {
+        match self.system.as_str() {
+            "windows" => return self.job.is_ok() && self.sandbox.is_ok(),
+            "linux" => {}
+            _ => return self.sandbox.is_ok() && self.subreaper,
+        }
         self.landlock == "fully enforced"
             && self.network_namespace
             && self.ipc_namespace
@@ -311,6 +358,37 @@ impl Confinement {
 
     /// One line for the terminal: what held the renderer, and what was missing.
     pub fn summary(&self) -> String {
+        let or_why = |held: &Result<(), String>, what: &str| match held {
+            Ok(()) => what.to_string(),
+            Err(why) => format!("no {what} ({why})"),
+        };
+        match self.system.as_str() {
+            "windows" => {
+                return format!(
+                    "renderer caged as {}; {} (every process ended with its line, memory and \
+                     processes bounded together, no UI); {}",
+                    self.user,
+                    or_why(&self.job, "job object"),
+                    or_why(&self.sandbox, "sandbox"),
+                );
+            }
+            "linux" => {}
+            _ => {
+                return format!(
+                    "renderer caged as {}; {}; {}",
+                    self.user,
+                    or_why(
+                        &self.sandbox,
+                        "sandbox (no network, writes in its folders only)"
+                    ),
+                    if self.subreaper {
+                        "its process group ended with its line"
+                    } else {
+                        "no process group of its own"
+                    },
+                );
+            }
+        }
         let yes_no = |on: bool, what: &str| {
             if on {
                 what.to_string()
@@ -360,16 +438,17 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
         Ok(path) => path,
         Err(e) => return not_started(format!("raycast cannot find its own program: {e}")),
     };
-    use std::os::unix::process::CommandExt;
-    let child = Command::new(supervisor)
+    let mut supervisor = Command::new(supervisor);
+    supervisor
         .arg(SUPERVISE)
         .arg(request.json().to_string())
-        .stdin(Stdio::null())
+        // Kept open while the line runs: a supervisor whose stdin closes was told to stop
+        // (where no signal can tell it).
+        .stdin(Stdio::piped())
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        // Its own group: a Ctrl-C at the terminal reaches check, which tells each supervisor.
-        .process_group(0)
-        .spawn();
+        .stderr(Stdio::piped());
+    system::detach(&mut supervisor);
+    let child = supervisor.spawn();
     let mut child = match child {
         Ok(child) => child,
         Err(e) => return not_started(format!("its supervisor could not start: {e}")),
@@ -384,7 +463,7 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
             Ok(None) if start.elapsed() >= backstop => break None,
             Ok(None) => {
                 if stop.is_set() && !told {
-                    signal(child.id(), rustix::process::Signal::TERM);
+                    system::ask_to_stop(&mut child);
                     told = true;
                 }
                 std::thread::sleep(Duration::from_millis(5));
@@ -429,7 +508,7 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
             confinement: None,
         };
     };
-    let ending = match supervisor::ending_of(&report["ending"]) {
+    let ending = match report::ending_of(&report["ending"]) {
         // The supervisor knows only that it was told to stop; check knows why.
         Ending::Interrupted => Ending::stopped(stop),
         ending => ending,
@@ -451,13 +530,6 @@ impl Ending {
         } else {
             Ending::Interrupted
         }
-    }
-}
-
-/// Sends `signal` to process `pid`, if it still is.
-fn signal(pid: u32, signal: rustix::process::Signal) {
-    if let Some(pid) = rustix::process::Pid::from_raw(pid as i32) {
-        let _ = rustix::process::kill_process(pid, signal);
     }
 }
 
@@ -484,63 +556,6 @@ fn read_tail(
         let _ = send.send(tail.split_off(start));
     });
     receive
-}
-
-/// The user a renderer runs as when check runs as root: `nobody` (its ids from /etc/passwd,
-/// 65534 where it is not listed), provided it can reach every path the renderer needs;
-/// `Err` says why not (check's own user is kept, and the report says so).
-pub fn unprivileged_user(needed: &[PathBuf]) -> Option<Result<(u32, u32), String>> {
-    if !rustix::process::geteuid().is_root() {
-        return None;
-    }
-    let (uid, gid) = std::fs::read_to_string("/etc/passwd")
-        .ok()
-        .and_then(|passwd| {
-            passwd.lines().find_map(|l| {
-                let fields: Vec<&str> = l.split(':').collect();
-                (fields.len() > 3 && fields[0] == "nobody")
-                    .then(|| Some((fields[2].parse().ok()?, fields[3].parse().ok()?)))
-                    .flatten()
-            })
-        })
-        .unwrap_or((65534, 65534));
-    for path in needed {
-        if let Err(why) = reachable_by_others(path) {
-            return Some(Err(why));
-        }
-    }
-    Some(Ok((uid, gid)))
-}
-
-/// Whether any user may reach `path`: every folder above it searchable by others, and the file
-/// itself readable by others (and, for a folder, searchable).
-fn reachable_by_others(path: &Path) -> Result<(), String> {
-    use std::os::unix::fs::PermissionsExt;
-    let path = std::fs::canonicalize(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    for folder in path.ancestors().skip(1) {
-        let mode = std::fs::metadata(folder)
-            .map_err(|e| format!("{}: {e}", folder.display()))?
-            .permissions()
-            .mode();
-        if mode & 0o001 == 0 {
-            return Err(format!(
-                "{} (mode {:o}) is closed to other users",
-                folder.display(),
-                mode & 0o777
-            ));
-        }
-    }
-    let metadata = std::fs::metadata(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let needs = if metadata.is_dir() { 0o005 } else { 0o004 };
-    let mode = metadata.permissions().mode();
-    if mode & needs != needs {
-        return Err(format!(
-            "{} (mode {:o}) is closed to other users",
-            path.display(),
-            mode & 0o777
-        ));
-    }
-    Ok(())
 }
 
 #[cfg(test)]

@@ -280,7 +280,7 @@ pub fn copy_tree(from: &Path, to: &Path) -> Result<(), String> {
             copy_tree(&path, &target)?;
         } else if kind.is_symlink() {
             let link = std::fs::read_link(&path).map_err(|e| failed(&path, e))?;
-            std::os::unix::fs::symlink(link, &target).map_err(|e| failed(&target, e))?;
+            super::modes::copy_link(&link, &path, &target).map_err(|e| failed(&target, e))?;
         } else if kind.is_file() {
             std::fs::copy(&path, &target).map_err(|e| failed(&path, e))?;
         }
@@ -290,7 +290,7 @@ pub fn copy_tree(from: &Path, to: &Path) -> Result<(), String> {
 
 /// Gives the folder `root` and everything in it to `user`.
 fn own_tree(root: &Path, (uid, gid): (u32, u32)) -> std::io::Result<()> {
-    std::os::unix::fs::lchown(root, Some(uid), Some(gid))?;
+    super::modes::give(root, (uid, gid))?;
     if std::fs::symlink_metadata(root)?.is_dir() {
         for entry in std::fs::read_dir(root)? {
             own_tree(&entry?.path(), (uid, gid))?;

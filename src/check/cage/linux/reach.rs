@@ -7,21 +7,12 @@
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
 
+use super::Staged;
+
 /// The most a renderer's folder may hold to be copied whole: a project's sources and build.
 const FOLDER_BYTES: u64 = 256 << 20;
 /// And the most files.
 const FOLDER_FILES: usize = 20_000;
-
-/// A renderer's command and what it may read, made reachable for an unprivileged user.
-#[derive(Debug)]
-pub struct Staged {
-    /// The command, its words that named a copied path renamed into the copy.
-    pub command: Vec<String>,
-    /// What it may read, copies in place of what the user could not reach.
-    pub readable: Vec<PathBuf>,
-    /// What was copied, for the report; `None` when nothing needed copying.
-    pub note: Option<String>,
-}
 
 /// Makes `command` (its program first) and `readable` reachable by other users, copying into
 /// `area` (a folder other users may pass through) each readable path they cannot reach. The
