@@ -1472,7 +1472,8 @@ fn an_angle_that_single_precision_rounds_to_zero_is_refused() {
 #[test]
 fn a_scene_saved_by_notepad_reads_as_the_same_scene() {
     // Notepad on Windows writes UTF-8 with a byte-order mark and CRLF line ends.
-    let text = with_group("Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }");
+    let text =
+        with_group("Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }");
     let notepad = format!("\u{feff}{}", text.replace('\n', "\r\n"));
     let plain = parse_scene(Path::new("s.txt"), &text).unwrap();
     let saved = raycast::parse::parse_scene_bytes(Path::new("s.txt"), notepad.as_bytes())

@@ -1,4 +1,4 @@
-//! `raycast completions bash|zsh|fish`: shell completion scripts made from the option table, so
+//! `raycast completions bash|zsh|fish|powershell`: shell completion scripts made from the option table, so
 //! that they offer exactly the options the parser takes.
 
 use crate::job::OPTIONS;
@@ -9,9 +9,13 @@ pub fn script(shell: &str) -> Option<String> {
         "bash" => Some(bash()),
         "zsh" => Some(zsh()),
         "fish" => Some(fish()),
+        "powershell" => Some(powershell()),
         _ => None,
     }
 }
+
+/// The shells `script` knows, as `completions` offers them.
+const SHELLS: &str = "bash zsh fish powershell";
 
 /// What to complete after an option: files, or nothing (a number or a word the user types).
 fn takes_file(values: &str) -> bool {
@@ -35,7 +39,7 @@ _raycast() {{
         return
     fi
     if [[ "${{COMP_WORDS[1]}}" == completions ]]; then
-        COMPREPLY=($(compgen -W "bash zsh fish" -- "$current"))
+        COMPREPLY=($(compgen -W "{shells}" -- "$current"))
         return
     fi
     case "$previous" in
@@ -58,6 +62,7 @@ complete -o filenames -F _raycast raycast
 "#,
         names = names.join(" "),
         files = file_options.join("|"),
+        shells = SHELLS,
     )
 }
 
@@ -90,10 +95,10 @@ _arguments -s \\
 }
 
 fn fish() -> String {
-    let mut text = String::from(
+    let mut text = format!(
         "# fish completion for raycast: put it in ~/.config/fish/completions/raycast.fish\n\
          complete -c raycast -n '__fish_use_subcommand' -a completions -d 'print a shell completion script'\n\
-         complete -c raycast -n '__fish_seen_subcommand_from completions' -a 'bash zsh fish'\n",
+         complete -c raycast -n '__fish_seen_subcommand_from completions' -a '{SHELLS}'\n",
     );
     for option in OPTIONS {
         let help = option.help.replace('\'', "\\'");
@@ -114,22 +119,62 @@ fn fish() -> String {
     text
 }
 
+/// PowerShell (Windows' shell, and on every system): a native completer. Where it offers
+/// nothing (after an option that takes a file), PowerShell completes paths itself.
+fn powershell() -> String {
+    let mut options = String::new();
+    for option in OPTIONS {
+        let help = option.help.replace('\'', "''");
+        options.push_str(&format!("        @('-{}', '{help}'),\n", option.name));
+    }
+    let shells: Vec<String> = SHELLS.split(' ').map(|s| format!("'{s}'")).collect();
+    format!(
+        r#"# PowerShell completion for raycast: add it to your profile (notepad $PROFILE)
+Register-ArgumentCompleter -Native -CommandName raycast, raycast.exe -ScriptBlock {{
+    param($wordToComplete, $commandAst, $cursorPosition)
+    $words = @($commandAst.CommandElements | ForEach-Object {{ $_.ToString() }})
+    $previous = if ($wordToComplete -eq '') {{ $words[-1] }} else {{ $words[-2] }}
+    if ($words.Count -ge 2 -and $words[1] -eq 'completions') {{
+        $choices = @({shells})
+    }} elseif ($previous -eq '-format') {{
+        $choices = @('png', 'ppm', 'tga')
+    }} elseif ($wordToComplete -like '-*' -or $words.Count -eq 1) {{
+        $options = @(
+{options}        @('completions', 'print a shell completion script')
+        )
+        $options | Where-Object {{ $_[0] -like "$wordToComplete*" }} | ForEach-Object {{
+            [System.Management.Automation.CompletionResult]::new($_[0], $_[0], 'ParameterName', $_[1])
+        }}
+        return
+    }} else {{
+        return
+    }}
+    $choices | Where-Object {{ $_ -like "$wordToComplete*" }} | ForEach-Object {{
+        [System.Management.Automation.CompletionResult]::new($_, $_, 'ParameterValue', $_)
+    }}
+}}
+"#,
+        shells = shells.join(", "),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn every_option_is_offered_by_every_shell() {
-        for shell in ["bash", "zsh", "fish"] {
+        for shell in SHELLS.split(' ') {
             let text = script(shell).unwrap();
             for option in OPTIONS {
                 let offered = match shell {
                     "fish" => format!("-o {}", option.name),
+                    "powershell" => format!("@('-{}', '", option.name),
                     _ => format!("-{}", option.name),
                 };
                 assert!(text.contains(&offered), "{shell} lacks -{}", option.name);
             }
         }
-        assert_eq!(script("powershell"), None);
+        assert_eq!(script("cmd"), None);
     }
 }

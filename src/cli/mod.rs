@@ -46,10 +46,10 @@ pub fn run(args: Vec<OsString>) -> ExitCode {
                     ExitCode::SUCCESS
                 }
                 None => refuse(&format!(
-                    "completions: unknown shell '{shell}': bash, zsh or fish"
+                    "completions: unknown shell '{shell}': bash, zsh, fish or powershell"
                 )),
             },
-            _ => refuse("completions needs one shell: bash, zsh or fish"),
+            _ => refuse("completions needs one shell: bash, zsh, fish or powershell"),
         };
     }
     match parse_args(args) {

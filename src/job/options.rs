@@ -334,7 +334,7 @@ pub fn usage() -> String {
         "usage: raycast -input SCENE -size WIDTH HEIGHT -output IMAGE [options]
        raycast check SUITE --renderer CMD [--report DIR]   (raycast check -help)
        raycast diff IMAGE REFERENCE [--out DIFF.png]
-       raycast completions bash|zsh|fish
+       raycast completions bash|zsh|fish|powershell
 
 Renders a scene of MIT 6.837's ray tracing assignments (Fall 2004) as the course's
 renderer does. Options may come in any order, with one dash or two (--input).
