@@ -4,8 +4,6 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use raycast::job::usage;
-
 const SCENE: &str = "\
 OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }
 Background { color 0 0 0.2 }
@@ -359,7 +357,11 @@ fn help_and_version_go_to_stdout_and_succeed() {
     for flag in ["-help", "--help", "-h"] {
         let output = raycast(dir.path(), &[flag]);
         assert_eq!(output.status.code(), Some(0), "{flag}");
-        assert_eq!(stdout(&output), format!("{}\n", usage()), "{flag}");
+        assert_eq!(
+            stdout(&output),
+            format!("{}\n", raycast::job::usage()),
+            "{flag}"
+        );
         assert!(output.stderr.is_empty(), "{flag}");
     }
     for flag in ["-version", "--version", "-V"] {
