@@ -1,7 +1,8 @@
 //! raycast's own renders of a suite's lines, kept between runs: the shards of a class on other
 //! machines, or the next run over the same suite, read them instead of rendering again. A
 //! render is found by a key made of raycast's own program (its bytes: a rebuilt raycast renders
-//! anew), the command line, and the bytes of every file the line reads.
+//! anew), the command line, the bytes of every file the line reads, and the answers the suite
+//! pins its open questions to (a pinned answer's render is the reference).
 //!
 //! The folder: `RAYCAST_CACHE_DIR`, or `$XDG_CACHE_HOME/raycast`, or `~/.cache/raycast`; set
 //! `RAYCAST_CACHE_DIR=off` to keep nothing.
@@ -11,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use super::run::line_files;
-use super::suite::Line;
+use super::suite::{Line, Pin};
 use crate::image_io::{self, ImageFormat};
 use crate::shade::Image;
 
@@ -42,10 +43,14 @@ fn program() -> u64 {
 }
 
 /// The key of `line`'s renders.
-fn key(line: &Line, scenes: &Path) -> String {
+fn key(line: &Line, scenes: &Path, pinned: &[Pin]) -> String {
     let mut hasher = std::collections::hash_map::DefaultHasher::new();
     hasher.write_u64(program());
     hasher.write(line.command.as_bytes());
+    for pin in pinned {
+        hasher.write(pin.choice.name.as_bytes());
+        hasher.write(pin.answer.map_or("raycast", |a| a.name).as_bytes());
+    }
     for file in line_files(line, scenes) {
         hasher.write(file.to_string_lossy().as_bytes());
         hasher.write(&std::fs::read(scenes.join(&file)).unwrap_or_default());
@@ -57,12 +62,13 @@ fn key(line: &Line, scenes: &Path) -> String {
 pub fn pictures(
     line: &Line,
     scenes: &Path,
+    pinned: &[Pin],
     render: impl FnOnce() -> Result<Vec<Image>, String>,
 ) -> Result<Vec<Image>, String> {
     let Some(folder) = folder() else {
         return render();
     };
-    let key = key(line, scenes);
+    let key = key(line, scenes, pinned);
     let path = |k: usize| folder.join(format!("{key}-{k}.png"));
     let kept: Option<Vec<Image>> = (0..line.outputs.len())
         .map(|k| super::read_image(&path(k)).ok())

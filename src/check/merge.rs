@@ -67,6 +67,7 @@ fn graded_of(value: &Value) -> Option<Graded> {
             value["output"].as_u64()? as usize,
         ),
         moved_from: None,
+        accepted: super::choices::Acceptance::from_json(&value["accepted"]),
     })
 }
 

@@ -4,6 +4,7 @@
 
 mod cache;
 mod cage;
+pub mod choices;
 pub mod class;
 pub mod diagnose;
 mod failure;
@@ -177,6 +178,9 @@ pub struct Graded {
     /// explains the most pictures), so that shards' findings can be put back in the order
     /// simulation found them.
     pub moved_from: Option<usize>,
+    /// A picture that differs from raycast's answer to a question the course leaves open, and
+    /// passes because the course allows the tracer's (or leaves it free).
+    pub accepted: Option<choices::Acceptance>,
 }
 
 impl Graded {
@@ -201,6 +205,7 @@ impl Graded {
             points: 1.0,
             line: (line.number, k),
             moved_from: None,
+            accepted: None,
         }
     }
 }
@@ -705,8 +710,8 @@ fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> Referen
                 Some(path) => (read_image(&path), false),
                 None => {
                     let pictures = own.get_or_init(|| {
-                        cache::pictures(line, &suite.scenes, || {
-                            simulate::course_pictures(line, &suite.scenes, stop)
+                        cache::pictures(line, &suite.scenes, &suite.pinned, || {
+                            simulate::course_pictures(line, &suite.scenes, &suite.pinned, stop)
                         })
                     });
                     let picture = match pictures {
@@ -823,6 +828,7 @@ fn grade_line(
         program: Path::new(caged.command.first().map_or("", String::as_str)),
     };
     blame_the_cage(&mut graded, &ran.stderr, &reach);
+    accept_allowed_answers(options, suite, line, &mut graded, caged.stop);
     explain_by_simulation(options, suite, line, &mut graded, caged.stop);
     for g in graded.iter_mut().filter(|g| g.status == Status::Fail) {
         let (Some(actual), Some(reference)) = (&g.actual, &g.reference) else {
@@ -889,6 +895,51 @@ fn without_scratch(stderr: &str, folder: &Path) -> String {
 
 /// Names the faults whose render of the line matches each failing picture; where none does,
 /// the pixels' guesses stay, said to be guesses.
+/// A failing picture that matches another answer the course allows to one of its open
+/// questions passes, saying which; one that depends on a question the course leaves free is
+/// informational. Asked to stop, the pictures stay as they are (the diagnosis says so).
+fn accept_allowed_answers(
+    options: &CheckOptions,
+    suite: &Suite,
+    line: &Line,
+    graded: &mut [Graded],
+    stop: &'static StopFlag,
+) {
+    let failing: Vec<(usize, bool, &Image)> = graded
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| g.status == Status::Fail)
+        .filter_map(|(k, g)| {
+            let shaded = g.picture == PictureKind::Image;
+            g.actual.as_ref().map(|actual| (k, shaded, actual))
+        })
+        .collect();
+    if failing.is_empty() {
+        return;
+    }
+    let Ok(accepted) = simulate::accepted(
+        line,
+        &suite.scenes,
+        &suite.pinned,
+        &failing,
+        options.rule,
+        stop,
+    ) else {
+        return;
+    };
+    let indices: Vec<usize> = failing.iter().map(|&(k, _, _)| k).collect();
+    for (k, acceptance) in indices.into_iter().zip(accepted) {
+        let Some(acceptance) = acceptance else {
+            continue;
+        };
+        let g = &mut graded[k];
+        g.status = Status::Pass;
+        g.findings.clear();
+        g.explanation = acceptance.sentence();
+        g.accepted = Some(acceptance);
+    }
+}
+
 fn explain_by_simulation(
     options: &CheckOptions,
     suite: &Suite,
@@ -1097,9 +1148,15 @@ pub fn verdict(graded: &Graded) -> String {
         .bad_fraction
         .map(|f| format!(", {:.3}% of pixels off{against}", 100.0 * f))
         .unwrap_or_default();
-    match graded.status {
-        Status::Pass => format!("pass   {}{off}", graded.name),
-        Status::Fail | Status::Error => {
+    match (graded.status, &graded.accepted) {
+        (Status::Pass, Some(choices::Acceptance::Answer(_, answer))) => {
+            format!("pass   {}{off}: allowed: {}", graded.name, answer.said)
+        }
+        (Status::Pass, Some(choices::Acceptance::Informational(_))) => {
+            format!("info   {}{off}: {}", graded.name, graded.explanation)
+        }
+        (Status::Pass, None) => format!("pass   {}{off}", graded.name),
+        (Status::Fail | Status::Error, _) => {
             let codes: Vec<String> = graded.findings.iter().map(Finding::code).collect();
             let codes = if codes.is_empty() {
                 "unknown".to_string()
@@ -1166,6 +1223,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
                 "diff": g.pictures.diff,
             },
             "verdict_moved_from": g.moved_from,
+            "accepted": g.accepted.as_ref().map(choices::Acceptance::json),
             "worst_pixel": g.worst_pixel.as_ref().map(|w| serde_json::json!({
                 "x": w.x, "y": w.y, "difference": w.difference, "ray_tree": w.ray_tree,
             })),

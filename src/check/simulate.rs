@@ -6,9 +6,10 @@
 
 use std::path::Path;
 
+use super::choices::{self, Acceptance};
 use super::faults::{FAULTS, Fault, LineScene, Plant};
 use super::rule::{Rule, compare};
-use super::suite::Line;
+use super::suite::{Line, Pin};
 use crate::job::{Command, parse_args, render_pictures_until};
 use crate::parse::read_scene;
 use crate::render::StopFlag;
@@ -56,6 +57,58 @@ struct Prepared {
     line: LineScene,
     /// Where each of the line's images stands among the job's pictures.
     slots: Vec<usize>,
+}
+
+/// For each of `failing` (the index of an image among the line's outputs, whether it is the
+/// shaded picture, and the student's picture of it), how the course's open questions not
+/// `pinned` by the suite accept it: the first other allowed answer whose render of the line matches it under `rule`, or,
+/// for a shaded picture of a line that shows something the course leaves free, why it is
+/// informational. Each allowed answer that can change the line is rendered once.
+pub fn accepted(
+    line: &Line,
+    scenes: &Path,
+    pinned: &[Pin],
+    failing: &[(usize, bool, &Image)],
+    rule: Rule,
+    stop: &'static StopFlag,
+) -> Result<Vec<Option<Acceptance>>, Unfinished> {
+    let prepared = prepare(line, scenes).map_err(Unfinished::Failed)?;
+    let mut accepted: Vec<Option<Acceptance>> = vec![None; failing.len()];
+    // A question the suite pins accepts its pinned answer alone, which is the reference.
+    let open = choices::answers()
+        .filter(|(choice, _)| !pinned.iter().any(|pin| pin.choice.name == choice.name));
+    for (choice, answer) in open {
+        if accepted.iter().all(Option::is_some) {
+            break;
+        }
+        for candidate in (answer.candidates)(&prepared.line) {
+            let pictures = render_pictures_until(
+                &prepared.line.options,
+                &prepared.line.scene,
+                Plant::one(candidate.planted),
+                stop,
+            )
+            .ok_or(Unfinished::Stopped)?;
+            for (k, &(image, _, actual)) in failing.iter().enumerate() {
+                let matches = pictures
+                    .pictures
+                    .get(prepared.slots[image])
+                    .and_then(|picture| compare(picture, actual, rule.tolerance))
+                    .is_some_and(|c| rule.passes(&c));
+                if accepted[k].is_none() && matches {
+                    accepted[k] = Some(Acceptance::Answer(choice, answer));
+                }
+            }
+        }
+    }
+    if let Some(why) = choices::informational(&prepared.line) {
+        for (k, &(_, shaded, _)) in failing.iter().enumerate() {
+            if shaded && accepted[k].is_none() {
+                accepted[k] = Some(Acceptance::Informational(why));
+            }
+        }
+    }
+    Ok(accepted)
 }
 
 /// Reads and builds what the line renders, from the suite's own `scenes` folder.
@@ -157,18 +210,33 @@ pub const STOPPED: &str = "check was interrupted before raycast finished renderi
 /// The pictures raycast makes of `line` (as the course's renderer), in the order of the line's
 /// images: the reference of a line whose suite has none. `Err` where check was asked to stop
 /// before they were done ([`STOPPED`]).
+///
+/// Where the suite pins an open question to another answer than raycast's, the reference is
+/// that answer's render (of the first two pinned answers that change the line).
 pub fn course_pictures(
     line: &Line,
     scenes: &Path,
+    pinned: &[Pin],
     stop: &'static StopFlag,
 ) -> Result<Vec<Image>, String> {
     let prepared = prepare(line, scenes)?;
-    let pictures = render_pictures_until(
-        &prepared.line.options,
-        &prepared.line.scene,
-        crate::render::Exact,
-        stop,
-    )
+    let answers: Vec<_> = pinned
+        .iter()
+        .filter_map(|pin| pin.answer)
+        .filter_map(|answer| {
+            (answer.candidates)(&prepared.line)
+                .first()
+                .map(|c| c.planted)
+        })
+        .collect();
+    let (options, scene) = (&prepared.line.options, &prepared.line.scene);
+    let pictures = match answers[..] {
+        [] => render_pictures_until(options, scene, crate::render::Exact, stop),
+        [one] => render_pictures_until(options, scene, Plant::one(one), stop),
+        [first, second, ..] => {
+            render_pictures_until(options, scene, Plant::two(first, second), stop)
+        }
+    }
     .ok_or(STOPPED)?
     .pictures;
     Ok(prepared

@@ -2,6 +2,7 @@
 //! comments), the `scenes/` they run in, and, where there is one, `reference/NAME.png` for each
 //! image `NAME` they write.
 
+use super::choices::{Accepted, Answer, CHOICES, Choice};
 use std::path::{Path, PathBuf};
 
 /// One command line of a suite.
@@ -122,6 +123,27 @@ pub struct Suite {
     pub lines: Vec<Line>,
     /// The points of the pictures the suite's `POINTS` file names; every other is worth one.
     pub points: Vec<(String, f64)>,
+    /// The open questions the suite's `CHOICES` file pins to one answer.
+    pub pinned: Vec<Pin>,
+}
+
+/// An open question a suite pins to one answer (its `CHOICES` file: a line `QUESTION ANSWER`,
+/// ANSWER `raycast` for raycast's own): only that answer passes, and its render is the
+/// reference of the lines it changes.
+#[derive(Debug, Clone, Copy)]
+pub struct Pin {
+    /// The question.
+    pub choice: &'static Choice,
+    /// Its answer: `None` for raycast's own.
+    pub answer: Option<&'static Answer>,
+}
+
+// Questions and answers are known by their names.
+impl PartialEq for Pin {
+    fn eq(&self, other: &Pin) -> bool {
+        self.choice.name == other.choice.name
+            && self.answer.map(|a| a.name) == other.answer.map(|a| a.name)
+    }
 }
 
 /// The largest `COMMANDS.txt` check reads (the course's longest is 12 KiB).
@@ -196,12 +218,14 @@ impl Suite {
             ));
         }
         let points = read_points(&root.join("POINTS"), &lines)?;
+        let pinned = read_pins(&root.join("CHOICES"))?;
         Ok(Suite {
             root: root.to_path_buf(),
             scenes,
             references: reference_files(&references),
             lines,
             points,
+            pinned,
         })
     }
 
@@ -269,6 +293,68 @@ fn read_points(path: &Path, lines: &[Line]) -> Result<Vec<(String, f64)>, String
         points.push((name.to_string(), value));
     }
     Ok(points)
+}
+
+/// Reads a suite's `CHOICES` file, if it has one: a line `QUESTION ANSWER` for each open
+/// question a class pins (`gaussian_cut raycast`, `checkerboard_parity checker_swapped`; `#`
+/// starts a comment).
+fn read_pins(path: &Path) -> Result<Vec<Pin>, String> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(Vec::new());
+    };
+    let mut pins: Vec<Pin> = Vec::new();
+    for (number, text) in text.lines().enumerate() {
+        let text = text.split('#').next().unwrap_or("").trim();
+        if text.is_empty() {
+            continue;
+        }
+        let at = || format!("{} line {}", path.display(), number + 1);
+        let words: Vec<&str> = text.split_whitespace().collect();
+        let [question, answer] = words[..] else {
+            return Err(format!(
+                "{}: expected 'QUESTION ANSWER', found '{text}'",
+                at()
+            ));
+        };
+        let questions = || {
+            CHOICES
+                .iter()
+                .filter(|c| matches!(c.accepted, Accepted::Answers(_)))
+                .map(|c| c.name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let choice = CHOICES.iter().find(|c| c.name == question).ok_or_else(|| {
+            format!(
+                "{}: no open question '{question}' (one of {})",
+                at(),
+                questions()
+            )
+        })?;
+        let Accepted::Answers(answers) = &choice.accepted else {
+            return Err(format!(
+                "{}: '{question}' has no answers to pin (one of {})",
+                at(),
+                questions()
+            ));
+        };
+        let answer = match answer {
+            "raycast" => None,
+            name => Some(answers.iter().find(|a| a.name == name).ok_or_else(|| {
+                let names: Vec<&str> = answers.iter().map(|a| a.name).collect();
+                format!(
+                    "{}: '{name}' is no answer to {question} (raycast, {})",
+                    at(),
+                    names.join(", ")
+                )
+            })?),
+        };
+        if pins.iter().any(|p| p.choice.name == question) {
+            return Err(format!("{}: {question} is pinned twice", at()));
+        }
+        pins.push(Pin { choice, answer });
+    }
+    Ok(pins)
 }
 
 /// The PNG files of `folder` and of the folders in it, by name without extension; those at the

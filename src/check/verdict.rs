@@ -263,6 +263,7 @@ mod tests {
             points: 1.0,
             line: (0, 0),
             moved_from: None,
+            accepted: None,
         }
     }
 

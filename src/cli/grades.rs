@@ -22,7 +22,24 @@ pub(super) fn print_grades(
     }
     let passed = graded.iter().filter(|g| g.status == Status::Pass).count();
     let failed = graded.len() - passed;
-    let _ = writeln!(out, "{passed} passed, {failed} failed");
+    // Pictures the course leaves free are never failed; they are counted apart as well.
+    let informational = graded
+        .iter()
+        .filter(|g| {
+            matches!(
+                g.accepted,
+                Some(check::choices::Acceptance::Informational(_))
+            )
+        })
+        .count();
+    if informational > 0 {
+        let _ = writeln!(
+            out,
+            "{passed} passed ({informational} informational), {failed} failed"
+        );
+    } else {
+        let _ = writeln!(out, "{passed} passed, {failed} failed");
+    }
     failed
 }
 

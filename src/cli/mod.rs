@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use crate::job::{Command, Options, parse_args, usage};
 
-use crate::check::faults::{LineScene, plant_for};
+use crate::check::faults::{LineScene, Plant, plant_for};
 use crate::error::Error;
 use crate::job::{is_stdio, render_to_files, reserve_outputs, same_file, stats};
 use crate::scene::{LoadStats, Loaded, Scene};
@@ -162,12 +162,13 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
         load.build += start.elapsed();
         load.world = scene.world.stats();
     }
-    let written = match &options.fault {
-        None => render_to_files(options, &scene, crate::render::Exact, pending)?,
-        Some(spec) => {
+    let written = match (&options.fault, &options.choose) {
+        (None, None) => render_to_files(options, &scene, crate::render::Exact, pending)?,
+        (fault, choose) => {
             let description = if is_stdio(&options.input) {
                 return Err(Error::Refused(
-                    "raycast: -fault needs the scene from a file, not standard input".into(),
+                    "raycast: -fault and -choose need the scene from a file, not standard input"
+                        .into(),
                 ));
             } else {
                 crate::parse::read_scene(&options.input)?
@@ -177,8 +178,25 @@ fn execute_on_current_pool(options: &Options) -> Result<(), Error> {
                 description,
                 scene,
             };
-            let plant =
-                plant_for(spec, &line).map_err(|e| Error::Refused(format!("raycast: {e}")))?;
+            let refused = |e: String| Error::Refused(format!("raycast: {e}"));
+            let planted = fault
+                .as_deref()
+                .map(|spec| plant_for(spec, &line))
+                .transpose()
+                .map_err(refused)?
+                .flatten();
+            let chosen = choose
+                .as_deref()
+                .map(|name| crate::check::choices::planted_for(name, &line))
+                .transpose()
+                .map_err(refused)?
+                .flatten();
+            let plant = match (planted, chosen) {
+                (Some(plant), Some(answer)) => Some(Plant::two(plant.first(), answer)),
+                (Some(plant), None) => Some(plant),
+                (None, Some(answer)) => Some(Plant::one(answer)),
+                (None, None) => None,
+            };
             scene = line.scene;
             match plant {
                 Some(plant) => render_to_files(options, &scene, plant, pending)?,

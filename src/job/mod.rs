@@ -83,8 +83,10 @@ fn pictures_of<V: Variant>(
         let film = rendered.film.take().expect("kept for -render_samples");
         sample::render_samples_picture(&film, zoom)
     });
+    // The filter as the variant weighs samples with it (a fault's or an allowed answer's).
+    let filter = sample::SampleSeam::filter(&variant, options.sampling.filter);
     let filter_picture = options.render_filter.as_ref().map(|&(_, zoom)| {
-        sample::render_filter_picture(options.width, options.height, options.sampling.filter, zoom)
+        sample::render_filter_picture(options.width, options.height, filter, zoom)
     });
     if options.output.is_none() {
         rendered.colour = None;

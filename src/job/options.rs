@@ -318,6 +318,13 @@ pub const OPTIONS: &[OptionSpec] = &[
         read_fault,
     ),
     spec(
+        "choose",
+        "NAME",
+        Group::Own,
+        "render another answer the course allows to an open question",
+        read_choose,
+    ),
+    spec(
         "json",
         "",
         Group::Own,
@@ -413,6 +420,8 @@ pub struct Options {
     pub json: bool,
     /// `-fault NAME`: render with one of check's faults planted.
     pub fault: Option<String>,
+    /// `-choose NAME`: render another allowed answer to one of the course's open questions.
+    pub choose: Option<String>,
 }
 
 /// What a command line asks for.
@@ -799,6 +808,12 @@ fn read_inspect(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
 fn read_fault(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
     let name = values.next("a fault's name")?;
     draft.options.fault = Some(name.to_string_lossy().into_owned());
+    Ok(())
+}
+
+fn read_choose(draft: &mut Draft, values: &mut Values) -> Result<(), String> {
+    let name = values.next("an answer's name")?;
+    draft.options.choose = Some(name.to_string_lossy().into_owned());
     Ok(())
 }
 

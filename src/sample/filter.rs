@@ -11,6 +11,13 @@ pub enum Filter {
     /// e^(−d²/2σ²), cut to 0 from d = 2σ on (the handout allows the cut; it keeps the filter's
     /// reach finite).
     Gaussian(f32),
+    /// The Gaussian not cut: e^(−d²/2σ²) over the whole support (the handout's other allowed
+    /// answer; `check` renders it, `-choose gaussian_uncut`).
+    GaussianUncut(f32),
+    /// The box with its edges in: −r ≤ x, y ≤ r (an allowed answer, `-choose box_closed`).
+    BoxClosed(f32),
+    /// The box with its edges out: −r < x, y < r (an allowed answer, `-choose box_open`).
+    BoxOpen(f32),
 }
 
 impl Filter {
@@ -22,7 +29,16 @@ impl Filter {
                 let inside = |v: f32| -r <= v && v < r;
                 if inside(x) && inside(y) { 1.0 } else { 0.0 }
             }
+            Filter::BoxClosed(r) => {
+                let inside = |v: f32| -r <= v && v <= r;
+                if inside(x) && inside(y) { 1.0 } else { 0.0 }
+            }
+            Filter::BoxOpen(r) => {
+                let inside = |v: f32| -r < v && v < r;
+                if inside(x) && inside(y) { 1.0 } else { 0.0 }
+            }
             Filter::Tent(r) => (1.0 - (x * x + y * y).sqrt() / r).max(0.0),
+            Filter::GaussianUncut(sigma) => (-(x * x + y * y) / (2.0 * sigma * sigma)).exp(),
             Filter::Gaussian(sigma) => {
                 let d2 = x * x + y * y;
                 if d2 >= 4.0 * sigma * sigma {
@@ -37,8 +53,11 @@ impl Filter {
     /// How far the filter reaches, in pixels from the centre, before its weight is 0.
     fn reach(&self) -> f32 {
         match *self {
-            Filter::Box(r) | Filter::Tent(r) => r,
-            Filter::Gaussian(sigma) => 2.0 * sigma,
+            Filter::Box(r) | Filter::BoxOpen(r) | Filter::Tent(r) => r,
+            // Its edge's samples weigh 1: the support takes the next pixel where one lies there.
+            Filter::BoxClosed(r) => r + f32::EPSILON * r.max(1.0),
+            // Uncut, the same support as cut: a student's getSupportRadius is the filter's.
+            Filter::Gaussian(sigma) | Filter::GaussianUncut(sigma) => 2.0 * sigma,
         }
     }
 

@@ -18,6 +18,12 @@ pub enum SampleFault {
     DividedByCount,
     /// The weighted samples divided by the number of samples a pixel has.
     DividedByPixelSamples(u32),
+    /// An allowed answer (check/choices.rs): the Gaussian not cut at 2σ.
+    GaussianUncut,
+    /// An allowed answer: the box's edges in.
+    BoxClosed,
+    /// An allowed answer: the box's edges out.
+    BoxOpen,
 }
 
 impl SampleFault {
@@ -58,8 +64,23 @@ impl SampleFault {
         match *self {
             SampleFault::FilterScale(by) => match filter {
                 Filter::Box(r) => Filter::Box(r * by),
+                Filter::BoxClosed(r) => Filter::BoxClosed(r * by),
+                Filter::BoxOpen(r) => Filter::BoxOpen(r * by),
                 Filter::Tent(r) => Filter::Tent(r * by),
                 Filter::Gaussian(s) => Filter::Gaussian(s * by),
+                Filter::GaussianUncut(s) => Filter::GaussianUncut(s * by),
+            },
+            SampleFault::GaussianUncut => match filter {
+                Filter::Gaussian(s) => Filter::GaussianUncut(s),
+                other => other,
+            },
+            SampleFault::BoxClosed => match filter {
+                Filter::Box(r) => Filter::BoxClosed(r),
+                other => other,
+            },
+            SampleFault::BoxOpen => match filter {
+                Filter::Box(r) => Filter::BoxOpen(r),
+                other => other,
             },
             _ => filter,
         }

@@ -17,6 +17,15 @@ pub enum TextureFault {
     MatrixIgnored,
     /// The inverse of the texture's Transform applied to the point.
     MatrixInverted,
+    /// An allowed answer (check/choices.rs): the checkerboard's cube at the origin is the
+    /// second material's.
+    CheckerSwapped,
+    /// An allowed answer: Noise's sum clamped to [0, 1], not mapped from [-1, 1].
+    NoiseClamped,
+    /// An allowed answer: Marble's sine clamped to [0, 1], not mapped from [-1, 1].
+    MarbleClamped,
+    /// An allowed answer: Marble's sine taken as its absolute value.
+    MarbleAbsolute,
 }
 
 impl TextureFault {
@@ -36,6 +45,37 @@ impl TextureFault {
                 }
                 _ => texture.weight(point),
             },
+            TextureFault::CheckerSwapped => match texture.pattern {
+                Pattern::Checkerboard => 1.0 - texture.weight(point),
+                _ => texture.weight(point),
+            },
+            TextureFault::NoiseClamped
+            | TextureFault::MarbleClamped
+            | TextureFault::MarbleAbsolute => {
+                let p = texture.to_texture.transform_point3(world);
+                let noise = |octaves| crate::scene::perlin::octave_noise(p.x, p.y, p.z, octaves);
+                let weight = match (self, texture.pattern) {
+                    (TextureFault::NoiseClamped, Pattern::Noise { octaves }) => noise(octaves),
+                    (
+                        TextureFault::MarbleClamped,
+                        Pattern::Marble {
+                            octaves,
+                            frequency,
+                            amplitude,
+                        },
+                    ) => (frequency * p.x + amplitude * noise(octaves)).sin(),
+                    (
+                        TextureFault::MarbleAbsolute,
+                        Pattern::Marble {
+                            octaves,
+                            frequency,
+                            amplitude,
+                        },
+                    ) => (frequency * p.x + amplitude * noise(octaves)).sin().abs(),
+                    _ => return texture.weight(point),
+                };
+                weight.clamp(0.0, 1.0) as f32
+            }
             TextureFault::MatrixIgnored => texture.pattern.weight(world),
             TextureFault::MatrixInverted => texture
                 .pattern
