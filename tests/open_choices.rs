@@ -88,9 +88,10 @@ fn every_allowed_answer_passes_the_lines_it_changes_and_says_so() {
             );
         }
     }
-    // A box whose edges are out changes no picture of these lines past the tolerance (a sample
-    // lies on the edge only where the grid of samples meets it exactly); every other answer
-    // changes some.
+    // A box whose edges are out (a sample lies on the edge only where the grid of samples meets
+    // it exactly), a fixed epsilon in the allowed range, a hit exactly at the light's distance
+    // and the course's -weight where a line gives none change no picture of these lines past
+    // the tolerance; every other answer changes some.
     assert_eq!(
         named,
         [

@@ -11,9 +11,15 @@ pub enum Filter {
     /// e^(−d²/2σ²), cut to 0 from d = 2σ on (the handout allows the cut; it keeps the filter's
     /// reach finite).
     Gaussian(f32),
-    /// The Gaussian not cut: e^(−d²/2σ²) over the whole support (the handout's other allowed
-    /// answer; `check` renders it, `-choose gaussian_uncut`).
-    GaussianUncut(f32),
+    /// The Gaussian not cut: e^(−d²/2σ²) over the whole support, of the integer radius given
+    /// (uncut, the radius decides which samples count: the handout's other allowed answer;
+    /// `check` renders it, `-choose gaussian_uncut`).
+    GaussianUncut {
+        /// σ, in pixels.
+        sigma: f32,
+        /// The support radius R: pixels i−R…i+R are taken.
+        radius: u32,
+    },
     /// The box with its edges in: −r ≤ x, y ≤ r (an allowed answer, `-choose box_closed`).
     BoxClosed(f32),
     /// The box with its edges out: −r < x, y < r (an allowed answer, `-choose box_open`).
@@ -38,7 +44,7 @@ impl Filter {
                 if inside(x) && inside(y) { 1.0 } else { 0.0 }
             }
             Filter::Tent(r) => (1.0 - (x * x + y * y).sqrt() / r).max(0.0),
-            Filter::GaussianUncut(sigma) => (-(x * x + y * y) / (2.0 * sigma * sigma)).exp(),
+            Filter::GaussianUncut { sigma, .. } => (-(x * x + y * y) / (2.0 * sigma * sigma)).exp(),
             Filter::Gaussian(sigma) => {
                 let d2 = x * x + y * y;
                 if d2 >= 4.0 * sigma * sigma {
@@ -56,15 +62,19 @@ impl Filter {
             Filter::Box(r) | Filter::BoxOpen(r) | Filter::Tent(r) => r,
             // Its edge's samples weigh 1: the support takes the next pixel where one lies there.
             Filter::BoxClosed(r) => r + f32::EPSILON * r.max(1.0),
-            // Uncut, the same support as cut: a student's getSupportRadius is the filter's.
-            Filter::Gaussian(sigma) | Filter::GaussianUncut(sigma) => 2.0 * sigma,
+            Filter::Gaussian(sigma) => 2.0 * sigma,
+            Filter::GaussianUncut { radius, .. } => radius as f32,
         }
     }
 
     /// The course's support radius: the filtered pixel (i, j) takes the samples of pixels
     /// i−R…i+R, j−R…j+R. A sample of pixel i+k lies between k − ½ and k + ½ from the centre, and
     /// weighs nothing from the filter's reach on, so R is the largest k with k − ½ < reach.
+    /// (An uncut Gaussian has the radius it was given.)
     pub fn support_radius(&self) -> u32 {
+        if let Filter::GaussianUncut { radius, .. } = *self {
+            return radius;
+        }
         ((self.reach() + 0.5).ceil() - 1.0).max(0.0) as u32
     }
 }

@@ -32,7 +32,7 @@ pub use camera::CameraFault;
 pub use intersection::HitFault;
 pub use pictures::PictureFault;
 pub use rays::{CriticalAngle, RayFault};
-pub use samples::SampleFault;
+pub use samples::{SampleFault, gaussian_radius};
 pub use shading::{Attenuation, ShadingFault};
 pub use textures::TextureFault;
 
@@ -402,7 +402,7 @@ impl TraceSeam for Plant {
 
     fn shadow_end(&self, distance: f32) -> f32 {
         self.rays()
-            .find_map(|r| r.shadow_end())
+            .find_map(|r| r.shadow_end(distance))
             .unwrap_or_else(|| crate::trace::shadow_end(distance))
     }
 

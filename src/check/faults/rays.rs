@@ -22,6 +22,14 @@ pub enum RayFault {
     NoCutoff,
     /// A refracted ray traced even on total internal reflection, in the way of this form.
     PastCriticalAngle(CriticalAngle),
+    /// An allowed answer (check/choices.rs): shadow and secondary rays ignore hits nearer than
+    /// this fixed t (the course's "epsilon"), instead of raycast's clearance scaled to the hit.
+    FixedStart(f32),
+    /// An allowed answer: a hit exactly at the light's distance blocks it (t ≤ distance, not
+    /// t < distance).
+    ShadowToLight,
+    /// An allowed answer: this cut-off weight where the line gives `-bounces` but no `-weight`.
+    DefaultWeight(f32),
 }
 
 /// What a student's refraction does where the square root's argument is negative.
@@ -36,17 +44,19 @@ pub enum CriticalAngle {
 }
 
 impl RayFault {
-    pub(super) fn shadow_end(&self) -> Option<f32> {
+    pub(super) fn shadow_end(&self, distance: f32) -> Option<f32> {
         match self {
             RayFault::PastLight => Some(f32::MAX),
+            RayFault::ShadowToLight => Some(distance),
             _ => None,
         }
     }
 
-    /// The least t of a ray leaving a surface: 0, for no offset.
+    /// The least t of a ray leaving a surface: 0, for no offset; the fixed epsilon.
     pub(super) fn start_t(&self) -> Option<f32> {
-        match self {
+        match *self {
             RayFault::NoOffset => Some(0.0),
+            RayFault::FixedStart(epsilon) => Some(epsilon),
             _ => None,
         }
     }
@@ -61,6 +71,7 @@ impl RayFault {
     pub(super) fn cutoff_weight(&self, weight: f32) -> f32 {
         match self {
             RayFault::NoCutoff => 0.0,
+            RayFault::DefaultWeight(default) if weight == 0.0 => *default,
             _ => weight,
         }
     }

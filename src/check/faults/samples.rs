@@ -18,8 +18,15 @@ pub enum SampleFault {
     DividedByCount,
     /// The weighted samples divided by the number of samples a pixel has.
     DividedByPixelSamples(u32),
-    /// An allowed answer (check/choices.rs): the Gaussian not cut at 2σ.
-    GaussianUncut,
+    /// An allowed answer (check/choices.rs): the Gaussian not cut at 2σ, over the support of
+    /// the radius that a reach of this many σ gives (rounded up where `ceil`, else as the
+    /// course's support radius is).
+    GaussianUncut {
+        /// The reach, in σ.
+        sigmas: f32,
+        /// Whether the radius is the reach rounded up (a student's `ceil`).
+        ceil: bool,
+    },
     /// An allowed answer: the box's edges in.
     BoxClosed,
     /// An allowed answer: the box's edges out.
@@ -68,10 +75,16 @@ impl SampleFault {
                 Filter::BoxOpen(r) => Filter::BoxOpen(r * by),
                 Filter::Tent(r) => Filter::Tent(r * by),
                 Filter::Gaussian(s) => Filter::Gaussian(s * by),
-                Filter::GaussianUncut(s) => Filter::GaussianUncut(s * by),
+                Filter::GaussianUncut { sigma, radius } => Filter::GaussianUncut {
+                    sigma: sigma * by,
+                    radius,
+                },
             },
-            SampleFault::GaussianUncut => match filter {
-                Filter::Gaussian(s) => Filter::GaussianUncut(s),
+            SampleFault::GaussianUncut { sigmas, ceil } => match filter {
+                Filter::Gaussian(sigma) => Filter::GaussianUncut {
+                    sigma,
+                    radius: gaussian_radius(sigma * sigmas, ceil),
+                },
                 other => other,
             },
             SampleFault::BoxClosed => match filter {
@@ -84,6 +97,16 @@ impl SampleFault {
             },
             _ => filter,
         }
+    }
+}
+
+/// The support radius of a filter reaching `reach` pixels: rounded up (a student's `ceil`), or
+/// as the course's (the largest k with k − ½ < reach).
+pub fn gaussian_radius(reach: f32, ceil: bool) -> u32 {
+    if ceil {
+        reach.ceil().max(0.0) as u32
+    } else {
+        Filter::Box(reach).support_radius()
     }
 }
 
