@@ -1189,4 +1189,43 @@ fn a_picture_written_before_a_crash_is_compared_and_the_crash_blamed_on_the_exit
         out.contains("ERROR  output2_01: crash: The renderer exited with status 3 while its picture was being written: the file it left is cut short"),
         "{out}"
     );
+    // A suite that grades the picture alone passes it, and still tells of the crash.
+    std::fs::write(
+        Path::new(suite).join("GRADING"),
+        "# this class grades pictures\ncrash_at_exit picture\n",
+    )
+    .unwrap();
+    let output = raycast(&["check", suite, "--renderer", &aborts]);
+    let out = stdout(&output);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    assert!(out.contains("1 passed, 0 failed"), "{out}");
+    let reported = raycast(&[
+        "check",
+        suite,
+        "--renderer",
+        &aborts,
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    assert_eq!(reported.status.code(), Some(0));
+    let summary: serde_json::Value = common::summary_of(&report);
+    let explanation = summary["images"][0]["explanation"].as_str().unwrap();
+    assert!(
+        explanation.starts_with(
+            "Your picture matches the reference (0.000% of pixels off); then the renderer was \
+             killed by SIGABRT"
+        ) && explanation.contains("which this suite does not grade (it grades the picture alone)"),
+        "{explanation}"
+    );
+    std::fs::write(Path::new(suite).join("GRADING"), "crash_at_exit maybe\n").unwrap();
+    let output = raycast(&["check", suite, "--renderer", &aborts]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&output.stderr).contains(
+            "GRADING line 1: expected 'crash_at_exit picture' or 'crash_at_exit line', found \
+             'crash_at_exit maybe'"
+        ),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
 }

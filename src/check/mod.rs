@@ -15,6 +15,7 @@ mod guard;
 pub mod merge;
 pub(crate) mod modes;
 mod output;
+mod picture;
 mod project;
 mod refused;
 mod report;
@@ -26,7 +27,7 @@ mod suite;
 pub(crate) mod untrusted;
 mod verdict;
 
-use failure::{OWN_MESSAGE_ADVICE, failed_run, how_it_ended, missing_output, said};
+use failure::{OWN_MESSAGE_ADVICE, how_it_ended};
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -807,8 +808,9 @@ fn grade_line(
         .enumerate()
         .map(|(k, ((_, name), (reference, own_render)))| {
             let image_name = suite::image_name(name);
-            let mut graded = grade(
+            let mut graded = picture::grade(
                 options,
+                suite.picture_alone_after_crash,
                 line,
                 k,
                 &image_name,
@@ -992,149 +994,6 @@ fn file_name(name: &str) -> String {
     Path::new(name)
         .file_name()
         .map_or_else(|| name.to_string(), |n| n.to_string_lossy().into_owned())
-}
-
-/// Grades one image from how its run ended and what it left.
-fn grade(
-    options: &CheckOptions,
-    line: &Line,
-    index: usize,
-    name: &str,
-    ran: &Ran,
-    path: &Path,
-    reference: Result<Image, String>,
-) -> Graded {
-    let graded = |status, findings: Vec<Finding>, explanation: String| Graded {
-        status,
-        findings,
-        explanation,
-        stderr: ran.stderr.clone(),
-        seconds: ran.seconds,
-        ..Graded::blank(line, index, name)
-    };
-    let reference = match reference {
-        Ok(image) => image,
-        Err(why) => {
-            // check was stopped before the line ran (and perhaps before its reference was
-            // rendered): that is what the line says.
-            if matches!(ran.ending, Ending::Interrupted | Ending::DeadlineCame)
-                && let Some((cause, explanation)) = failed_run(ran, &options.limits)
-            {
-                return graded(Status::Error, vec![Finding::Diagnosis(cause)], explanation);
-            }
-            return graded(Status::Error, vec![], format!("No reference image: {why}."));
-        }
-    };
-    if let Some((cause, explanation)) = failed_run(ran, &options.limits) {
-        // What a crash left behind, read once: a whole picture, one cut short, or none.
-        let left = (cause == Diagnosis::CRASH)
-            .then(|| output::read_output(path, (reference.width, reference.height)));
-        let explanation = match left {
-            // A crash after a whole picture was written: the picture is compared and shown,
-            // and the crash blamed on what runs after it. The line still fails: the program
-            // did not end well.
-            Some(Ok(actual))
-                if matches!(ran.ending, Ending::Failed { .. } | Ending::Signaled { .. }) =>
-            {
-                let judgement = judge(&actual, &reference, options.rule);
-                let picture = if judgement.pass {
-                    "Your picture matches the reference"
-                } else {
-                    "Your picture was written whole but differs from the reference"
-                };
-                let off = judgement
-                    .bad_fraction
-                    .map(|f| format!(" ({:.3}% of pixels off)", 100.0 * f))
-                    .unwrap_or_default();
-                let mut findings = vec![Finding::Diagnosis(Diagnosis::CRASH_AT_EXIT)];
-                findings.extend(judgement.diagnoses.into_iter().map(Finding::Diagnosis));
-                return Graded {
-                    bad_fraction: judgement.bad_fraction,
-                    actual: Some(actual),
-                    reference: Some(reference),
-                    ..graded(
-                        Status::Error,
-                        findings,
-                        format!(
-                            "{picture}{off}; then the renderer {}.{} {}",
-                            how_it_ended(&ran.ending),
-                            said(&ran.stderr),
-                            Diagnosis::CRASH_AT_EXIT.explanation()
-                        ),
-                    )
-                };
-            }
-            // A picture left cut short or garbled by a crash is said to be, not "never written".
-            Some(Err(unread)) if unread.cause != Diagnosis::MISSING_OUTPUT => format!(
-                "The renderer {} while its picture was being written: the file it left is cut \
-                 short or not a picture ({}).{} Look at what ends the program before the picture \
-                 is whole (an exception or a crash while writing it, a file not closed).",
-                how_it_ended(&ran.ending),
-                unread.message,
-                said(&ran.stderr)
-            ),
-            _ => explanation,
-        };
-        return Graded {
-            reference: Some(reference),
-            ..graded(Status::Error, vec![Finding::Diagnosis(cause)], explanation)
-        };
-    }
-    let actual = match output::read_output(path, (reference.width, reference.height)) {
-        Ok(image) => image,
-        Err(unread) if unread.cause == Diagnosis::MISSING_OUTPUT => {
-            let explanation = missing_output(
-                line.picture_kind(index),
-                &line.outputs[index].1,
-                &ran.stderr,
-            );
-            return Graded {
-                reference: Some(reference),
-                ..graded(
-                    Status::Error,
-                    vec![Finding::Diagnosis(unread.cause)],
-                    explanation,
-                )
-            };
-        }
-        Err(unread) => {
-            let explanation = format!(
-                "{}. {}{}",
-                unread.message,
-                unread.cause.explanation(),
-                said(&ran.stderr)
-            );
-            // A picture of the wrong size was made, only wrong: a failure, not an error.
-            let status = if unread.cause == Diagnosis::SIZE {
-                Status::Fail
-            } else {
-                Status::Error
-            };
-            return Graded {
-                reference: Some(reference),
-                ..graded(status, vec![Finding::Diagnosis(unread.cause)], explanation)
-            };
-        }
-    };
-    let judgement = judge(&actual, &reference, options.rule);
-    let findings: Vec<Finding> = judgement
-        .diagnoses
-        .into_iter()
-        .map(Finding::Diagnosis)
-        .collect();
-    Graded {
-        status: if judgement.pass {
-            Status::Pass
-        } else {
-            Status::Fail
-        },
-        bad_fraction: judgement.bad_fraction,
-        explanation: finding::explain(&findings, line.picture_kind(index)),
-        findings,
-        actual: Some(actual),
-        reference: Some(reference),
-        ..graded(Status::Pass, vec![], String::new())
-    }
 }
 
 /// The one-line verdict of an image for the terminal.

@@ -125,6 +125,9 @@ pub struct Suite {
     pub points: Vec<(String, f64)>,
     /// The open questions the suite's `CHOICES` file pins to one answer.
     pub pinned: Vec<Pin>,
+    /// Whether a picture written whole before the renderer crashed is graded by the picture
+    /// alone (its `GRADING` file says `crash_at_exit picture`); by default the line fails.
+    pub picture_alone_after_crash: bool,
 }
 
 /// An open question a suite pins to one answer (its `CHOICES` file: a line `QUESTION ANSWER`,
@@ -219,6 +222,7 @@ impl Suite {
         }
         let points = read_points(&root.join("POINTS"), &lines)?;
         let pinned = read_pins(&root.join("CHOICES"))?;
+        let picture_alone_after_crash = read_grading(&root.join("GRADING"))?;
         Ok(Suite {
             root: root.to_path_buf(),
             scenes,
@@ -226,6 +230,7 @@ impl Suite {
             lines,
             points,
             pinned,
+            picture_alone_after_crash,
         })
     }
 
@@ -293,6 +298,36 @@ fn read_points(path: &Path, lines: &[Line]) -> Result<Vec<(String, f64)>, String
         points.push((name.to_string(), value));
     }
     Ok(points)
+}
+
+/// Reads a suite's `GRADING` file, if it has one: how a run is graded where the course leaves
+/// it to the teacher. One setting so far, `crash_at_exit picture` (a picture written whole
+/// before a crash is graded alone) or `crash_at_exit line` (the line fails: the default).
+fn read_grading(path: &Path) -> Result<bool, String> {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(false);
+    };
+    let mut picture_alone = false;
+    for (number, text) in text.lines().enumerate() {
+        let text = text.split('#').next().unwrap_or("").trim();
+        if text.is_empty() {
+            continue;
+        }
+        let words: Vec<&str> = text.split_whitespace().collect();
+        picture_alone = match words[..] {
+            ["crash_at_exit", "picture"] => true,
+            ["crash_at_exit", "line"] => false,
+            _ => {
+                return Err(format!(
+                    "{} line {}: expected 'crash_at_exit picture' or 'crash_at_exit line', \
+                     found '{text}'",
+                    path.display(),
+                    number + 1
+                ));
+            }
+        };
+    }
+    Ok(picture_alone)
 }
 
 /// Reads a suite's `CHOICES` file, if it has one: a line `QUESTION ANSWER` for each open
