@@ -1142,3 +1142,54 @@ fn the_side_doors_stay_closed_when_an_ordinary_user_runs_check() {
     assert_eq!(cage["user"], "check's own user", "{cage}");
     assert_eq!(cage["own_root"], true, "{cage}");
 }
+
+#[test]
+fn a_lines_memory_and_process_count_are_its_own() {
+    // A line's memory and processes are counted over all its processes, and apart from every
+    // other line's, where the kernel gives check a control group for it (here, as root); an
+    // ordinary user without a delegated subtree has none.
+    if !rustix_is_root() {
+        return;
+    }
+    let Some(w) = world() else { return };
+    // Four processes of 300 MiB each under --memory 1G: each is within the limit alone, not
+    // together. The kernel ends one; the renderer fails, and the cause is the line's memory.
+    let hungry = w.renderer(
+        "hungry.sh",
+        &format!(
+            // Each tail holds its 300 MiB until the reader behind it wakes, so that all four
+            // hold theirs at once however busy the machine.
+            "set -o pipefail\n\
+             for i in 1 2 3 4; do\n\
+               head -c 300M /dev/zero | tail -c 300M | (sleep 3; cat >/dev/null) &\n\
+             done\n\
+             for p in $(jobs -p); do wait $p || exit 1; done\n{}",
+            render()
+        ),
+    );
+    let (out, _) = w.check(&hungry, &["--memory", "1G"], "hungry.sh");
+    assert_graded(
+        &out,
+        "ERROR  output2_01: out_of_memory: The renderer exited with status 1: its processes \
+         together outgrew the line's memory (1 GiB), and the kernel ended one.",
+    );
+    let summary = common::summary_of(&w.report);
+    assert_eq!(summary["cage"]["line_group"], true, "{summary}");
+    assert_eq!(summary["cage"]["memory_ran_out"], true, "{summary}");
+    // Two lines at once, 200 children each: as user nobody they shared one count of 256 (the
+    // second line's forks failed); each line's group counts its own.
+    let two = w.suite.join("COMMANDS.txt");
+    let one = std::fs::read_to_string(&two).unwrap();
+    std::fs::write(
+        &two,
+        format!("{one}{}", one.replace("output2_01", "again2_01")),
+    )
+    .unwrap();
+    std::fs::copy(&w.reference, w.suite.join("reference/again2_01.png")).unwrap();
+    let kids = w.renderer(
+        "kids.sh",
+        &format!("for i in $(seq 200); do sleep 2 & done\nwait\n{}", render()),
+    );
+    let (out, _) = w.check(&kids, &["--jobs", "2"], "kids.sh");
+    assert_graded(&out, "2 passed, 0 failed");
+}

@@ -60,8 +60,19 @@ pub(super) fn failed_run(ran: &Ran, limits: &Limits) -> Option<(Diagnosis, Strin
             .iter()
             .any(|marker| ran.stderr.contains(marker))
     };
+    // The kernel's own count, where the line had a memory group of its own.
+    let killed_for_memory = ran.confinement.as_ref().is_some_and(|c| c.memory_ran_out);
     let (cause, what) = match &ran.ending {
         Ending::Success => return None,
+        Ending::Failed { .. } | Ending::Signaled { .. } if killed_for_memory => (
+            Diagnosis::OUT_OF_MEMORY,
+            format!(
+                "The renderer {}: its processes together outgrew the line's memory ({}), and \
+                 the kernel ended one.",
+                how_it_ended(&ran.ending),
+                bytes(limits.memory)
+            ),
+        ),
         Ending::Failed { .. } | Ending::Signaled { .. } if likely_out_of_memory() => (
             Diagnosis::OUT_OF_MEMORY,
             format!(

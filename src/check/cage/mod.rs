@@ -270,6 +270,11 @@ pub struct Confinement {
     /// Whether it ran in a root of its own (the system's folders, its own and nothing else;
     /// its writes bounded), or, if not, why not.
     pub own_root: Result<(), String>,
+    /// Whether its line had control groups of its own (memory and processes counted over all
+    /// the line's processes), or why not (Linux).
+    pub line_group: Result<(), String>,
+    /// Whether the kernel killed a process of the line for the line's memory.
+    pub memory_ran_out: bool,
     /// The system it ran on: "linux", "macos" or "windows" (the fields above are Linux's).
     pub system: String,
     /// Windows: whether its line ran in a job object (every process ended with the line, their
@@ -290,6 +295,8 @@ impl Default for Confinement {
             ipc_namespace: false,
             pid_namespace: false,
             own_root: Err("not tried".into()),
+            line_group: Err("not tried".into()),
+            memory_ran_out: false,
             system: std::env::consts::OS.to_string(),
             job: Err(format!("not on {}", std::env::consts::OS)),
             sandbox: Err(format!("not on {}", std::env::consts::OS)),
@@ -315,6 +322,8 @@ impl Confinement {
             "ipc_namespace": self.ipc_namespace,
             "pid_namespace": self.pid_namespace,
             "own_root": held(&self.own_root),
+            "line_group": held(&self.line_group),
+            "memory_ran_out": self.memory_ran_out,
         })
     }
 
@@ -333,6 +342,8 @@ impl Confinement {
             ipc_namespace: value["ipc_namespace"].as_bool().unwrap_or(false),
             pid_namespace: value["pid_namespace"].as_bool().unwrap_or(false),
             own_root: held(&value["own_root"]),
+            line_group: held(&value["line_group"]),
+            memory_ran_out: value["memory_ran_out"].as_bool().unwrap_or(false),
             // Reports written before other systems were caged were Linux's.
             system: value["system"].as_str().unwrap_or("linux").to_string(),
             job: held(&value["job"]),
@@ -400,8 +411,12 @@ impl Confinement {
             Ok(()) => "a root of its own".to_string(),
             Err(why) => format!("the machine's files (no root of its own: {why})"),
         };
+        let group = match &self.line_group {
+            Ok(()) => "memory and processes counted over the line".to_string(),
+            Err(why) => format!("memory and processes counted per process ({why})"),
+        };
         format!(
-            "renderer caged as {}; Landlock {}; {}; {}; {}; {}",
+            "renderer caged as {}; Landlock {}; {}; {}; {}; {}; {group}",
             self.user,
             self.landlock,
             yes_no(self.network_namespace, "network namespace"),

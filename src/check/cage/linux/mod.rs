@@ -5,6 +5,7 @@
 //! line runs, `wall.rs` finds out whether the suite's references are out of the renderer's
 //! reach.
 
+mod cgroup;
 mod confine;
 mod reach;
 mod reap;

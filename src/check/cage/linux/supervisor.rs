@@ -21,7 +21,7 @@ use rustix::process::{Pid, Signal, WaitOptions};
 
 use super::super::report::{self, ending_json, ending_of};
 use super::confine::Namespaces;
-use super::{Confinement, Ending, Request, confine, reap, root};
+use super::{Confinement, Ending, Request, cgroup, confine, reap, root};
 
 /// The supervisor's whole life: `request` is the JSON check passed. Its report goes to stdout;
 /// the renderer's stderr and stdout go to the supervisor's stderr.
@@ -53,6 +53,10 @@ fn run(request: &Request) -> (Ending, Confinement) {
         ..Confinement::default()
     };
     cage.landlock = confine::landlock_state(request);
+    // Before the namespaces (a user namespace would hide the groups' files): the supervisor
+    // joins the line's groups, and the init and the renderer are born in them.
+    let group = cgroup::LineGroup::join(&request.limits);
+    cage.line_group = group.as_ref().map(|_| ()).map_err(Clone::clone);
     let namespaces = confine::enter_namespaces();
     cage.network_namespace = namespaces.network;
     cage.ipc_namespace = namespaces.ipc;
@@ -82,7 +86,8 @@ fn run(request: &Request) -> (Ending, Confinement) {
         }
         0 => {
             drop(report);
-            let (ending, cage) = init(request, &namespaces, cage, &stop);
+            let counted_by_group = group.is_ok();
+            let (ending, cage) = init(request, &namespaces, counted_by_group, cage, &stop);
             let said = serde_json::json!({ "ending": ending_json(&ending), "cage": cage.json() });
             let _ = (&for_init).write_all(said.to_string().as_bytes());
             // SAFETY: _exit ends the init at once, without the supervisor's exit handlers;
@@ -123,6 +128,10 @@ fn run(request: &Request) -> (Ending, Confinement) {
         std::thread::sleep(Duration::from_millis(2));
     }
     reap::end_descendants();
+    if let Ok(group) = group {
+        cage.memory_ran_out = group.ran_out_of_memory();
+        group.leave();
+    }
     let mut said = String::new();
     let _ = report.set_nonblocking(true);
     let _ = (&report).take(64 * 1024).read_to_string(&mut said);
@@ -131,7 +140,12 @@ fn run(request: &Request) -> (Ending, Confinement) {
         (Some(ending), _) => (ending, cage),
         (None, Some(told)) => (
             ending_of(&told["ending"]),
-            Confinement::from_json(&told["cage"]).unwrap_or(cage),
+            Confinement::from_json(&told["cage"])
+                .map(|told| Confinement {
+                    memory_ran_out: cage.memory_ran_out,
+                    ..told
+                })
+                .unwrap_or(cage),
         ),
         (None, None) => (
             Ending::NotStarted("its init ended without a word (killed by the renderer?)".into()),
@@ -151,6 +165,7 @@ const INIT_GRACE: Duration = Duration::from_millis(1500);
 fn init(
     request: &Request,
     namespaces: &Namespaces,
+    counted_by_group: bool,
     mut cage: Confinement,
     stop: &AtomicBool,
 ) -> (Ending, Confinement) {
@@ -180,8 +195,9 @@ fn init(
     if let Some((uid, gid)) = request.user {
         command.uid(uid).gid(gid);
     }
-    // The renderer's own process count: another user's, or a user namespace's.
-    let counted = request.user.is_some() || namespaces.user;
+    // The renderer's own process count: another user's, or a user namespace's; none where the
+    // line's group counts them (every line of every check as `nobody` would share one count).
+    let counted = (request.user.is_some() || namespaces.user) && !counted_by_group;
     let prepare = confine::in_child(request, counted, root.is_ok());
     // SAFETY: the closure runs in the forked child before exec. The init is single-threaded
     // (signal-hook's handlers need no thread), so no lock is held by another thread at the
