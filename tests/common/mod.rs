@@ -162,3 +162,27 @@ pub fn left_running(token: &str) -> Vec<String> {
     }
     found
 }
+
+/// Whether a memory control group can be made beside this process's own, as check's supervisor
+/// makes one for each line (cgroup v1's memory hierarchy, or v2).
+pub fn line_groups_can_be_made() -> bool {
+    let own = std::fs::read_to_string("/proc/self/cgroup").unwrap_or_default();
+    let group = own.lines().find_map(|line| {
+        let mut fields = line.splitn(3, ':');
+        let (_, controllers, path) = (fields.next()?, fields.next()?, fields.next()?);
+        let path = path.trim_start_matches('/');
+        if controllers.split(',').any(|c| c == "memory") {
+            Some(Path::new("/sys/fs/cgroup/memory").join(path))
+        } else if controllers.is_empty() {
+            Some(Path::new("/sys/fs/cgroup").join(path))
+        } else {
+            None
+        }
+    });
+    let Some(probe) = group.map(|g| g.join(format!("raycast-probe-{}", std::process::id()))) else {
+        return false;
+    };
+    let made = std::fs::create_dir(&probe).is_ok();
+    let _ = std::fs::remove_dir(&probe);
+    made
+}
