@@ -263,36 +263,47 @@ impl Suite {
     }
 }
 
+/// The lines of one of a suite's settings files (`POINTS`, `CHOICES`, `GRADING`) that say
+/// something, each with where it is (`PATH line N`) for messages: `#` starts a comment; no
+/// file, no lines.
+fn settings(path: &Path) -> Vec<(String, String)> {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    text.lines()
+        .enumerate()
+        .filter_map(|(number, line)| {
+            let text = line.split('#').next().unwrap_or("").trim();
+            (!text.is_empty()).then(|| {
+                (
+                    format!("{} line {}", path.display(), number + 1),
+                    text.to_string(),
+                )
+            })
+        })
+        .collect()
+}
+
 /// Reads a suite's `POINTS` file, if it has one: a line `NAME POINTS` for each picture worth
 /// other than one (NAME as the picture's file name without its extension; `#` starts a
 /// comment).
 fn read_points(path: &Path, lines: &[Line]) -> Result<Vec<(String, f64)>, String> {
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return Ok(Vec::new());
-    };
     let mut points = Vec::new();
-    for (number, text) in text.lines().enumerate() {
-        let text = text.split('#').next().unwrap_or("").trim();
-        if text.is_empty() {
-            continue;
-        }
-        let at = || format!("{} line {}", path.display(), number + 1);
+    for (at, text) in settings(path) {
         let words: Vec<&str> = text.split_whitespace().collect();
         let [name, value] = words[..] else {
-            return Err(format!("{}: expected 'NAME POINTS', found '{text}'", at()));
+            return Err(format!("{}: expected 'NAME POINTS', found '{text}'", at));
         };
         let value: f64 = value
             .parse()
             .ok()
             .filter(|v: &f64| v.is_finite() && *v >= 0.0)
-            .ok_or_else(|| format!("{}: '{value}' is not a number of points (0 or more)", at()))?;
+            .ok_or_else(|| format!("{}: '{value}' is not a number of points (0 or more)", at))?;
         let known = lines
             .iter()
             .any(|l| l.outputs.iter().any(|(_, n)| image_name(n) == name));
         if !known {
             return Err(format!(
                 "{}: no line of COMMANDS.txt writes a picture named '{name}'",
-                at()
+                at
             ));
         }
         points.push((name.to_string(), value));
@@ -304,25 +315,16 @@ fn read_points(path: &Path, lines: &[Line]) -> Result<Vec<(String, f64)>, String
 /// it to the teacher. One setting so far, `crash_at_exit picture` (a picture written whole
 /// before a crash is graded alone) or `crash_at_exit line` (the line fails: the default).
 fn read_grading(path: &Path) -> Result<bool, String> {
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return Ok(false);
-    };
     let mut picture_alone = false;
-    for (number, text) in text.lines().enumerate() {
-        let text = text.split('#').next().unwrap_or("").trim();
-        if text.is_empty() {
-            continue;
-        }
+    for (at, text) in settings(path) {
         let words: Vec<&str> = text.split_whitespace().collect();
         picture_alone = match words[..] {
             ["crash_at_exit", "picture"] => true,
             ["crash_at_exit", "line"] => false,
             _ => {
                 return Err(format!(
-                    "{} line {}: expected 'crash_at_exit picture' or 'crash_at_exit line', \
-                     found '{text}'",
-                    path.display(),
-                    number + 1
+                    "{at}: expected 'crash_at_exit picture' or 'crash_at_exit line', found \
+                     '{text}'"
                 ));
             }
         };
@@ -334,21 +336,13 @@ fn read_grading(path: &Path) -> Result<bool, String> {
 /// question a class pins (`gaussian_cut raycast`, `checkerboard_parity checker_swapped`; `#`
 /// starts a comment).
 fn read_pins(path: &Path) -> Result<Vec<Pin>, String> {
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return Ok(Vec::new());
-    };
     let mut pins: Vec<Pin> = Vec::new();
-    for (number, text) in text.lines().enumerate() {
-        let text = text.split('#').next().unwrap_or("").trim();
-        if text.is_empty() {
-            continue;
-        }
-        let at = || format!("{} line {}", path.display(), number + 1);
+    for (at, text) in settings(path) {
         let words: Vec<&str> = text.split_whitespace().collect();
         let [question, answer] = words[..] else {
             return Err(format!(
                 "{}: expected 'QUESTION ANSWER', found '{text}'",
-                at()
+                at
             ));
         };
         let questions = || {
@@ -362,14 +356,14 @@ fn read_pins(path: &Path) -> Result<Vec<Pin>, String> {
         let choice = CHOICES.iter().find(|c| c.name == question).ok_or_else(|| {
             format!(
                 "{}: no open question '{question}' (one of {})",
-                at(),
+                at,
                 questions()
             )
         })?;
         let Accepted::Answers(answers) = &choice.accepted else {
             return Err(format!(
                 "{}: '{question}' has no answers to pin (one of {})",
-                at(),
+                at,
                 questions()
             ));
         };
@@ -379,13 +373,13 @@ fn read_pins(path: &Path) -> Result<Vec<Pin>, String> {
                 let names: Vec<&str> = answers.iter().map(|a| a.name).collect();
                 format!(
                     "{}: '{name}' is no answer to {question} (raycast, {})",
-                    at(),
+                    at,
                     names.join(", ")
                 )
             })?),
         };
         if pins.iter().any(|p| p.choice.name == question) {
-            return Err(format!("{}: {question} is pinned twice", at()));
+            return Err(format!("{}: {question} is pinned twice", at));
         }
         pins.push(Pin { choice, answer });
     }

@@ -19,14 +19,14 @@
 
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitCode, Stdio};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::process::{Command, ExitCode, Stdio};
+use std::time::Instant;
 
 use super::{Confinement, Ending, Limits, Request, report};
 
 pub use super::same_user::{stage, unprivileged_user};
+pub use super::unix::is_root;
+pub(super) use super::unix::{ask_to_stop, detach};
 
 /// The folders every program may read.
 pub const SYSTEM: &[&str] = &[
@@ -44,24 +44,6 @@ pub const SYSTEM: &[&str] = &[
 
 /// The system's sandbox program.
 const SANDBOX_EXEC: &str = "/usr/bin/sandbox-exec";
-
-/// Whether check runs as root.
-pub fn is_root() -> bool {
-    rustix::process::geteuid().is_root()
-}
-
-/// A supervisor gets a process group of its own: a Ctrl-C at the terminal reaches check,
-/// which tells each supervisor.
-pub(super) fn detach(supervisor: &mut Command) {
-    supervisor.process_group(0);
-}
-
-/// Asks a supervisor to end its line (check was interrupted).
-pub(super) fn ask_to_stop(supervisor: &mut Child) {
-    if let Some(pid) = rustix::process::Pid::from_raw(supervisor.id() as i32) {
-        let _ = rustix::process::kill_process(pid, rustix::process::Signal::TERM);
-    }
-}
 
 /// What keeps a renderer from the references here: the sandbox, where it works.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -136,23 +118,11 @@ fn profile(hidden: usize) -> String {
 /// The supervisor's whole life: `request` is the JSON check passed. Its report goes to stdout;
 /// the renderer's stderr and stdout go to the supervisor's stderr.
 pub fn supervise(request: &str) -> ExitCode {
-    let (ending, cage) = match Request::from_json(request) {
-        Ok(request) => run(&request),
-        Err(why) => (Ending::NotStarted(why), Confinement::default()),
-    };
-    report::write(&ending, &cage);
-    ExitCode::SUCCESS
+    report::serve(request, run)
 }
 
 fn run(request: &Request) -> (Ending, Confinement) {
-    let stop = Arc::new(AtomicBool::new(false));
-    for signal in [
-        signal_hook::consts::SIGTERM,
-        signal_hook::consts::SIGINT,
-        signal_hook::consts::SIGHUP,
-    ] {
-        let _ = signal_hook::flag::register(signal, stop.clone());
-    }
+    let stop = super::unix::stop_when_signalled();
     let mut cage = Confinement {
         user: "check's own user".to_string(),
         landlock: "not on this system".to_string(),
@@ -221,27 +191,9 @@ fn run(request: &Request) -> (Ending, Confinement) {
         }
     };
     let group = child.id() as i32;
-    let ending = loop {
-        match child.try_wait() {
-            Ok(Some(status)) => {
-                break match (status.code(), status.signal()) {
-                    (Some(0), _) => Ending::Success,
-                    (Some(code), _) => Ending::Failed { status: code },
-                    (None, Some(signal)) => Ending::Signaled { signal },
-                    (None, None) => Ending::Failed { status: -1 },
-                };
-            }
-            Ok(None) => {}
-            Err(e) => break Ending::NotStarted(format!("the supervisor lost it: {e}")),
-        }
-        if stop.load(Ordering::Relaxed) {
-            break Ending::Interrupted;
-        }
-        if start.elapsed() >= request.limit {
-            break Ending::TimedOut(request.limit);
-        }
-        std::thread::sleep(Duration::from_millis(2));
-    };
+    let ending = super::wait_for(&mut child, start, request.limit, &stop, |status| {
+        Ending::of_exit(status.code(), status.signal())
+    });
     // The renderer's whole group, whatever it left running.
     // SAFETY: killpg on the group this supervisor made for the renderer.
     unsafe { libc::killpg(group, libc::SIGKILL) };

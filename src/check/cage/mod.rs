@@ -29,6 +29,8 @@ mod windows;
 use windows as system;
 #[cfg(not(target_os = "linux"))]
 mod same_user;
+#[cfg(unix)]
+mod unix;
 
 use crate::render::StopFlag;
 use std::io::Read;
@@ -537,6 +539,16 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
 }
 
 impl Ending {
+    /// How a process ended, from its exit code or the signal that ended it.
+    pub(crate) fn of_exit(code: Option<i32>, signal: Option<i32>) -> Ending {
+        match (code, signal) {
+            (Some(0), _) => Ending::Success,
+            (Some(code), _) => Ending::Failed { status: code },
+            (None, Some(signal)) => Ending::Signaled { signal },
+            (None, None) => Ending::Failed { status: -1 },
+        }
+    }
+
     /// How a run ends that check stopped: interrupted by a person, or out of time
     /// (`--deadline`).
     pub fn stopped(stop: &StopFlag) -> Ending {
@@ -545,6 +557,32 @@ impl Ending {
         } else {
             Ending::Interrupted
         }
+    }
+}
+
+/// Waits for a renderer started at `start` until it ends (its status read by `ended`), `stop`
+/// is set, or `limit` has passed; the caller ends what is left.
+#[cfg(not(target_os = "linux"))]
+fn wait_for(
+    child: &mut std::process::Child,
+    start: Instant,
+    limit: Duration,
+    stop: &std::sync::atomic::AtomicBool,
+    ended: impl Fn(std::process::ExitStatus) -> Ending,
+) -> Ending {
+    loop {
+        match child.try_wait() {
+            Ok(Some(status)) => return ended(status),
+            Ok(None) => {}
+            Err(e) => return Ending::NotStarted(format!("the supervisor lost it: {e}")),
+        }
+        if stop.load(std::sync::atomic::Ordering::Relaxed) {
+            return Ending::Interrupted;
+        }
+        if start.elapsed() >= limit {
+            return Ending::TimedOut(limit);
+        }
+        std::thread::sleep(Duration::from_millis(2));
     }
 }
 

@@ -5,6 +5,22 @@ use std::time::Duration;
 
 use super::{Confinement, Ending};
 
+/// A supervisor's whole life on Linux and macOS: `request` is the JSON check passed, `run`
+/// runs it; the report goes to stdout, the renderer's stderr and stdout to the supervisor's
+/// stderr.
+#[cfg(unix)]
+pub(super) fn serve(
+    request: &str,
+    run: impl FnOnce(&super::Request) -> (Ending, Confinement),
+) -> std::process::ExitCode {
+    let (ending, cage) = match super::Request::from_json(request) {
+        Ok(request) => run(&request),
+        Err(why) => (Ending::NotStarted(why), Confinement::default()),
+    };
+    write(&ending, &cage);
+    std::process::ExitCode::SUCCESS
+}
+
 /// The report of a supervisor whose renderer ended as `ending`, caged by `cage`: one line.
 pub(super) fn write(ending: &Ending, cage: &Confinement) {
     let report = serde_json::json!({ "ending": ending_json(ending), "cage": cage.json() });

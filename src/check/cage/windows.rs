@@ -29,7 +29,7 @@ use std::path::Path;
 use std::process::{Child, Command, ExitCode, Stdio};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use windows_sys::Win32::Foundation::{HANDLE, HANDLE_FLAG_INHERIT, SetHandleInformation};
 use windows_sys::Win32::System::Console::{GetStdHandle, STD_INPUT_HANDLE, STD_OUTPUT_HANDLE};
@@ -191,20 +191,9 @@ fn run(request: &Request) -> (Ending, Confinement, Option<OwnedHandle>) {
             );
         }
     };
-    let ending = loop {
-        match child.try_wait() {
-            Ok(Some(status)) => break ending_of(status.code().unwrap_or(-1)),
-            Ok(None) => {}
-            Err(e) => break Ending::NotStarted(format!("the supervisor lost it: {e}")),
-        }
-        if stop.load(Ordering::Relaxed) {
-            break Ending::Interrupted;
-        }
-        if start.elapsed() >= request.limit {
-            break Ending::TimedOut(request.limit);
-        }
-        std::thread::sleep(Duration::from_millis(2));
-    };
+    let ending = super::wait_for(&mut child, start, request.limit, &stop, |status| {
+        ending_of(status.code().unwrap_or(-1))
+    });
     (ending, cage, Some(job))
 }
 
@@ -313,10 +302,9 @@ fn ending_of(code: i32) -> Ending {
         0xC000_001D | 0xC000_0096 => Some(4),                // illegal or privileged instruction
         _ => None,
     };
-    match (code, signal) {
-        (0, _) => Ending::Success,
-        (_, Some(signal)) => Ending::Signaled { signal },
-        (status, None) => Ending::Failed { status },
+    match signal {
+        Some(_) => Ending::of_exit(None, signal),
+        None => Ending::of_exit(Some(code), None),
     }
 }
 

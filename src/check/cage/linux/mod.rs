@@ -15,34 +15,15 @@ mod wall;
 
 use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command};
 
 use super::{Confinement, Ending, Limits, Request, Staged, run};
 
+pub use super::unix::is_root;
+pub(super) use super::unix::{ask_to_stop, detach};
 pub use confine::SYSTEM;
 pub use reach::stage;
 pub use supervisor::supervise;
 pub use wall::Wall;
-
-/// Whether check runs as root (and so runs renderers as another user).
-pub fn is_root() -> bool {
-    rustix::process::geteuid().is_root()
-}
-
-/// A supervisor gets a process group of its own: a Ctrl-C at the terminal reaches check,
-/// which tells each supervisor.
-pub(super) fn detach(supervisor: &mut Command) {
-    use std::os::unix::process::CommandExt;
-    supervisor.process_group(0);
-}
-
-/// Asks a supervisor to end its line (check was interrupted): it ends the renderer's tree and
-/// reports.
-pub(super) fn ask_to_stop(supervisor: &mut Child) {
-    if let Some(pid) = rustix::process::Pid::from_raw(supervisor.id() as i32) {
-        let _ = rustix::process::kill_process(pid, rustix::process::Signal::TERM);
-    }
-}
 
 /// The user a renderer runs as when check runs as root: `nobody` (its ids from /etc/passwd,
 /// 65534 where it is not listed), provided it can reach every path the renderer needs;

@@ -13,7 +13,6 @@ use std::os::fd::AsFd;
 use std::os::unix::net::UnixStream;
 use std::os::unix::process::CommandExt;
 use std::process::{Command, ExitCode, Stdio};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
@@ -26,25 +25,12 @@ use super::{Confinement, Ending, Request, cgroup, confine, reap, root};
 /// The supervisor's whole life: `request` is the JSON check passed. Its report goes to stdout;
 /// the renderer's stderr and stdout go to the supervisor's stderr.
 pub fn supervise(request: &str) -> ExitCode {
-    let (ending, cage) = match Request::from_json(request) {
-        Ok(request) => run(&request),
-        Err(why) => (Ending::NotStarted(why), Confinement::default()),
-    };
-    report::write(&ending, &cage);
-    ExitCode::SUCCESS
+    report::serve(request, run)
 }
 
 fn run(request: &Request) -> (Ending, Confinement) {
     let parent = rustix::process::getppid();
-    // Asked to stop (check interrupted) or hung up on: the renderer's tree ends first.
-    let stop = Arc::new(AtomicBool::new(false));
-    for signal in [
-        signal_hook::consts::SIGTERM,
-        signal_hook::consts::SIGINT,
-        signal_hook::consts::SIGHUP,
-    ] {
-        let _ = signal_hook::flag::register(signal, stop.clone());
-    }
+    let stop = super::super::unix::stop_when_signalled();
     let mut cage = Confinement {
         user: match request.user {
             Some((uid, _)) => format!("uid {uid}"),
@@ -222,12 +208,7 @@ fn init(
     let ending = loop {
         match rustix::process::wait(WaitOptions::NOHANG) {
             Ok(Some((pid, status))) if Some(pid) == renderer => {
-                break match (status.exit_status(), status.terminating_signal()) {
-                    (Some(0), _) => Ending::Success,
-                    (Some(code), _) => Ending::Failed { status: code },
-                    (None, Some(signal)) => Ending::Signaled { signal },
-                    (None, None) => Ending::Failed { status: -1 },
-                };
+                break Ending::of_exit(status.exit_status(), status.terminating_signal());
             }
             Ok(Some(_)) => continue,
             Ok(None) => {}
