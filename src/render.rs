@@ -199,15 +199,38 @@ pub fn render(scene: &Scene, settings: &RenderSettings) -> Rendered {
 
 /// [`render`], as `variant` renders.
 pub fn render_with<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V) -> Rendered {
+    render_rows_with(scene, settings, variant, None)
+}
+
+/// [`render_with`], only the rows `wanted` marks (counted from the top) where it is given: the
+/// other rows' pixels are left black. Every pixel is its own ray (or its own samples, filtered
+/// from its neighbours' too, which are traced for it), so a wanted row is the same as in the
+/// whole render: check screens a fault's render of a line by a few rows before it renders it
+/// all.
+pub fn render_rows_with<V: Variant>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    variant: V,
+    wanted: Option<&[bool]>,
+) -> Rendered {
+    assert!(
+        wanted.is_none_or(|wanted| wanted.len() == settings.height as usize),
+        "a mark for each row"
+    );
     if settings.streams() {
-        render_centres(scene, settings, variant)
+        render_centres(scene, settings, variant, wanted)
     } else {
-        render_film(scene, settings, variant)
+        render_film(scene, settings, variant, wanted)
     }
 }
 
 /// One ray through each pixel's centre, straight to bytes: assignments 1 to 6.
-fn render_centres<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V) -> Rendered {
+fn render_centres<V: Variant>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    variant: V,
+    wanted: Option<&[bool]>,
+) -> Rendered {
     let (width, height) = (settings.width, settings.height);
     let layout = BandLayout::of(settings);
     let pixels = width as usize * height as usize;
@@ -231,7 +254,7 @@ fn render_centres<V: Variant>(scene: &Scene, settings: &RenderSettings, variant:
             })
         })
         .collect();
-    let rays = render_bands(scene, settings, variant, &layout, &InPlace(bands));
+    let rays = render_bands(scene, settings, variant, &layout, &InPlace(bands), wanted);
 
     let image = |pixels: Option<Vec<[u8; 3]>>| {
         pixels.map(|pixels| Image {
@@ -290,7 +313,7 @@ pub fn render_streamed<V: Variant>(
             failed: None,
         }),
     };
-    let rays = render_bands(scene, settings, variant, &layout, &streamed);
+    let rays = render_bands(scene, settings, variant, &layout, &streamed, None);
     let in_order = streamed
         .in_order
         .into_inner()
@@ -449,6 +472,7 @@ fn render_bands<V: Variant, B: Bands>(
     variant: V,
     layout: &BandLayout,
     bands: &B,
+    wanted: Option<&[bool]>,
 ) -> RayCounts {
     let background = variant.to_rgb(scene.background);
     let progress = Progress::new(settings.progress, settings.counter, layout.band_count);
@@ -465,13 +489,19 @@ fn render_bands<V: Variant, B: Bands>(
                 return scratch.counts;
             }
             let rows = layout.rows(index);
+            if wanted.is_some_and(|wanted| {
+                !wanted[rows.start as usize..rows.end as usize].contains(&true)
+            }) {
+                progress.advance();
+                continue;
+            }
             let go_on = bands.band(&mut worker, index, |band| {
                 render_band(
                     &tracer,
                     variant,
                     settings,
                     background,
-                    rows,
+                    (rows, wanted),
                     &mut scratch,
                     band,
                 )
@@ -487,14 +517,15 @@ fn render_bands<V: Variant, B: Bands>(
     counts
 }
 
-/// The pixels of rows `rows` (a band, whose first row is the band's first pixel), tile by
-/// tile, each tile's camera rays cast in packets of PACKET_SIDE × PACKET_SIDE.
+/// The pixels of rows `rows` (a band, whose first row is the band's first pixel) that are
+/// `wanted` (all where it is not given), tile by tile, each tile's camera rays cast in packets
+/// of PACKET_SIDE × PACKET_SIDE.
 fn render_band<V: Variant>(
     tracer: &Tracer<V>,
     variant: V,
     settings: &RenderSettings,
     background: [u8; 3],
-    rows: std::ops::Range<u32>,
+    (rows, wanted): (std::ops::Range<u32>, Option<&[bool]>),
     scratch: &mut Scratch,
     out: &mut Band,
 ) {
@@ -509,6 +540,9 @@ fn render_band<V: Variant>(
                 rays.clear();
                 indices.clear();
                 for row in packet_top..(packet_top + PACKET_SIDE).min(rows.end) {
+                    if wanted.is_some_and(|wanted| !wanted[row as usize]) {
+                        continue;
+                    }
                     for column in packet_left..(packet_left + PACKET_SIDE).min(tile_right) {
                         // Rows are stored top first; the camera counts them from the bottom.
                         let (u, v) =
@@ -586,7 +620,12 @@ impl Band<'_> {
 }
 
 /// Every sample of every pixel kept on a film, then filtered into pixels: assignment 7.
-fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V) -> Rendered {
+fn render_film<V: Variant>(
+    scene: &Scene,
+    settings: &RenderSettings,
+    variant: V,
+    wanted: Option<&[bool]>,
+) -> Rendered {
     let (width, height) = (settings.width, settings.height);
     let Sampling {
         sampler,
@@ -603,13 +642,23 @@ fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V)
     };
     let tracer = Tracer::with_variant(scene, settings.trace, variant);
     let progress = Progress::new(settings.progress, settings.counter, height as usize);
+    // A wanted row's pixels weigh the samples of the rows within the filter's reach.
+    let reach = variant.filter(filter).support_radius() as usize;
+    let traced = |j: usize| {
+        wanted.is_none_or(|wanted| {
+            let row = height as usize - 1 - j;
+            wanted[row.saturating_sub(reach)..(row + reach + 1).min(height as usize)]
+                .contains(&true)
+        })
+    };
     let rays = film
         .entries
         .par_chunks_mut(row_len)
         .enumerate()
         .map(|(j, row)| {
             let mut scratch = Scratch::default();
-            if settings.stopped() {
+            if settings.stopped() || !traced(j) {
+                progress.advance();
                 return scratch.counts;
             }
             let mut positions = vec![glam::Vec2::ZERO; n];
@@ -642,11 +691,15 @@ fn render_film<V: Variant>(scene: &Scene, settings: &RenderSettings, variant: V)
         })
         .reduce(RayCounts::default, |a, b| a + b);
     progress.finish();
-    let picture = |wanted: bool, value: fn(&FilmSample) -> Vec3A| {
-        wanted.then(|| {
-            film.picture(variant, variant.filter(filter), value, |colour| {
-                variant.to_rgb(colour)
-            })
+    let picture = |asked: bool, value: fn(&FilmSample) -> Vec3A| {
+        asked.then(|| {
+            film.picture_rows(
+                variant,
+                variant.filter(filter),
+                value,
+                |colour| variant.to_rgb(colour),
+                wanted,
+            )
         })
     };
     Rendered {

@@ -16,12 +16,14 @@ pub mod merge;
 pub(crate) mod modes;
 mod output;
 mod picture;
+mod progress;
 mod project;
 mod refused;
 mod report;
 mod rule;
 mod run;
 mod scratch;
+mod screen;
 mod simulate;
 mod suite;
 pub(crate) mod untrusted;
@@ -41,6 +43,7 @@ pub use cage::{Confinement, Ending, Limits, Ran, SUPERVISE, supervise};
 pub use diagnose::Diagnosis;
 pub use finding::Finding;
 pub use output::{MAX_IMAGE_BYTES, read_image};
+pub use progress::{Progress, Snapshot};
 pub use report::{Pictures, Staging, write_report};
 pub use rule::{Comparison, Rule, compare};
 pub use scratch::{Scratch, remove_all_now as remove_scratch_now};
@@ -381,13 +384,57 @@ pub struct Renderer<'a> {
     pub budget: Option<Duration>,
 }
 
+/// What `raycast check cache` says of the renders kept between runs; with `clear`, empties it
+/// first.
+pub fn cache_command(clear: bool) -> Result<String, String> {
+    let limit = cache::limit()?;
+    let Some(folder) = cache::folder() else {
+        return Ok("RAYCAST_CACHE_DIR=off: no render is kept between runs".into());
+    };
+    let mib = |bytes: u64| bytes as f64 / f64::from(1 << 20);
+    if clear {
+        let (pictures, bytes) = cache::usage();
+        cache::trim(0);
+        let (left, _) = cache::usage();
+        if left > 0 {
+            return Err(format!(
+                "cannot remove {left} of the {pictures} pictures kept in {}",
+                folder.display()
+            ));
+        }
+        return Ok(format!(
+            "removed {pictures} pictures ({:.1} MiB) from {}",
+            mib(bytes),
+            folder.display()
+        ));
+    }
+    let (pictures, bytes) = cache::usage();
+    Ok(format!(
+        "{pictures} pictures kept in {}: {:.1} MiB of at most {:.1} MiB (RAYCAST_CACHE_SIZE)",
+        folder.display(),
+        mib(bytes),
+        mib(limit)
+    ))
+}
+
+/// Checks `RAYCAST_CACHE_SIZE` before a run, which trims the cache to it at its end.
+pub fn cache_limit() -> Result<u64, String> {
+    cache::limit()
+}
+
+/// Keeps the renders kept between runs within `limit` bytes, the least recently used removed
+/// first.
+pub fn trim_cache(limit: u64) {
+    cache::trim(limit);
+}
+
 /// Runs every line of the suite with the renderer, each in its cage, and grades every image it
-/// should write. `progress` is called once a line has run; once `stop` is set (check was
+/// should write, counting in `progress` the lines graded and diagnosed; once `stop` is set (check was
 /// interrupted), the lines running end and no other starts. The error is a usage or suite
 /// problem.
 pub fn check(
     options: &CheckOptions,
-    progress: &(dyn Fn() + Sync),
+    progress: &Progress,
     stop: &'static StopFlag,
 ) -> Result<Checked, String> {
     let executable = run::check_program(&options.renderer)?;
@@ -437,7 +484,7 @@ pub fn grade_renderer(
     options: &CheckOptions,
     renderer: &Renderer,
     staging: Option<Staging>,
-    progress: &(dyn Fn() + Sync),
+    progress: &Progress,
     stop: &'static StopFlag,
 ) -> Result<Checked, String> {
     let suite = &prepared.suite;
@@ -470,23 +517,64 @@ pub fn grade_renderer(
         stop,
         budget: renderer.budget.map(|b| (started, b)),
     };
+    // Every line is run and graded first, then the failing ones diagnosed: a deadline or a
+    // budget that comes during the diagnoses leaves every line graded.
+    let keep_pictures = |graded: &mut Vec<Graded>| match &staging {
+        Some(staging) => staging.keep_pictures(graded, options.rule.tolerance),
+        // Nothing needs the pixels once the line is graded.
+        None => graded.iter_mut().for_each(|g| {
+            g.actual = None;
+            g.reference = None;
+        }),
+    };
     let grade_one = |number: usize| {
         let (line, references) = (&suite.lines[number], &prepared.references[number]);
         let folder = scratch.path().join(format!("line{number}"));
         let (mut graded, confinement) =
             grade_line(options, &caged, suite, line, references.clone(), &folder);
-        match &staging {
-            Some(staging) => staging.keep_pictures(&mut graded, options.rule.tolerance),
-            // Nothing needs the pixels once the line is graded.
-            None => graded.iter_mut().for_each(|g| {
-                g.actual = None;
-                g.reference = None;
-            }),
+        // A line with nothing to diagnose is done.
+        if !graded.iter().any(|g| g.status == Status::Fail) {
+            keep_pictures(&mut graded);
         }
-        progress();
-        (graded, confinement)
+        progress.graded();
+        (std::sync::Mutex::new(graded), confinement)
     };
     let graded = in_suite_order(&prepared.pool, suite.lines.len(), grade_one);
+    let lines: Vec<Vec<Graded>> = graded
+        .iter()
+        .map(|(g, _)| std::mem::take(&mut *g.lock().unwrap_or_else(|e| e.into_inner())))
+        .collect();
+    let order = diagnosis_order(&lines);
+    let lines: Vec<std::sync::Mutex<Vec<Graded>>> =
+        lines.into_iter().map(std::sync::Mutex::new).collect();
+    progress.diagnosing(order.len());
+    in_suite_order(&prepared.pool, order.len(), |k| {
+        let number = order[k];
+        let mut graded = lines[number].lock().unwrap_or_else(|e| e.into_inner());
+        let spent = caged
+            .budget
+            .and_then(|(start, budget)| (start.elapsed() >= budget).then_some(budget));
+        diagnose_line(
+            options,
+            suite,
+            &suite.lines[number],
+            &mut graded,
+            stop,
+            spent,
+        );
+        keep_pictures(&mut graded);
+        progress.diagnosed();
+    });
+    let graded: Vec<(Vec<Graded>, Option<Confinement>)> = lines
+        .into_iter()
+        .zip(graded)
+        .map(|(line, (_, confinement))| {
+            (
+                line.into_inner().unwrap_or_else(|e| e.into_inner()),
+                confinement,
+            )
+        })
+        .collect();
     let confinement = graded.iter().find_map(|(_, c)| c.clone());
     let mut graded: Vec<Graded> = graded.into_iter().flat_map(|(g, _)| g).collect();
     unique_names(&mut graded);
@@ -711,7 +799,7 @@ fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> Referen
                 Some(path) => (read_image(&path), false),
                 None => {
                     let pictures = own.get_or_init(|| {
-                        cache::pictures(line, &suite.scenes, &suite.pinned, || {
+                        cache::LineRenders::of(line, &suite.scenes).course(&suite.pinned, || {
                             simulate::course_pictures(line, &suite.scenes, &suite.pinned, stop)
                         })
                     });
@@ -830,8 +918,28 @@ fn grade_line(
         program: Path::new(caged.command.first().map_or("", String::as_str)),
     };
     blame_the_cage(&mut graded, &ran.stderr, &reach);
-    accept_allowed_answers(options, suite, line, &mut graded, caged.stop);
-    explain_by_simulation(options, suite, line, &mut graded, caged.stop);
+    (graded, ran.confinement)
+}
+
+/// Names the causes of a graded line's failing pictures: an answer the course allows, the
+/// faults whose render matches, and raycast's account of the pixel that differs most. Once
+/// `stop` is set, or `spent` says the renderer's budget is, the pictures not yet diagnosed say
+/// so and keep their guesses from the pixels.
+fn diagnose_line(
+    options: &CheckOptions,
+    suite: &Suite,
+    line: &Line,
+    graded: &mut [Graded],
+    stop: &'static StopFlag,
+    spent: Option<Duration>,
+) {
+    if let Some(budget) = spent {
+        let why = format!("the --budget of {} s was spent", budget.as_secs_f64());
+        not_finished(graded.iter_mut().filter(|g| g.status == Status::Fail), &why);
+        return;
+    }
+    accept_allowed_answers(options, suite, line, graded, stop);
+    explain_by_simulation(options, suite, line, graded, stop);
     for g in graded.iter_mut().filter(|g| g.status == Status::Fail) {
         let (Some(actual), Some(reference)) = (&g.actual, &g.reference) else {
             continue;
@@ -848,7 +956,44 @@ fn grade_line(
             });
         }
     }
-    (graded, ran.confinement)
+}
+
+/// Says of each of `graded` that its diagnosis was not finished, and why: its causes are the
+/// pixels' guesses, no more.
+fn not_finished<'g>(graded: impl Iterator<Item = &'g mut Graded>, why: &str) {
+    for g in graded {
+        g.explanation = format!(
+            "Diagnosis not finished: {why}; from the pixels alone: {}",
+            g.explanation
+        );
+    }
+}
+
+/// The lines with a failing picture, in the order their diagnoses are run: the lines of the
+/// biggest group of the pixels' guesses first (what the verdict will most likely tell the
+/// student to fix first), then by the suite's order.
+fn diagnosis_order(lines: &[Vec<Graded>]) -> Vec<usize> {
+    let guess = |g: &Graded| g.findings.first().map(Finding::code);
+    let failing = |g: &&Graded| g.status == Status::Fail;
+    let mut groups: std::collections::HashMap<Option<String>, usize> = Default::default();
+    for g in lines.iter().flatten().filter(failing) {
+        *groups.entry(guess(g)).or_default() += 1;
+    }
+    let mut order: Vec<(usize, usize)> = lines
+        .iter()
+        .enumerate()
+        .filter_map(|(number, graded)| {
+            let biggest = graded
+                .iter()
+                .filter(failing)
+                .map(|g| groups[&guess(g)])
+                .max()?;
+            Some((number, biggest))
+        })
+        .collect();
+    // Stable: among equal groups, the suite's order.
+    order.sort_by_key(|&(_, biggest)| std::cmp::Reverse(biggest));
+    order.into_iter().map(|(number, _)| number).collect()
 }
 
 /// Where a picture is missing because the renderer was kept from a file of its own (its words
@@ -907,13 +1052,16 @@ fn accept_allowed_answers(
     graded: &mut [Graded],
     stop: &'static StopFlag,
 ) {
-    let failing: Vec<(usize, bool, &Image)> = graded
+    let failing: Vec<(usize, bool, &Image, Option<&Image>)> = graded
         .iter()
         .enumerate()
         .filter(|(_, g)| g.status == Status::Fail)
         .filter_map(|(k, g)| {
             let shaded = g.picture == PictureKind::Image;
-            g.actual.as_ref().map(|actual| (k, shaded, actual))
+            let reference = g.reference.as_ref();
+            g.actual
+                .as_ref()
+                .map(|actual| (k, shaded, actual, reference))
         })
         .collect();
     if failing.is_empty() {
@@ -929,7 +1077,7 @@ fn accept_allowed_answers(
     ) else {
         return;
     };
-    let indices: Vec<usize> = failing.iter().map(|&(k, _, _)| k).collect();
+    let indices: Vec<usize> = failing.iter().map(|&(k, _, _, _)| k).collect();
     for (k, acceptance) in indices.into_iter().zip(accepted) {
         let Some(acceptance) = acceptance else {
             continue;
@@ -949,16 +1097,20 @@ fn explain_by_simulation(
     graded: &mut [Graded],
     stop: &'static StopFlag,
 ) {
-    let failing: Vec<(usize, &Image)> = graded
+    let failing: Vec<(usize, &Image, Option<&Image>)> = graded
         .iter()
         .enumerate()
         .filter(|(_, g)| g.status == Status::Fail)
-        .filter_map(|(k, g)| g.actual.as_ref().map(|actual| (k, actual)))
+        .filter_map(|(k, g)| {
+            g.actual
+                .as_ref()
+                .map(|actual| (k, actual, g.reference.as_ref()))
+        })
         .collect();
     if failing.is_empty() {
         return;
     }
-    let indices: Vec<usize> = failing.iter().map(|&(k, _)| k).collect();
+    let indices: Vec<usize> = failing.iter().map(|&(k, _, _)| k).collect();
     let simulated = match simulate::simulate(line, &suite.scenes, &failing, options.rule, stop) {
         Ok(simulated) => simulated,
         // A line raycast cannot render itself leaves the guesses as they are.
@@ -970,13 +1122,12 @@ fn explain_by_simulation(
             } else {
                 "check was interrupted"
             };
-            for k in indices {
-                let g = &mut graded[k];
-                g.explanation = format!(
-                    "Diagnosis not finished: {why}; from the pixels alone: {}",
-                    g.explanation
-                );
-            }
+            let cut_short = graded
+                .iter_mut()
+                .enumerate()
+                .filter(|(k, _)| indices.contains(k))
+                .map(|(_, g)| g);
+            not_finished(cut_short, why);
             return;
         }
     };

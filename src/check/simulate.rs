@@ -6,11 +6,13 @@
 
 use std::path::Path;
 
+use super::cache;
 use super::choices::{self, Acceptance};
-use super::faults::{FAULTS, Fault, LineScene, Plant};
+use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
 use super::rule::{Rule, compare};
+use super::screen::{Failing, Screen};
 use super::suite::{Line, Pin};
-use crate::job::{Command, parse_args, render_pictures_until};
+use crate::job::{Command, parse_args, render_pictures_until, render_rows_until};
 use crate::parse::read_scene;
 use crate::render::StopFlag;
 use crate::scene::Scene;
@@ -57,23 +59,39 @@ struct Prepared {
     line: LineScene,
     /// Where each of the line's images stands among the job's pictures.
     slots: Vec<usize>,
+    /// How many of the job's pictures, the first, are traced row for row (the shaded, normals
+    /// and depth pictures).
+    traced: usize,
 }
 
 /// For each of `failing` (the index of an image among the line's outputs, whether it is the
-/// shaded picture, and the student's picture of it), how the course's open questions not
-/// `pinned` by the suite accept it: the first other allowed answer whose render of the line matches it under `rule`, or,
-/// for a shaded picture of a line that shows something the course leaves free, why it is
-/// informational. Each allowed answer that can change the line is rendered once.
+/// shaded picture, the student's picture of it, and its reference), how the course's open
+/// questions not `pinned` by the suite accept it: the first other allowed answer whose render
+/// of the line matches it under `rule`, or, for a shaded picture of a line that shows something
+/// the course leaves free, why it is informational. Each allowed answer that can change the
+/// line is screened by a few rows, and rendered whole (or read from the cache) where it might
+/// match.
 pub fn accepted(
     line: &Line,
     scenes: &Path,
     pinned: &[Pin],
-    failing: &[(usize, bool, &Image)],
+    failing: &[(usize, bool, &Image, Option<&Image>)],
     rule: Rule,
     stop: &'static StopFlag,
 ) -> Result<Vec<Option<Acceptance>>, Unfinished> {
     let prepared = prepare(line, scenes).map_err(Unfinished::Failed)?;
     let mut accepted: Vec<Option<Acceptance>> = vec![None; failing.len()];
+    let informational = choices::informational(&prepared.line);
+    // A line whose every failing picture is shown, not graded, needs no answer rendered.
+    if informational.is_some() && failing.iter().all(|&(_, shaded, _, _)| shaded) {
+        let why = informational.expect("just seen");
+        return Ok(vec![Some(Acceptance::Informational(why)); failing.len()]);
+    }
+    let pictures: Vec<(usize, &Image, Option<&Image>)> = failing
+        .iter()
+        .map(|&(image, _, actual, reference)| (image, actual, reference))
+        .collect();
+    let renders = Renders::new(line, scenes, &prepared, &pictures, rule, stop);
     // A question the suite pins accepts its pinned answer alone, which is the reference.
     let open = choices::answers()
         .filter(|(choice, _)| !pinned.iter().any(|pin| pin.choice.name == choice.name));
@@ -82,17 +100,14 @@ pub fn accepted(
             break;
         }
         for candidate in (answer.candidates)(&prepared.line) {
-            let pictures = render_pictures_until(
-                &prepared.line.options,
-                &prepared.line.scene,
-                Plant::one(candidate.planted),
-                stop,
-            )
-            .ok_or(Unfinished::Stopped)?;
-            for (k, &(image, _, actual)) in failing.iter().enumerate() {
-                let matches = pictures
-                    .pictures
-                    .get(prepared.slots[image])
+            let plant = Plant::one(candidate.planted);
+            if renders.ruled_out(plant)? {
+                continue;
+            }
+            let rendered = renders.whole(plant)?;
+            for (k, &(image, _, actual, _)) in failing.iter().enumerate() {
+                let matches = rendered
+                    .get(image)
                     .and_then(|picture| compare(picture, actual, rule.tolerance))
                     .is_some_and(|c| rule.passes(&c));
                 if accepted[k].is_none() && matches {
@@ -101,14 +116,101 @@ pub fn accepted(
             }
         }
     }
-    if let Some(why) = choices::informational(&prepared.line) {
-        for (k, &(_, shaded, _)) in failing.iter().enumerate() {
+    if let Some(why) = informational {
+        for (k, &(_, shaded, _, _)) in failing.iter().enumerate() {
             if shaded && accepted[k].is_none() {
                 accepted[k] = Some(Acceptance::Informational(why));
             }
         }
     }
     Ok(accepted)
+}
+
+/// A line's renders under plants (faults, allowed answers), for its failing pictures: each
+/// screened first by the rows where those pictures differ most from their references, and
+/// rendered whole only where it might match one; whole renders are kept in the cache, for the
+/// next student and the next run.
+struct Renders<'a> {
+    prepared: &'a Prepared,
+    kept: cache::LineRenders,
+    screen: Option<Screen>,
+    /// The failing pictures: the index of each among the line's images, and the student's.
+    failing: Vec<(usize, &'a Image)>,
+    stop: &'static StopFlag,
+}
+
+impl<'a> Renders<'a> {
+    fn new(
+        line: &Line,
+        scenes: &Path,
+        prepared: &'a Prepared,
+        failing: &[(usize, &'a Image, Option<&'a Image>)],
+        rule: Rule,
+        stop: &'static StopFlag,
+    ) -> Renders<'a> {
+        let screened: Vec<Failing> = failing
+            .iter()
+            .map(|&(image, actual, reference)| Failing {
+                actual,
+                reference,
+                traced: prepared.slots[image] < prepared.traced,
+            })
+            .collect();
+        Renders {
+            prepared,
+            kept: cache::LineRenders::of(line, scenes),
+            screen: Screen::of(&screened, rule),
+            failing: failing
+                .iter()
+                .map(|&(image, actual, _)| (image, actual))
+                .collect(),
+            stop,
+        }
+    }
+
+    /// Whether `plant`'s render of the screened rows already matches none of the failing
+    /// pictures. Never where the line is not screened, or the whole render is kept (it costs
+    /// less to read than the rows to render).
+    fn ruled_out(&self, plant: Plant) -> Result<bool, Unfinished> {
+        let Some(screen) = &self.screen else {
+            return Ok(false);
+        };
+        if self.kept.has_fault(&format!("{plant:?}")) {
+            return Ok(false);
+        }
+        let line = &self.prepared.line;
+        let rows = render_rows_until(
+            &line.options,
+            &line.scene,
+            plant,
+            self.stop,
+            screen.wanted(),
+        )
+        .ok_or(Unfinished::Stopped)?;
+        let (rendered, actual): (Vec<Option<&Image>>, Vec<&Image>) = self
+            .failing
+            .iter()
+            .map(|&(image, actual)| (rows.pictures.get(self.prepared.slots[image]), actual))
+            .unzip();
+        Ok(screen.rules_out(&rendered, &actual))
+    }
+
+    /// `plant`'s whole render of the line, in the order of the line's images: kept, or
+    /// rendered and kept.
+    fn whole(&self, plant: Plant) -> Result<Vec<Image>, Unfinished> {
+        self.kept.fault(&format!("{plant:?}"), || {
+            let line = &self.prepared.line;
+            let pictures = render_pictures_until(&line.options, &line.scene, plant, self.stop)
+                .ok_or(Unfinished::Stopped)?
+                .pictures;
+            Ok(self
+                .prepared
+                .slots
+                .iter()
+                .map(|&slot| pictures[slot].clone())
+                .collect())
+        })
+    }
 }
 
 /// Reads and builds what the line renders, from the suite's own `scenes` folder.
@@ -142,7 +244,16 @@ fn prepare(line: &Line, scenes: &Path) -> Result<Prepared, String> {
                 .ok_or_else(|| format!("the line's image {name} is not among its outputs"))
         })
         .collect::<Result<_, _>>()?;
+    let traced = [
+        options.output.is_some(),
+        options.normals.is_some(),
+        options.depth.is_some(),
+    ]
+    .into_iter()
+    .filter(|&traced| traced)
+    .count();
     Ok(Prepared {
+        traced,
         line: LineScene {
             options,
             description,
@@ -298,7 +409,7 @@ fn mean_difference(picture: Option<&Image>, actual: &Image) -> f64 {
 pub fn simulate(
     line: &Line,
     scenes: &Path,
-    failing: &[(usize, &Image)],
+    failing: &[(usize, &Image, Option<&Image>)],
     rule: Rule,
     stop: &'static StopFlag,
 ) -> Result<Vec<Simulated>, Unfinished> {
@@ -307,30 +418,35 @@ pub fn simulate(
     // channels swapped): a render that matches one of those is that fault with another.
     let undone: Vec<Vec<(&'static Fault, Image)>> = failing
         .iter()
-        .map(|&(_, actual)| {
+        .map(|&(_, actual, _)| {
             PERMUTATIONS
                 .iter()
                 .filter_map(|&(name, undo)| Some((super::faults::fault(name)?, undo(actual))))
                 .collect()
         })
         .collect();
-    let permuted: std::cell::RefCell<Vec<Vec<Tried>>> =
-        std::cell::RefCell::new(vec![Vec::new(); failing.len()]);
+    let renders = Renders::new(line, scenes, &prepared, failing, rule, stop);
+    // A whole render of the line under `plant` compared with each failing picture; and the
+    // pairs it makes with the faults that only move pixels, by failing picture.
     let render = |plant: Plant, faults: &[&'static Fault], parameters: &[(&'static str, f64)]| {
-        let pictures =
-            render_pictures_until(&prepared.line.options, &prepared.line.scene, plant, stop)
-                .ok_or(Unfinished::Stopped)?;
+        let pictures = renders.whole(plant)?;
         let bad = |picture: Option<&Image>, actual: &Image| {
             picture
                 .and_then(|picture| compare(picture, actual, rule.tolerance))
                 .map_or(1.0, |c| c.bad_fraction)
         };
-        let mut bads = Vec::with_capacity(failing.len());
-        let mut errors = Vec::with_capacity(failing.len());
-        for (k, &(image, actual)) in failing.iter().enumerate() {
-            let picture = pictures.pictures.get(prepared.slots[image]);
-            bads.push(bad(picture, actual));
-            errors.push(mean_difference(picture, actual));
+        let mut tried = Tried {
+            plant,
+            faults: faults.to_vec(),
+            parameters: parameters.to_vec(),
+            bad: Vec::with_capacity(failing.len()),
+            error: Vec::with_capacity(failing.len()),
+        };
+        let mut permuted = Vec::new();
+        for (k, &(image, actual, _)) in failing.iter().enumerate() {
+            let picture = pictures.get(image);
+            tried.bad.push(bad(picture, actual));
+            tried.error.push(mean_difference(picture, actual));
             if faults.len() == 1 {
                 for (fault, undone_picture) in &undone[k] {
                     if faults[0].name == fault.name {
@@ -338,34 +454,63 @@ pub fn simulate(
                     }
                     let mut found = vec![f64::INFINITY; failing.len()];
                     found[k] = bad(picture, undone_picture);
-                    permuted.borrow_mut()[k].push(Tried {
-                        plant,
-                        faults: vec![fault, faults[0]],
-                        parameters: parameters.to_vec(),
-                        bad: found,
-                        error: vec![f64::INFINITY; failing.len()],
-                    });
+                    permuted.push((
+                        k,
+                        Tried {
+                            plant,
+                            faults: vec![fault, faults[0]],
+                            parameters: parameters.to_vec(),
+                            bad: found,
+                            error: vec![f64::INFINITY; failing.len()],
+                        },
+                    ));
                 }
             }
         }
-        Ok((bads, errors))
+        Ok::<_, Unfinished>((tried, permuted))
     };
-    let mut tried: Vec<Tried> = Vec::new();
-    for fault in FAULTS {
-        for candidate in (fault.candidates)(&prepared.line) {
-            if tried.len() >= MAX_RENDERS {
-                break;
-            }
-            let plant = Plant::one(candidate.planted);
+    // Every fault's candidates, in the library's order, as many as the renders allowed.
+    let candidates: Vec<(&'static Fault, Candidate)> = FAULTS
+        .iter()
+        .flat_map(|fault| {
+            (fault.candidates)(&prepared.line)
+                .into_iter()
+                .map(move |candidate| (fault, candidate))
+        })
+        .take(MAX_RENDERS)
+        .collect();
+    // Screened first by a few rows, where that can rule a fault out: a whole render for those
+    // that might match, and for the others only if a picture is left that no fault matches
+    // (the pairs are chosen by how close every fault comes).
+    let mut singles: Vec<Option<(Tried, Vec<(usize, Tried)>)>> = vec![None; candidates.len()];
+    for (index, &(fault, candidate)) in candidates.iter().enumerate() {
+        let plant = Plant::one(candidate.planted);
+        if !renders.ruled_out(plant)? {
             let parameters: Vec<_> = candidate.parameter.into_iter().collect();
-            let (bad, error) = render(plant, &[fault], &parameters)?;
-            tried.push(Tried {
-                plant,
-                faults: vec![fault],
-                parameters,
-                bad,
-                error,
-            });
+            singles[index] = Some(render(plant, &[fault], &parameters)?);
+        }
+    }
+    let explained = |singles: &[Option<(Tried, Vec<(usize, Tried)>)>], k: usize| {
+        singles
+            .iter()
+            .flatten()
+            .any(|(tried, _)| tried.bad[k] <= rule.max_bad)
+    };
+    if (0..failing.len()).any(|k| !explained(&singles, k)) {
+        for (index, &(fault, candidate)) in candidates.iter().enumerate() {
+            if singles[index].is_none() {
+                let parameters: Vec<_> = candidate.parameter.into_iter().collect();
+                let plant = Plant::one(candidate.planted);
+                singles[index] = Some(render(plant, &[fault], &parameters)?);
+            }
+        }
+    }
+    let mut tried: Vec<Tried> = Vec::with_capacity(candidates.len());
+    let mut permuted: Vec<Vec<Tried>> = vec![Vec::new(); failing.len()];
+    for (single, moved) in singles.into_iter().flatten() {
+        tried.push(single);
+        for (k, pair) in moved {
+            permuted[k].push(pair);
         }
     }
     let mut results: Vec<Simulated> = (0..failing.len())
@@ -391,7 +536,7 @@ pub fn simulate(
         .ok_or(Unfinished::Stopped)?;
         failing
             .iter()
-            .map(|&(image, actual)| {
+            .map(|&(image, actual, _)| {
                 mean_difference(course.pictures.get(prepared.slots[image]), actual)
             })
             .collect()
@@ -414,7 +559,7 @@ pub fn simulate(
             }
         }
         // A fault that moves pixels, with another: found without a render.
-        let moved = matches(&permuted.borrow()[k], k, rule);
+        let moved = matches(&permuted[k], k, rule);
         if !moved.is_empty() {
             results[k].matches = moved;
             continue;
@@ -447,14 +592,7 @@ pub fn simulate(
                 let mut parameters = first.parameters.clone();
                 parameters.extend(second.parameters.iter().copied());
                 let faults = vec![first.faults[0], second.faults[0]];
-                let (bad, error) = render(plant, &faults, &parameters)?;
-                Ok(Tried {
-                    plant,
-                    faults,
-                    parameters,
-                    bad,
-                    error,
-                })
+                Ok(render(plant, &faults, &parameters)?.0)
             })
             .collect::<Result<_, Unfinished>>()?;
         results[k].matches = matches(&pairs, k, rule);

@@ -1,7 +1,7 @@
 //! `raycast check SUITE --renderer CMD ...` and `raycast diff A B [--out FILE]`.
 
 use std::ffi::OsString;
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
@@ -20,6 +20,7 @@ usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
        raycast check SUITE --class ROSTER --renderer CMD [--build CMD] [--build-timeout S]
                      [the options above]
        raycast check merge OUT DIR...
+       raycast check cache [clear]
        raycast diff IMAGE REFERENCE [--out DIFF.png] [--tolerance LEVELS] [--max-bad FRACTION]
 
 check runs every line of SUITE/COMMANDS.txt ('raytracer ARGS') as 'CMD ARGS' in a scratch
@@ -273,6 +274,33 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
             .collect();
         return super::class::run_merge(&words);
     }
+    if args.first().is_some_and(|a| a == "cache") {
+        let clear = match &args[1..] {
+            [] => false,
+            [word] if word == "clear" => true,
+            _ => return refuse("check cache takes nothing, or 'clear'"),
+        };
+        return match check::cache_command(clear) {
+            Ok(said) => {
+                say(std::io::stdout(), &said);
+                ExitCode::SUCCESS
+            }
+            Err(message) => {
+                say(
+                    std::io::stderr(),
+                    &format!("raycast: check cache: {message}"),
+                );
+                ExitCode::from(1)
+            }
+        };
+    }
+    let cache_limit = match check::cache_limit() {
+        Ok(limit) => limit,
+        Err(message) => {
+            say(std::io::stderr(), &format!("raycast: check: {message}"));
+            return ExitCode::from(2);
+        }
+    };
     let options = match parse_check_args(args) {
         Ok(Some((options, class))) if options.no_cage => {
             say(
@@ -281,11 +309,19 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
                  them from the references; for your own renderer on your own machine only",
             );
             match class {
-                Some(class) => return super::class::run_class(options, class),
+                Some(class) => {
+                    let status = super::class::run_class(options, class);
+                    check::trim_cache(cache_limit);
+                    return status;
+                }
                 None => options,
             }
         }
-        Ok(Some((options, Some(class)))) => return super::class::run_class(options, class),
+        Ok(Some((options, Some(class)))) => {
+            let status = super::class::run_class(options, class);
+            check::trim_cache(cache_limit);
+            return status;
+        }
         Ok(Some((options, None))) => options,
         Ok(None) => {
             say(std::io::stdout(), CHECK_USAGE);
@@ -293,24 +329,21 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
         }
         Err(message) => return refuse(&message),
     };
-    let bar = progress_bar(&options);
-    let advance = || {
-        if let Some(bar) = &bar {
-            bar.inc(1);
-        }
-    };
+    let lines = check::Suite::read(&options.suite).map_or(0, |suite| suite.lines.len());
+    let progress = std::sync::Arc::new(check::Progress::new(lines));
+    let watcher = super::progress::Watcher::start(progress.clone());
     let stop = super::grades::stop_on_signals();
     super::grades::stop_at_deadline(stop, options.deadline);
-    let mut checked = match check::check(&options, &advance, stop) {
+    let checked = check::check(&options, &progress, stop);
+    watcher.finish();
+    let mut checked = match checked {
         Ok(checked) => checked,
         Err(message) => {
             say(std::io::stderr(), &format!("raycast: check: {message}"));
             return ExitCode::from(2);
         }
     };
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
+    check::trim_cache(cache_limit);
     // The cage is reported in summary.json; the terminal hears of it only where part is missing.
     if let Some(confinement) = checked.confinement.as_ref().filter(|c| !c.is_whole()) {
         say(
@@ -369,21 +402,6 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     } else {
         ExitCode::from(1)
     }
-}
-
-/// A bar on stderr, when it is a terminal: one step a command line.
-fn progress_bar(options: &CheckOptions) -> Option<indicatif::ProgressBar> {
-    if !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let lines = check::Suite::read(&options.suite).ok()?.lines.len();
-    let bar = indicatif::ProgressBar::new(lines as u64);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "checking {wide_bar} {pos}/{len} command lines, {elapsed} elapsed",
-    ) {
-        bar.set_style(style);
-    }
-    Some(bar)
 }
 
 /// `diff`'s command line: the two images, `--out`, and the rule.

@@ -154,30 +154,16 @@ pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
             return fail(&format!("cannot open the scratch folder: {e}"));
         }
     }
-    let lines = prepared.suite().lines.len() as u64;
+    let lines = prepared.suite().lines.len();
     let (pictures, max_points) = prepared.suite().pictures_and_points();
-    let bar = std::io::IsTerminal::is_terminal(&std::io::stderr()).then(|| {
-        let bar = indicatif::ProgressBar::new(lines * students.len() as u64);
-        if let Ok(style) = indicatif::ProgressStyle::with_template(
-            "grading {msg} {wide_bar} {pos}/{len} command lines, {elapsed} elapsed",
-        ) {
-            bar.set_style(style);
-        }
-        bar
-    });
-    let advance = || {
-        if let Some(bar) = &bar {
-            bar.inc(1);
-        }
-    };
+    let progress = std::sync::Arc::new(check::Progress::new(lines * students.len()));
+    let watcher = super::progress::Watcher::start(progress.clone());
     let mut rows = Vec::new();
     for student in &students {
         if stop.is_set() {
             break;
         }
-        if let Some(bar) = &bar {
-            bar.set_message(student.0.clone());
-        }
+        progress.grading(&student.0);
         let folder = class::report_folder(&student.0);
         let report = staging.as_ref().map(|s| s.path().join(&folder));
         let graded = class::grade_student(
@@ -187,7 +173,7 @@ pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
             student,
             scratch.path(),
             report.as_deref(),
-            &advance,
+            &progress,
             stop,
         );
         match graded {
@@ -206,9 +192,7 @@ pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
             }
         }
     }
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
+    watcher.finish();
     if let Err(message) = scratch.remove() {
         eprintln!("raycast: check: warning: {message}");
     }

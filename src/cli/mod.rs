@@ -6,6 +6,7 @@ mod check;
 mod class;
 mod completions;
 mod grades;
+mod progress;
 mod words;
 
 use std::ffi::OsString;

@@ -17,7 +17,9 @@ use std::time::Instant;
 
 use crate::error::Error;
 use crate::image_io::{self, OpenPicture, PendingOutputs};
-use crate::render::{FinishedRows, RenderSettings, RowSink, Variant, render_streamed, render_with};
+use crate::render::{
+    FinishedRows, RenderSettings, RowSink, Variant, render_rows_with, render_streamed,
+};
 use crate::sample;
 use crate::scene::Scene;
 use crate::shade::Image;
@@ -44,7 +46,13 @@ pub fn render_pictures_counted<V: Variant>(
     variant: V,
     counter: Option<&'static crate::render::RenderCounter>,
 ) -> Pictures {
-    pictures_of(options, scene, variant, render_settings(options, counter))
+    pictures_of(
+        options,
+        scene,
+        variant,
+        render_settings(options, counter),
+        None,
+    )
 }
 
 /// [`render_pictures`], ended early once `stop` is set: `None` then (the pictures would be
@@ -59,7 +67,25 @@ pub fn render_pictures_until<V: Variant>(
         stop: Some(stop),
         ..render_settings(options, None)
     };
-    let pictures = pictures_of(options, scene, variant, settings);
+    let pictures = pictures_of(options, scene, variant, settings, None);
+    (!stop.is_set()).then_some(pictures)
+}
+
+/// [`render_pictures_until`], only the rows `wanted` marks (top first) of the traced pictures
+/// (the shaded, normals and depth pictures; the others are made whole): check screens a
+/// fault's render by the rows where a student's picture differs.
+pub fn render_rows_until<V: Variant>(
+    options: &Options,
+    scene: &Scene,
+    variant: V,
+    stop: &'static crate::render::StopFlag,
+    wanted: &[bool],
+) -> Option<Pictures> {
+    let settings = RenderSettings {
+        stop: Some(stop),
+        ..render_settings(options, None)
+    };
+    let pictures = pictures_of(options, scene, variant, settings, Some(wanted));
     (!stop.is_set()).then_some(pictures)
 }
 
@@ -68,6 +94,7 @@ fn pictures_of<V: Variant>(
     scene: &Scene,
     variant: V,
     settings: RenderSettings,
+    wanted: Option<&[bool]>,
 ) -> Pictures {
     // Only the filter picture asked for: nothing to trace.
     let traced = options.output.is_some()
@@ -75,7 +102,7 @@ fn pictures_of<V: Variant>(
         || options.depth.is_some()
         || options.render_samples.is_some();
     let mut rendered = if traced {
-        render_with(scene, &settings, variant)
+        render_rows_with(scene, &settings, variant, wanted)
     } else {
         crate::render::Rendered::default()
     };

@@ -99,11 +99,25 @@ impl Film {
         value: impl Fn(&FilmSample) -> Vec3A + Sync,
         to_pixel: impl Fn(Vec3A) -> [u8; 3] + Sync,
     ) -> Image {
+        self.picture_rows(variant, filter, value, to_pixel, None)
+    }
+
+    /// [`Film::picture`], only the rows `wanted` marks (top first) where it is given; the others
+    /// black.
+    pub fn picture_rows(
+        &self,
+        variant: impl SampleSeam,
+        filter: Filter,
+        value: impl Fn(&FilmSample) -> Vec3A + Sync,
+        to_pixel: impl Fn(Vec3A) -> [u8; 3] + Sync,
+        wanted: Option<&[bool]>,
+    ) -> Image {
         let (width, height) = (self.width, self.height);
         let mut pixels = vec![[0u8; 3]; width as usize * height as usize];
         pixels
             .par_chunks_mut(width as usize)
             .enumerate()
+            .filter(|(row, _)| wanted.is_none_or(|wanted| wanted[*row]))
             .for_each(|(row, out)| {
                 let j = height - 1 - row as u32;
                 for (i, pixel) in out.iter_mut().enumerate() {

@@ -158,7 +158,7 @@ pub fn grade_student(
     (name, folder): &(String, PathBuf),
     scratch: &Path,
     report: Option<&Path>,
-    progress: &(dyn Fn() + Sync),
+    progress: &super::Progress,
     stop: &'static StopFlag,
 ) -> Result<Graded, String> {
     // A link could name any folder of the machine (copied, it would be the renderer's to

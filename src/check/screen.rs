@@ -1,0 +1,214 @@
+//! Screening a fault before rendering it whole: a few rows of its render, those where the
+//! student's pictures differ most from the references, can already hold more differing pixels
+//! than the rule allows a whole picture. Such a fault cannot match, and the whole render is
+//! spared. Only ever a fault that cannot match is ruled out: the rows' count of differing
+//! pixels is a part of the whole picture's, so where it is too many, the whole is too.
+
+use super::rule::{Rule, channel_difference};
+use crate::shade::Image;
+
+/// Rows are added, most differing first, until each picture's chosen rows hold this many times
+/// the differing pixels its rule allows...
+const ENOUGH: usize = 4;
+/// ...or until they are this share of the picture's rows (1 in N).
+const MOST_ROWS: usize = 6;
+
+/// The rows to render and what each failing picture allows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Screen {
+    /// For each row, counted from the top, whether it is rendered.
+    wanted: Vec<bool>,
+    rule: Rule,
+}
+
+/// A failing picture: the student's, and the reference it failed against.
+pub struct Failing<'a> {
+    /// The student's picture.
+    pub actual: &'a Image,
+    /// The reference, if there is one of the picture's size.
+    pub reference: Option<&'a Image>,
+    /// Whether the render makes the picture row for row (the shaded, normals and depth
+    /// pictures; the samples picture is zoomed, the filter's is not traced).
+    pub traced: bool,
+}
+
+impl Screen {
+    /// The rows that screen every one of `failing`; `None` where one cannot be screened (no
+    /// reference of its size, a picture not traced row for row, or pictures of different
+    /// sizes) or where the rows would be no cheaper than the whole.
+    pub fn of(failing: &[Failing], rule: Rule) -> Option<Screen> {
+        let first = failing.first()?.actual;
+        let (width, height) = (first.width as usize, first.height as usize);
+        let mut by_row = vec![0_usize; height];
+        let mut totals = Vec::with_capacity(failing.len());
+        for picture in failing {
+            let reference = picture.reference?;
+            let same_size = |image: &Image| {
+                (image.width as usize, image.height as usize) == (width, height)
+                    && image.pixels.len() == width * height
+            };
+            if !picture.traced || !same_size(picture.actual) || !same_size(reference) {
+                return None;
+            }
+            let mut total = vec![0_usize; height];
+            for (row, (got, want)) in picture
+                .actual
+                .pixels
+                .chunks(width.max(1))
+                .zip(reference.pixels.chunks(width.max(1)))
+                .enumerate()
+            {
+                total[row] = got
+                    .iter()
+                    .zip(want)
+                    .filter(|&(&a, &b)| channel_difference(a, b) > rule.tolerance)
+                    .count();
+                by_row[row] += total[row];
+            }
+            totals.push(total);
+        }
+        let allowed = (rule.max_bad * (width * height) as f64) as usize;
+        let mut order: Vec<usize> = (0..height).collect();
+        // Stable: among equal rows, the upper first.
+        order.sort_by_key(|&row| std::cmp::Reverse(by_row[row]));
+        let mut wanted = vec![false; height];
+        let mut chosen = vec![0_usize; failing.len()];
+        for (count, &row) in order.iter().enumerate() {
+            let enough = chosen.iter().all(|&c| c > ENOUGH * allowed);
+            if enough || count >= height.div_ceil(MOST_ROWS) || by_row[row] == 0 {
+                break;
+            }
+            wanted[row] = true;
+            for (k, total) in totals.iter().enumerate() {
+                chosen[k] += total[row];
+            }
+        }
+        // Rows with no difference in them rule nothing out.
+        wanted.contains(&true).then_some(Screen { wanted, rule })
+    }
+
+    /// The rows to render, counted from the top.
+    pub fn wanted(&self) -> &[bool] {
+        &self.wanted
+    }
+
+    /// Whether a render of the wanted rows (the pictures in the order of the failing ones, each
+    /// `None` where the render has no such picture) matches none of the `actual` pictures: in
+    /// those rows alone, each differs in more pixels than the rule allows the whole picture.
+    pub fn rules_out(&self, rendered: &[Option<&Image>], actual: &[&Image]) -> bool {
+        rendered.iter().zip(actual).all(|(rendered, actual)| {
+            let Some(rendered) = rendered else {
+                return true;
+            };
+            if (rendered.width, rendered.height) != (actual.width, actual.height)
+                || rendered.pixels.len() != actual.pixels.len()
+            {
+                return true;
+            }
+            let width = actual.width.max(1) as usize;
+            let differing: usize = rendered
+                .pixels
+                .chunks(width)
+                .zip(actual.pixels.chunks(width))
+                .zip(&self.wanted)
+                .filter(|(_, wanted)| **wanted)
+                .map(|((got, want), _)| {
+                    got.iter()
+                        .zip(want)
+                        .filter(|&(&a, &b)| channel_difference(a, b) > self.rule.tolerance)
+                        .count()
+                })
+                .sum();
+            let pixels = actual.pixels.len();
+            // The whole picture's rule, as `compare` and `Rule::passes` work it out.
+            pixels > 0 && differing as f64 / pixels as f64 > self.rule.max_bad
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(width: u32, height: u32, pixel: impl Fn(u32, u32) -> [u8; 3]) -> Image {
+        Image {
+            width,
+            height,
+            pixels: (0..height)
+                .flat_map(|y| (0..width).map(move |x| (x, y)))
+                .map(|(x, y)| pixel(x, y))
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_rows_where_the_pictures_differ_most_are_screened() {
+        // 6,000 pixels: the rule allows 6 to differ; rows are chosen until they hold 24.
+        let reference = image(10, 600, |_, _| [0; 3]);
+        // Rows 7 and 40 differ entirely, row 20 in one pixel.
+        let actual = image(10, 600, |x, y| match y {
+            7 | 40 => [200; 3],
+            20 if x == 0 => [200; 3],
+            _ => [0; 3],
+        });
+        let failing = [Failing {
+            actual: &actual,
+            reference: Some(&reference),
+            traced: true,
+        }];
+        let screen = Screen::of(&failing, Rule::COURSE).unwrap();
+        let wanted: Vec<usize> = (0..600).filter(|&r| screen.wanted()[r]).collect();
+        assert_eq!(wanted, [7, 20, 40]);
+        // The reference itself differs from the student's picture in 21 pixels of those rows:
+        // more than 0.1% of 6,000.
+        assert!(screen.rules_out(&[Some(&reference)], &[&actual]));
+        assert!(!screen.rules_out(&[Some(&actual)], &[&actual]));
+        // A render that differs only outside the rows is not ruled out, whatever it does there.
+        let elsewhere = image(10, 600, |x, y| match y {
+            7 | 40 => [200; 3],
+            20 if x == 0 => [200; 3],
+            500 => [90; 3],
+            _ => [0; 3],
+        });
+        assert!(!screen.rules_out(&[Some(&elsewhere)], &[&actual]));
+    }
+
+    #[test]
+    fn a_picture_without_a_reference_or_not_traced_is_not_screened() {
+        let actual = image(4, 4, |_, _| [9; 3]);
+        let reference = image(4, 4, |_, _| [0; 3]);
+        let without = Failing {
+            actual: &actual,
+            reference: None,
+            traced: true,
+        };
+        assert_eq!(Screen::of(&[without], Rule::COURSE), None);
+        let zoomed = Failing {
+            actual: &actual,
+            reference: Some(&reference),
+            traced: false,
+        };
+        assert_eq!(Screen::of(&[zoomed], Rule::COURSE), None);
+    }
+
+    #[test]
+    fn a_rendered_picture_ruled_out_for_one_picture_but_not_another_is_kept() {
+        let reference = image(10, 10, |_, _| [0; 3]);
+        let actual = image(10, 10, |_, y| if y == 3 { [99; 3] } else { [0; 3] });
+        let failing = [
+            Failing {
+                actual: &actual,
+                reference: Some(&reference),
+                traced: true,
+            },
+            Failing {
+                actual: &actual,
+                reference: Some(&reference),
+                traced: true,
+            },
+        ];
+        let screen = Screen::of(&failing, Rule::COURSE).unwrap();
+        assert!(!screen.rules_out(&[Some(&reference), Some(&actual)], &[&actual, &actual]));
+        assert!(screen.rules_out(&[Some(&reference), None], &[&actual, &actual]));
+    }
+}
