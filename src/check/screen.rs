@@ -92,6 +92,32 @@ impl Screen {
         &self.wanted
     }
 
+    /// The mean difference of the channels of `picture` and `actual` over the wanted rows, in
+    /// levels; infinite for pictures of other sizes.
+    pub fn mean_difference(&self, picture: &Image, actual: &Image) -> f64 {
+        if (picture.width, picture.height) != (actual.width, actual.height)
+            || picture.pixels.len() != actual.pixels.len()
+            || picture.pixels.is_empty()
+        {
+            return f64::INFINITY;
+        }
+        let width = actual.width.max(1) as usize;
+        let (mut sum, mut count) = (0_u64, 0_usize);
+        for ((got, want), _) in picture
+            .pixels
+            .chunks(width)
+            .zip(actual.pixels.chunks(width))
+            .zip(&self.wanted)
+            .filter(|(_, wanted)| **wanted)
+        {
+            for (a, b) in got.iter().zip(want) {
+                sum += (0..3).map(|c| u64::from(a[c].abs_diff(b[c]))).sum::<u64>();
+            }
+            count += got.len();
+        }
+        sum as f64 / count.max(1) as f64
+    }
+
     /// Whether a render of the wanted rows (the pictures in the order of the failing ones, each
     /// `None` where the render has no such picture) matches none of the `actual` pictures: in
     /// those rows alone, each differs in more pixels than the rule allows the whole picture.
@@ -210,5 +236,59 @@ mod tests {
         let screen = Screen::of(&failing, Rule::COURSE).unwrap();
         assert!(!screen.rules_out(&[Some(&reference), Some(&actual)], &[&actual, &actual]));
         assert!(screen.rules_out(&[Some(&reference), None], &[&actual, &actual]));
+    }
+}
+
+#[cfg(test)]
+mod never_rules_out_a_match {
+    use super::*;
+    use crate::check::rule::compare;
+    use proptest::prelude::*;
+
+    fn picture(width: u32, height: u32, bytes: &[u8]) -> Image {
+        Image {
+            width,
+            height,
+            pixels: (0..(width * height) as usize)
+                .map(|i| {
+                    let b = bytes[i % bytes.len()];
+                    [b, b / 2, b / 3]
+                })
+                .collect(),
+        }
+    }
+
+    proptest! {
+        /// Whatever the pictures, a render that passes against the student's picture as a whole
+        /// is never ruled out by its rows.
+        #[test]
+        fn a_render_that_passes_whole_is_never_ruled_out(
+            (width, height) in (1_u32..24, 1_u32..24),
+            student in proptest::collection::vec(any::<u8>(), 1..64),
+            reference in proptest::collection::vec(any::<u8>(), 1..64),
+            changed in proptest::collection::vec((0_usize..576, any::<u8>()), 0..12),
+            tolerance in 0_u8..8,
+            max_bad in 0.0_f64..0.2,
+        ) {
+            let rule = Rule { tolerance, max_bad };
+            let actual = picture(width, height, &student);
+            let reference = picture(width, height, &reference);
+            // The student's picture, a few pixels changed: sometimes within the rule, sometimes
+            // not.
+            let mut rendered = actual.clone();
+            let pixels = rendered.pixels.len();
+            for (at, value) in changed {
+                rendered.pixels[at % pixels] = [value; 3];
+            }
+            let failing = [Failing { actual: &actual, reference: Some(&reference), traced: true }];
+            if let Some(screen) = Screen::of(&failing, rule) {
+                let passes = compare(&rendered, &actual, tolerance)
+                    .is_some_and(|c| rule.passes(&c));
+                if passes {
+                    prop_assert!(!screen.rules_out(&[Some(&rendered)], &[&actual]));
+                }
+                prop_assert!(!screen.rules_out(&[Some(&actual)], &[&actual]));
+            }
+        }
     }
 }

@@ -21,8 +21,11 @@ use crate::shade::Image;
 /// At most this many renders for one line, pairs included (a course picture renders in
 /// milliseconds)...
 const MAX_RENDERS: usize = 64;
-/// ...but at least this many pairs for each picture no single fault explains.
+/// ...but at least this many pairs for each picture no single fault explains...
 const MIN_PAIRS: usize = 24;
+/// ...and where the line is screened by a few rows (a pair ruled out there is never rendered
+/// whole), this many.
+const SCREENED_PAIRS: usize = 128;
 
 /// Faults (one, or two planted together) whose render of a line matches a picture.
 #[derive(Debug, Clone, PartialEq)]
@@ -172,11 +175,20 @@ impl<'a> Renders<'a> {
     /// pictures. Never where the line is not screened, or the whole render is kept (it costs
     /// less to read than the rows to render).
     fn ruled_out(&self, plant: Plant) -> Result<bool, Unfinished> {
+        Ok(match (&self.screen, self.rows(plant)?) {
+            (Some(screen), Some(rows)) => screen.rules_out(&self.in_order(&rows), &self.actuals()),
+            _ => false,
+        })
+    }
+
+    /// `plant`'s render of the screened rows (the others black), in the order of the line's
+    /// images; `None` where the line is not screened or the whole render is kept.
+    fn rows(&self, plant: Plant) -> Result<Option<Vec<Image>>, Unfinished> {
         let Some(screen) = &self.screen else {
-            return Ok(false);
+            return Ok(None);
         };
         if self.kept.has_fault(&format!("{plant:?}")) {
-            return Ok(false);
+            return Ok(None);
         }
         let line = &self.prepared.line;
         let rows = render_rows_until(
@@ -186,13 +198,37 @@ impl<'a> Renders<'a> {
             self.stop,
             screen.wanted(),
         )
-        .ok_or(Unfinished::Stopped)?;
-        let (rendered, actual): (Vec<Option<&Image>>, Vec<&Image>) = self
-            .failing
+        .ok_or(Unfinished::Stopped)?
+        .pictures;
+        Ok(Some(
+            self.prepared
+                .slots
+                .iter()
+                .map(|&slot| rows[slot].clone())
+                .collect(),
+        ))
+    }
+
+    /// Of pictures in the order of the line's images, those of the failing pictures.
+    fn in_order<'p>(&self, pictures: &'p [Image]) -> Vec<Option<&'p Image>> {
+        self.failing
             .iter()
-            .map(|&(image, actual)| (rows.pictures.get(self.prepared.slots[image]), actual))
-            .unzip();
-        Ok(screen.rules_out(&rendered, &actual))
+            .map(|&(image, _)| pictures.get(image))
+            .collect()
+    }
+
+    fn actuals(&self) -> Vec<&'a Image> {
+        self.failing.iter().map(|&(_, actual)| actual).collect()
+    }
+
+    /// How far `picture` is from `actual`: the mean difference of their channels over the
+    /// screened rows where the line is screened (a render ruled out there is never made whole),
+    /// else over the whole picture.
+    fn difference(&self, picture: Option<&Image>, actual: &Image) -> f64 {
+        match (&self.screen, picture) {
+            (Some(screen), Some(picture)) => screen.mean_difference(picture, actual),
+            _ => mean_difference(picture, actual),
+        }
     }
 
     /// `plant`'s whole render of the line, in the order of the line's images: kept, or
@@ -374,6 +410,15 @@ pub fn ray_tree(line: &Line, scenes: &Path, (x, y): (u32, u32)) -> Result<String
     Ok(crate::inspect::to_text(&account).trim_end().to_string())
 }
 
+/// What one plant's render said: the comparison with each failing picture, the pairs its
+/// whole render makes with the faults that move pixels, and its screened rows where they
+/// ruled it out.
+struct Look {
+    tried: Tried,
+    permuted: Vec<(usize, Tried)>,
+    rows: Option<Vec<Image>>,
+}
+
 #[derive(Clone)]
 /// One render tried: the plant, the faults in it and their parameters, and the share of pixels
 /// off against each failing picture.
@@ -426,15 +471,15 @@ pub fn simulate(
         })
         .collect();
     let renders = Renders::new(line, scenes, &prepared, failing, rule, stop);
-    // A whole render of the line under `plant` compared with each failing picture; and the
-    // pairs it makes with the faults that only move pixels, by failing picture.
-    let render = |plant: Plant, faults: &[&'static Fault], parameters: &[(&'static str, f64)]| {
-        let pictures = renders.whole(plant)?;
-        let bad = |picture: Option<&Image>, actual: &Image| {
-            picture
-                .and_then(|picture| compare(picture, actual, rule.tolerance))
-                .map_or(1.0, |c| c.bad_fraction)
-        };
+    let bad = |picture: Option<&Image>, actual: &Image| {
+        picture
+            .and_then(|picture| compare(picture, actual, rule.tolerance))
+            .map_or(1.0, |c| c.bad_fraction)
+    };
+    // The line under `plant`, seen against each failing picture: by its screened rows where
+    // they rule it out (kept, for the pictures undone by a fault that moves pixels), else by
+    // its whole render, with the pairs that render makes with the faults that only move pixels.
+    let look = |plant: Plant, faults: &[&'static Fault], parameters: &[(&'static str, f64)]| {
         let mut tried = Tried {
             plant,
             faults: faults.to_vec(),
@@ -442,11 +487,27 @@ pub fn simulate(
             bad: Vec::with_capacity(failing.len()),
             error: Vec::with_capacity(failing.len()),
         };
+        let rows = renders.rows(plant)?;
+        if let (Some(screen), Some(seen)) = (&renders.screen, &rows) {
+            let rendered = renders.in_order(seen);
+            if screen.rules_out(&rendered, &renders.actuals()) {
+                for (picture, &(_, actual, _)) in rendered.into_iter().zip(failing) {
+                    tried.bad.push(1.0);
+                    tried.error.push(renders.difference(picture, actual));
+                }
+                return Ok(Look {
+                    tried,
+                    permuted: Vec::new(),
+                    rows,
+                });
+            }
+        }
+        let pictures = renders.whole(plant)?;
         let mut permuted = Vec::new();
         for (k, &(image, actual, _)) in failing.iter().enumerate() {
             let picture = pictures.get(image);
             tried.bad.push(bad(picture, actual));
-            tried.error.push(mean_difference(picture, actual));
+            tried.error.push(renders.difference(picture, actual));
             if faults.len() == 1 {
                 for (fault, undone_picture) in &undone[k] {
                     if faults[0].name == fault.name {
@@ -467,7 +528,11 @@ pub fn simulate(
                 }
             }
         }
-        Ok::<_, Unfinished>((tried, permuted))
+        Ok::<_, Unfinished>(Look {
+            tried,
+            permuted,
+            rows: None,
+        })
     };
     // Every fault's candidates, in the library's order, as many as the renders allowed.
     let candidates: Vec<(&'static Fault, Candidate)> = FAULTS
@@ -479,37 +544,62 @@ pub fn simulate(
         })
         .take(MAX_RENDERS)
         .collect();
-    // Screened first by a few rows, where that can rule a fault out: a whole render for those
-    // that might match, and for the others only if a picture is left that no fault matches
-    // (the pairs are chosen by how close every fault comes).
-    let mut singles: Vec<Option<(Tried, Vec<(usize, Tried)>)>> = vec![None; candidates.len()];
-    for (index, &(fault, candidate)) in candidates.iter().enumerate() {
-        let plant = Plant::one(candidate.planted);
-        if !renders.ruled_out(plant)? {
-            let parameters: Vec<_> = candidate.parameter.into_iter().collect();
-            singles[index] = Some(render(plant, &[fault], &parameters)?);
-        }
+    let mut singles: Vec<Look> = Vec::with_capacity(candidates.len());
+    for &(fault, candidate) in &candidates {
+        let parameters: Vec<_> = candidate.parameter.into_iter().collect();
+        singles.push(look(Plant::one(candidate.planted), &[fault], &parameters)?);
     }
-    let explained = |singles: &[Option<(Tried, Vec<(usize, Tried)>)>], k: usize| {
+    let explained = |k: usize| {
         singles
             .iter()
-            .flatten()
-            .any(|(tried, _)| tried.bad[k] <= rule.max_bad)
+            .any(|single| single.tried.bad[k] <= rule.max_bad)
     };
-    if (0..failing.len()).any(|k| !explained(&singles, k)) {
+    let unexplained: Vec<usize> = (0..failing.len()).filter(|&k| !explained(k)).collect();
+    // For a picture no single fault explains, a fault that moves pixels with another: made whole
+    // where the screened rows do not rule the other out against the picture undone.
+    if let Some(screen) = &renders.screen {
         for (index, &(fault, candidate)) in candidates.iter().enumerate() {
-            if singles[index].is_none() {
+            let Some(rows) = &singles[index].rows else {
+                continue;
+            };
+            let rendered = renders.in_order(rows);
+            let might = unexplained.iter().any(|&k| {
+                undone[k].iter().any(|(_, undone_picture)| {
+                    !screen.rules_out(&rendered[k..=k], &[undone_picture])
+                })
+            });
+            if might {
                 let parameters: Vec<_> = candidate.parameter.into_iter().collect();
                 let plant = Plant::one(candidate.planted);
-                singles[index] = Some(render(plant, &[fault], &parameters)?);
+                let whole = renders.whole(plant)?;
+                for &k in &unexplained {
+                    let picture = whole.get(failing[k].0);
+                    for (moved, undone_picture) in &undone[k] {
+                        if moved.name == fault.name {
+                            continue;
+                        }
+                        let mut found = vec![f64::INFINITY; failing.len()];
+                        found[k] = bad(picture, undone_picture);
+                        singles[index].permuted.push((
+                            k,
+                            Tried {
+                                plant,
+                                faults: vec![moved, fault],
+                                parameters: parameters.clone(),
+                                bad: found,
+                                error: vec![f64::INFINITY; failing.len()],
+                            },
+                        ));
+                    }
+                }
             }
         }
     }
     let mut tried: Vec<Tried> = Vec::with_capacity(candidates.len());
     let mut permuted: Vec<Vec<Tried>> = vec![Vec::new(); failing.len()];
-    for (single, moved) in singles.into_iter().flatten() {
-        tried.push(single);
-        for (k, pair) in moved {
+    for single in singles {
+        tried.push(single.tried);
+        for (k, pair) in single.permuted {
             permuted[k].push(pair);
         }
     }
@@ -520,9 +610,6 @@ pub fn simulate(
         .collect();
     // Pairs, for the pictures no single fault explains: the closest render of each fault, the
     // closest faults first, paired in order of their closeness while the budget lasts.
-    let unexplained: Vec<usize> = (0..failing.len())
-        .filter(|&k| results[k].matches.is_empty())
-        .collect();
     // How far each picture is from the course's render of the line, rendered once.
     let plain: Vec<f64> = if unexplained.is_empty() {
         Vec::new()
@@ -537,7 +624,7 @@ pub fn simulate(
         failing
             .iter()
             .map(|&(image, actual, _)| {
-                mean_difference(course.pictures.get(prepared.slots[image]), actual)
+                renders.difference(course.pictures.get(prepared.slots[image]), actual)
             })
             .collect()
     };
@@ -582,7 +669,13 @@ pub fn simulate(
                 }
             }
         }
-        let budget = MAX_RENDERS.saturating_sub(tried.len()).max(MIN_PAIRS);
+        // A pair screened by a few rows costs a few rows: the closest faults are paired with
+        // every other.
+        let budget = if renders.screen.is_some() {
+            SCREENED_PAIRS
+        } else {
+            MAX_RENDERS.saturating_sub(tried.len()).max(MIN_PAIRS)
+        };
         let pairs: Vec<Tried> = order
             .into_iter()
             .take(budget)
@@ -592,7 +685,7 @@ pub fn simulate(
                 let mut parameters = first.parameters.clone();
                 parameters.extend(second.parameters.iter().copied());
                 let faults = vec![first.faults[0], second.faults[0]];
-                Ok(render(plant, &faults, &parameters)?.0)
+                Ok(look(plant, &faults, &parameters)?.tried)
             })
             .collect::<Result<_, Unfinished>>()?;
         results[k].matches = matches(&pairs, k, rule);
@@ -601,12 +694,20 @@ pub fn simulate(
     Ok(results)
 }
 
-/// The renders that pass against picture `k`, the closest of each fault (or pair), closest
-/// first; among equals, in the library's order.
+/// The renders that pass against picture `k`, the closest of each fault (or pair, in either
+/// order), closest first; among equals, in the library's order.
 fn matches(tried: &[Tried], k: usize, rule: Rule) -> Vec<FaultMatch> {
     let mut found: Vec<FaultMatch> = Vec::new();
+    // A pair is the same two faults whichever was planted first: named in the library's order,
+    // on every picture alike.
+    let in_library_order = |faults: &[&'static Fault]| {
+        let mut faults = faults.to_vec();
+        faults.sort_by_key(|fault| FAULTS.iter().position(|f| f.name == fault.name));
+        faults
+    };
     for t in tried.iter().filter(|t| t.bad[k] <= rule.max_bad) {
-        let names: Vec<&str> = t.faults.iter().map(|f| f.name).collect();
+        let faults = in_library_order(&t.faults);
+        let names: Vec<&str> = faults.iter().map(|f| f.name).collect();
         match found
             .iter_mut()
             .find(|m| m.faults.iter().map(|f| f.name).eq(names.iter().copied()))
@@ -617,7 +718,7 @@ fn matches(tried: &[Tried], k: usize, rule: Rule) -> Vec<FaultMatch> {
                 m.parameters = t.parameters.clone();
             }
             None => found.push(FaultMatch {
-                faults: t.faults.clone(),
+                faults,
                 parameters: t.parameters.clone(),
                 bad_fraction: t.bad[k],
             }),

@@ -6,6 +6,10 @@ use serde_json::{Value, json};
 pub use crate::check::suite::assignment;
 use crate::check::untrusted::{html as escape, visible};
 
+/// The verdict column of a student whose biggest group of failing pictures no fault of the
+/// library explains.
+pub const UNEXPLAINED: &str = "no known fault";
+
 /// One student's row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
@@ -24,7 +28,8 @@ pub struct Row {
     pub max_points: f64,
     /// Per assignment (`A2`, from the pictures' names): passes and pictures.
     pub assignments: Vec<(String, usize, usize)>,
-    /// The fault that explains most failures (the verdict's first), or "" for none.
+    /// The fault that explains most failures (the verdict's first; [`UNEXPLAINED`] where the
+    /// biggest group is of pictures no fault explains), or "" where every picture passes.
     pub verdict: String,
     /// Seconds used: the build and the lines.
     pub seconds: f64,
@@ -106,10 +111,11 @@ impl Row {
             points,
             max_points,
             assignments,
-            verdict: summary["verdict"][0]["fault"]
-                .as_str()
-                .unwrap_or("")
-                .to_string(),
+            verdict: match &summary["verdict"][0] {
+                Value::Null => String::new(),
+                // The biggest group is of pictures no fault of the library explains.
+                first => first["fault"].as_str().unwrap_or(UNEXPLAINED).to_string(),
+            },
             seconds,
             build: summary["build"]["ending"]
                 .as_str()
@@ -355,6 +361,31 @@ mod tests {
         assert_eq!(assignment("normals1_05"), "A1");
         assert_eq!(assignment("output10_3"), "A10");
         assert_eq!(assignment("teapot"), "other");
+    }
+
+    #[test]
+    fn a_student_whose_biggest_group_no_fault_explains_is_not_all_pass() {
+        let summary = |verdict: Value| {
+            serde_json::json!({
+                "images": [{"name": "output4_02", "status": "fail", "command": "a"}],
+                "verdict": verdict,
+            })
+        };
+        let unexplained = summary(serde_json::json!([
+            {"fault": null, "lines": ["output4_02"], "equals": []},
+            {"fault": "ambient_missing", "lines": ["output3_01"], "equals": []},
+        ]));
+        let row = Row::of("eve", "eve", &unexplained);
+        assert_eq!(row.verdict, UNEXPLAINED);
+        assert!(terminal(&[row]).contains("no known fault / A4 0/1"));
+        let explained = summary(serde_json::json!([
+            {"fault": "pixel_corner", "lines": ["output4_02"], "equals": []},
+        ]));
+        assert_eq!(Row::of("eve", "eve", &explained).verdict, "pixel_corner");
+        assert_eq!(
+            Row::of("eve", "eve", &summary(serde_json::json!([]))).verdict,
+            ""
+        );
     }
 
     #[test]

@@ -1,0 +1,85 @@
+//! Diagnosis by simulation, screened: a fault's render is first made of the few rows where the
+//! student's picture differs most, and made whole only where those rows cannot rule it out. So
+//! that a pair of faults costs a few rows, every fault is paired with the closest ones, and a
+//! pair is one cause, named alike on every picture.
+
+// The renderers here are shell scripts.
+#![cfg(unix)]
+
+mod common;
+
+use std::os::unix::fs::PermissionsExt;
+use std::path::Path;
+use std::process::Command;
+
+const RAYCAST: &str = env!("CARGO_BIN_EXE_raycast");
+
+/// A suite of `lines` of the later assignments' command lines, with their references.
+fn suite(dir: &Path, later: &Path, lines: &[&str]) -> std::path::PathBuf {
+    let suite = dir.join("suite");
+    std::fs::create_dir_all(&suite).unwrap();
+    std::os::unix::fs::symlink(later.join("scenes"), suite.join("scenes")).unwrap();
+    std::os::unix::fs::symlink(later.join("reference"), suite.join("reference")).unwrap();
+    std::fs::write(suite.join("COMMANDS.txt"), lines.join("\n") + "\n").unwrap();
+    suite
+}
+
+fn planted(dir: &Path, faults: &str) -> std::path::PathBuf {
+    let path = dir.join("planted.sh");
+    std::fs::write(
+        &path,
+        format!(
+            "#!/bin/sh\nexec {} \"$@\" -fault {faults}\n",
+            common::open_raycast()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path
+}
+
+#[test]
+fn a_pair_late_in_the_library_is_found_and_named_alike_on_every_picture() {
+    let Some(later) = common::later_dir("the simulation tests") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // Two pictures with lights and shadows, one of them against a staff reference.
+    let suite = suite(
+        dir.path(),
+        &later,
+        &[
+            "raytracer -input scene4_02_colored_shadows.txt -size 200 200 -output output4_02.tga -shadows",
+            "raytracer -input scene6_03_sphere_plane.txt -output output6_03d.tga -size 200 200 -grid 10 10 10 -stats -shadows",
+        ],
+    );
+    // Planted in the other order than the library's.
+    let renderer = planted(dir.path(), "shadow_acne,ambient_missing");
+    let output = Command::new(RAYCAST)
+        .args(["check", suite.to_str().unwrap(), "--renderer"])
+        .arg(&renderer)
+        .args(["--allow-read", common::open_raycast_folder()])
+        .env("RAYCAST_CACHE_DIR", dir.path().join("cache"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        out.starts_with(
+            "verdict: 2 of 2 failing pictures are explained by ambient_missing+shadow_acne: fix \
+             it first, then run check again\n"
+        ),
+        "{out}"
+    );
+    for picture in ["output4_02", "output6_03d"] {
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(&format!("FAIL   {picture}, ")))
+            .unwrap_or_else(|| panic!("{picture}: {out}"));
+        assert!(
+            line.contains(
+                ": ambient_missing+shadow_acne: raycast's render with these faults planted matches"
+            ),
+            "{line}"
+        );
+    }
+}
