@@ -86,8 +86,9 @@ pub fn accepted(
     let mut accepted: Vec<Option<Acceptance>> = vec![None; failing.len()];
     let informational = choices::informational(&prepared.line);
     // A line whose every failing picture is shown, not graded, needs no answer rendered.
-    if informational.is_some() && failing.iter().all(|&(_, shaded, _, _)| shaded) {
-        let why = informational.expect("just seen");
+    if let Some(why) = informational
+        && failing.iter().all(|&(_, shaded, _, _)| shaded)
+    {
         return Ok(vec![Some(Acceptance::Informational(why)); failing.len()]);
     }
     let pictures: Vec<(usize, &Image, Option<&Image>)> = failing
