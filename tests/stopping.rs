@@ -20,9 +20,9 @@ const RAYCAST: &str = env!("CARGO_BIN_EXE_raycast");
 /// lasts tens of seconds on an idle machine), with room for a busy one.
 const STOPS_WITHIN: Duration = Duration::from_secs(8);
 
-/// The deadline of a check whose lines are graded in a few seconds and diagnosed in minutes:
-/// room for the grading on a busy machine, none for the diagnoses.
-const DEADLINE: Duration = Duration::from_secs(15);
+/// The deadline of a check whose lines take a few seconds to grade and several times as long
+/// to diagnose.
+const DEADLINE: Duration = Duration::from_secs(6);
 
 /// A suite of assignment 7's scene, a line for each of `seeds`, `size` pixels square with 16
 /// jittered samples a pixel and a Gaussian filter; a seed makes its line new to raycast's
@@ -44,15 +44,17 @@ fn suite(dir: &Path, later: &Path, size: u32, seeds: std::ops::Range<u32>) -> Pa
     suite
 }
 
-/// A renderer that is raycast with two faults at once: no single fault of check's library
-/// matches its pictures, so each is diagnosed at length (every fault rendered whole, then
-/// pairs; tens of seconds a line).
+/// A renderer that is raycast with its Gaussian filter's sigma three quarters of the line's:
+/// no fault of check's library (alone, or two together) matches its pictures, so each is
+/// diagnosed at length (every fault and pair screened, the closest made whole; seconds a line,
+/// several times the line's render).
 fn faulty_renderer(dir: &Path, token: &str) -> PathBuf {
     let script = dir.join(format!("{token}.sh"));
     std::fs::write(
         &script,
         format!(
-            "#!/bin/sh\nexec {} \"$@\" -fault filter_radius,jitter_whole_pixel\n",
+            "#!/bin/sh\nn=$#; i=0\nwhile [ $i -lt $n ]; do a=$1; shift; [ \"$a\" = 0.6 ] && a=0.45; \
+             set -- \"$@\" \"$a\"; i=$((i + 1)); done\nexec {} \"$@\"\n",
             common::open_raycast()
         ),
     )
@@ -299,4 +301,53 @@ fn a_deadline_shorter_than_the_diagnoses_still_grades_and_reports_in_time() {
     assert_eq!(common::summary_of(&report)["partial"], true);
     assert!(report.join("gradescope.json").is_file());
     assert_eq!(common::left_running("deadline-token").len(), 0);
+}
+
+#[test]
+fn every_line_is_graded_before_any_is_diagnosed() {
+    let Some(later) = common::later_dir("the stopping tests") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &later, 160, 21..24);
+    let renderer = faulty_renderer(dir.path(), "order-token");
+    let report = dir.path().join("report");
+    let mut check = start_check(&suite, &renderer, &report);
+    // The renderers' phase is over once no line's supervisor has run for a second (lines follow
+    // each other within milliseconds); had the first line been diagnosed before the next ran,
+    // that second would fall in its diagnosis, with the other lines not yet run.
+    let start = Instant::now();
+    let (mut seen, mut quiet_since) = (false, None);
+    loop {
+        assert!(
+            check.try_wait().unwrap().is_none(),
+            "check ended before it was stopped"
+        );
+        let running = children_with(check.id(), "__supervise", "order-token") > 0;
+        seen |= running;
+        match (running, quiet_since) {
+            (true, _) => quiet_since = None,
+            (false, None) if seen => quiet_since = Some(Instant::now()),
+            (false, Some(since)) if since.elapsed() > Duration::from_secs(1) => break,
+            _ => {}
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the renderer never ran"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let (code, out, _) = stop(check, "INT");
+    assert_eq!(code, Some(130), "{out}");
+    for k in 0..3 {
+        assert!(
+            out.lines()
+                .any(|l| l.starts_with(&format!("FAIL   big{k}, "))),
+            "big{k} not graded: {out}"
+        );
+    }
+    assert!(
+        out.contains("Diagnosis not finished: check was interrupted; from the pixels alone:"),
+        "{out}"
+    );
 }
