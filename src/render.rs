@@ -791,6 +791,45 @@ mod tests {
         Scene::from_description(&description).unwrap()
     }
 
+    #[test]
+    fn a_render_of_some_rows_is_the_whole_render_in_those_rows() {
+        let scene = spheres();
+        let (width, height) = (37, 29);
+        let plain = RenderSettings {
+            normals: true,
+            depth: Some((8.0, 12.0)),
+            ..RenderSettings::new(width, height)
+        };
+        let filtered = RenderSettings {
+            sampling: Sampling {
+                sampler: crate::sample::Sampler::Jittered(4),
+                filter: crate::sample::Filter::Tent(1.5),
+                seed: 7,
+            },
+            ..plain
+        };
+        let wanted: Vec<bool> = (0..height).map(|row| row % 7 == 3 || row == 0).collect();
+        for settings in [plain, filtered] {
+            let whole = render(&scene, &settings);
+            let rows = render_rows_with(&scene, &settings, Exact, Some(&wanted));
+            for (whole, rows) in [
+                (&whole.colour, &rows.colour),
+                (&whole.normals, &rows.normals),
+                (&whole.depth, &rows.depth),
+            ] {
+                let (whole, rows) = (whole.as_ref().unwrap(), rows.as_ref().unwrap());
+                for (row, &wanted) in wanted.iter().enumerate() {
+                    let at = row * width as usize..(row + 1) * width as usize;
+                    if wanted {
+                        assert_eq!(whole.pixels[at.clone()], rows.pixels[at], "row {row}");
+                    } else {
+                        assert!(rows.pixels[at].iter().all(|&p| p == [0; 3]), "row {row}");
+                    }
+                }
+            }
+        }
+    }
+
     /// Every row a sink is given, and where it began.
     #[derive(Default)]
     struct Collected {

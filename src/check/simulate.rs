@@ -140,6 +140,7 @@ struct Renders<'a> {
     screen: Option<Screen>,
     /// The failing pictures: the index of each among the line's images, and the student's.
     failing: Vec<(usize, &'a Image)>,
+    rule: Rule,
     stop: &'static StopFlag,
 }
 
@@ -168,8 +169,25 @@ impl<'a> Renders<'a> {
                 .iter()
                 .map(|&(image, actual, _)| (image, actual))
                 .collect(),
+            rule,
             stop,
         }
+    }
+
+    /// A screen by the rows where the failing pictures differ most from `pictures` (a fault's
+    /// whole render, in the order of the line's images): what is left to explain with that
+    /// fault planted, which a pair with it must explain.
+    fn screen_against(&self, pictures: &[Image]) -> Option<Screen> {
+        let failing: Vec<Failing> = self
+            .failing
+            .iter()
+            .map(|&(image, actual)| Failing {
+                actual,
+                reference: pictures.get(image),
+                traced: self.prepared.slots[image] < self.prepared.traced,
+            })
+            .collect();
+        Screen::of(&failing, self.rule)
     }
 
     /// Whether `plant`'s render of the screened rows already matches none of the failing
@@ -185,9 +203,14 @@ impl<'a> Renders<'a> {
     /// `plant`'s render of the screened rows (the others black), in the order of the line's
     /// images; `None` where the line is not screened or the whole render is kept.
     fn rows(&self, plant: Plant) -> Result<Option<Vec<Image>>, Unfinished> {
-        let Some(screen) = &self.screen else {
-            return Ok(None);
-        };
+        match &self.screen {
+            Some(screen) => self.rows_for(plant, screen),
+            None => Ok(None),
+        }
+    }
+
+    /// `plant`'s render of the rows `screen` wants; `None` where the whole render is kept.
+    fn rows_for(&self, plant: Plant, screen: &Screen) -> Result<Option<Vec<Image>>, Unfinished> {
         if self.kept.has_fault(&format!("{plant:?}")) {
             return Ok(None);
         }
@@ -480,7 +503,10 @@ pub fn simulate(
     // The line under `plant`, seen against each failing picture: by its screened rows where
     // they rule it out (kept, for the pictures undone by a fault that moves pixels), else by
     // its whole render, with the pairs that render makes with the faults that only move pixels.
-    let look = |plant: Plant, faults: &[&'static Fault], parameters: &[(&'static str, f64)]| {
+    let look = |plant: Plant,
+                faults: &[&'static Fault],
+                parameters: &[(&'static str, f64)],
+                screen: Option<&Screen>| {
         let mut tried = Tried {
             plant,
             faults: faults.to_vec(),
@@ -488,8 +514,11 @@ pub fn simulate(
             bad: Vec::with_capacity(failing.len()),
             error: Vec::with_capacity(failing.len()),
         };
-        let rows = renders.rows(plant)?;
-        if let (Some(screen), Some(seen)) = (&renders.screen, &rows) {
+        let rows = match screen {
+            Some(screen) => renders.rows_for(plant, screen)?,
+            None => None,
+        };
+        if let (Some(screen), Some(seen)) = (screen, &rows) {
             let rendered = renders.in_order(seen);
             if screen.rules_out(&rendered, &renders.actuals()) {
                 for (picture, &(_, actual, _)) in rendered.into_iter().zip(failing) {
@@ -548,7 +577,8 @@ pub fn simulate(
     let mut singles: Vec<Look> = Vec::with_capacity(candidates.len());
     for &(fault, candidate) in &candidates {
         let parameters: Vec<_> = candidate.parameter.into_iter().collect();
-        singles.push(look(Plant::one(candidate.planted), &[fault], &parameters)?);
+        let plant = Plant::one(candidate.planted);
+        singles.push(look(plant, &[fault], &parameters, renders.screen.as_ref())?);
     }
     let explained = |k: usize| {
         singles
@@ -677,18 +707,39 @@ pub fn simulate(
         } else {
             MAX_RENDERS.saturating_sub(tried.len()).max(MIN_PAIRS)
         };
-        let pairs: Vec<Tried> = order
-            .into_iter()
-            .take(budget)
-            .map(|(first, second)| {
-                let (first, second) = (&tried[first], &tried[second]);
-                let plant = Plant::two(first.plant.first(), second.plant.first());
-                let mut parameters = first.parameters.clone();
-                parameters.extend(second.parameters.iter().copied());
-                let faults = vec![first.faults[0], second.faults[0]];
-                Ok(look(plant, &faults, &parameters)?.tried)
-            })
-            .collect::<Result<_, Unfinished>>()?;
+        // A pair is screened by the rows its first fault leaves most unexplained (where the
+        // first fault alone already draws the student's rows, every pair with it would pass
+        // the line's own screen).
+        let mut residuals: Vec<(usize, Option<Screen>)> = Vec::new();
+        let mut pairs: Vec<Tried> = Vec::new();
+        // Once a pair matches the picture exactly, the pairs with the same first fault are
+        // finished (a pair that matches as well is named beside it) and no other first is
+        // tried: nothing can match better.
+        let mut exact_with: Option<usize> = None;
+        for (first_index, second_index) in order.into_iter().take(budget) {
+            if exact_with.is_some_and(|first| first != first_index) {
+                break;
+            }
+            let (first, second) = (&tried[first_index], &tried[second_index]);
+            if renders.screen.is_some() && !residuals.iter().any(|(i, _)| *i == first_index) {
+                let alone = renders.whole(first.plant)?;
+                residuals.push((first_index, renders.screen_against(&alone)));
+            }
+            let screen = residuals
+                .iter()
+                .find(|(i, _)| *i == first_index)
+                .and_then(|(_, residual)| residual.as_ref())
+                .or(renders.screen.as_ref());
+            let plant = Plant::two(first.plant.first(), second.plant.first());
+            let mut parameters = first.parameters.clone();
+            parameters.extend(second.parameters.iter().copied());
+            let faults = vec![first.faults[0], second.faults[0]];
+            let pair = look(plant, &faults, &parameters, screen)?.tried;
+            if pair.bad[k] == 0.0 {
+                exact_with = Some(first_index);
+            }
+            pairs.push(pair);
+        }
         results[k].matches = matches(&pairs, k, rule);
         tried.extend(pairs);
     }

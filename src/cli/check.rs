@@ -45,15 +45,20 @@ started ended with it. Ctrl-C ends the renderers and writes what was graded,
 marked partial (exit 130). Where nothing would keep the renderer from the references (no
 Landlock, or a suite under a system folder such as /opt), check refuses to grade; --no-cage
 grades anyway, for your own renderer on your own machine, and every report says so. --budget
-bounds the renderer's lines together (a platform's time limit): lines start in the suite's
-order, and those left when it is spent are not run. --deadline bounds the whole run,
+bounds the renderer's lines and their diagnoses together (a platform's time limit): lines
+start in the suite's order, those left when it is spent are not run, and every line is graded
+before any is diagnosed. --deadline bounds the whole run,
 diagnoses included (a platform's hard limit): check stops its work 5% before it (at least 1 s)
 and writes its report with what it graded, as when Ctrl-C stops it, but exits 1, not 130.
 --class grades each folder of ROSTER as one student's submission: copied, built with --build
 in its folder (caged, --build-timeout seconds, default 120), its renderer (CMD's first word
 taken inside the submission) graded; the class's table on the terminal and in DIR/class.csv
 and DIR/class.html, each student's report in DIR/STUDENT/; --budget is each student's.
---shard K/N grades every Nth student from the Kth; merge joins the shards' report folders into the one report a single run makes.
+--shard K/N grades every Nth student from the Kth; merge joins the shards' report folders
+into the one report a single run makes. raycast's renders of the suite's lines, and of the
+faults check simulates, are kept in RAYCAST_CACHE_DIR (default ~/.cache/raycast; off keeps
+none), trimmed to RAYCAST_CACHE_SIZE (default 1G) after each run; 'check cache' shows it,
+'check cache clear' empties it. Without a terminal, stderr hears every 5 s how far check is.
 An image passes when at most FRACTION of its pixels (default 0.001) are off by more than
 LEVELS (default 2). Exit status: 0 all pass (for a class: graded), 1 some fail, 2 a usage or
 suite error.";
