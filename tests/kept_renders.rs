@@ -120,6 +120,14 @@ fn a_faults_render_is_kept_and_read_the_next_time() {
     // raycast's reference and the renders of the faults that might match.
     let before = kept(&cache);
     assert!(before.len() >= 2, "{before:?}");
+    // And which faults draw a picture alike to the one that matched exactly: the next picture
+    // it matches exactly is named without a search.
+    let records = std::fs::read_dir(cache.join("references"))
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".same"))
+        .count();
+    assert!(records >= 1, "no record of the faults alike");
     // Older than now, so that a read shows in the time.
     let long_ago = SystemTime::now() - Duration::from_secs(3600);
     for (path, _, _) in &before {

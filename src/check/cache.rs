@@ -123,6 +123,35 @@ impl LineRenders {
             .is_some_and(|folder| (0..self.images).all(|k| file(folder, &key, k).is_file()))
     }
 
+    /// Whether renders are kept at all (`RAYCAST_CACHE_DIR` is not `off`).
+    pub fn keeps(&self) -> bool {
+        self.folder.is_some()
+    }
+
+    /// The faults (as planted) whose render of the line is the same picture as `planted`'s,
+    /// itself among them, where a search has found them.
+    pub fn same_pictures(&self, planted: &str) -> Option<Vec<String>> {
+        let folder = self.folder.as_ref()?;
+        let path = folder.join(format!("{}.same", self.key(&[], Some(planted))));
+        let text = std::fs::read_to_string(&path).ok()?;
+        used(&path);
+        Some(text.lines().map(String::from).collect())
+    }
+
+    /// Keeps which faults' renders of the line are the same picture as `planted`'s.
+    pub fn keep_same_pictures(&self, planted: &str, same: &[String]) {
+        let Some(folder) = &self.folder else {
+            return;
+        };
+        let key = self.key(&[], Some(planted));
+        let aside = folder.join(format!(".{key}.same.{}", std::process::id()));
+        if std::fs::create_dir_all(folder).is_ok()
+            && std::fs::write(&aside, same.join("\n")).is_ok()
+        {
+            let _ = std::fs::rename(&aside, folder.join(format!("{key}.same")));
+        }
+    }
+
     fn kept_or<E>(
         &self,
         key: &str,
@@ -203,7 +232,11 @@ fn parse_size(text: &str) -> Option<u64> {
 /// The kept pictures: how many, and their bytes.
 pub fn usage() -> (usize, u64) {
     let entries = pictures_kept();
-    (entries.len(), entries.iter().map(|e| e.1).sum())
+    let pictures = entries
+        .iter()
+        .filter(|e| e.0.extension().is_some_and(|x| x == "png"))
+        .count();
+    (pictures, entries.iter().map(|e| e.1).sum())
 }
 
 /// Every kept picture: its path, bytes and last use.
@@ -216,7 +249,10 @@ fn pictures_kept() -> Vec<(PathBuf, u64, std::time::SystemTime)> {
     };
     entries
         .flatten()
-        .filter(|entry| entry.file_name().to_string_lossy().ends_with(".png"))
+        .filter(|entry| {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            !name.starts_with('.') && (name.ends_with(".png") || name.ends_with(".same"))
+        })
         .filter_map(|entry| {
             let metadata = entry.metadata().ok()?;
             let modified = metadata.modified().ok()?;

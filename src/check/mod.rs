@@ -12,6 +12,7 @@ pub mod faults;
 mod finding;
 pub mod formats;
 mod guard;
+mod likely;
 pub mod merge;
 pub(crate) mod modes;
 mod output;

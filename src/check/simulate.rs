@@ -574,6 +574,61 @@ pub fn simulate(
         })
         .take(MAX_RENDERS)
         .collect();
+    // The likely first: where a fault that explained pictures before in this run draws each
+    // failing picture itself, and the line's kept record says which faults draw a picture
+    // alike to it, those are compared and nothing else is rendered.
+    let planted = |index: usize| format!("{:?}", Plant::one(candidates[index].1.planted));
+    let mut exact: Vec<Option<Vec<FaultMatch>>> = vec![None; failing.len()];
+    for name in super::likely::faults() {
+        for index in (0..candidates.len()).filter(|&i| candidates[i].0.name == name) {
+            if exact.iter().all(Option::is_some) {
+                break;
+            }
+            let Some(same) = renders.kept.same_pictures(&planted(index)) else {
+                continue;
+            };
+            let pictures = renders.whole(Plant::one(candidates[index].1.planted))?;
+            for (k, &(image, actual, _)) in failing.iter().enumerate() {
+                // Only the very picture the fault draws: every fault that matches it is then
+                // alike to the fault's render, and the record names them all.
+                if exact[k].is_some() || pictures.get(image) != Some(actual) {
+                    continue;
+                }
+                // Each fault alike, compared again with this picture, as the search would.
+                let mut alike: Vec<Tried> = Vec::new();
+                for (other, &(fault, candidate)) in candidates.iter().enumerate() {
+                    if !same.contains(&planted(other)) {
+                        continue;
+                    }
+                    let plant = Plant::one(candidate.planted);
+                    let rendered = renders.whole(plant)?;
+                    let mut score = vec![f64::INFINITY; failing.len()];
+                    score[k] = bad(rendered.get(image), actual);
+                    alike.push(Tried {
+                        plant,
+                        faults: vec![fault],
+                        parameters: candidate.parameter.into_iter().collect(),
+                        bad: score,
+                        error: vec![f64::INFINITY; failing.len()],
+                    });
+                }
+                exact[k] = Some(matches(&alike, k, rule));
+            }
+        }
+    }
+    if exact.iter().all(Option::is_some) {
+        for matches in exact.iter().flatten() {
+            if let Some(first) = matches.first() {
+                super::likely::explained(first.faults[0].name);
+            }
+        }
+        return Ok(exact
+            .into_iter()
+            .map(|matches| Simulated {
+                matches: matches.unwrap_or_default(),
+            })
+            .collect());
+    }
     let mut singles: Vec<Look> = Vec::with_capacity(candidates.len());
     for &(fault, candidate) in &candidates {
         let parameters: Vec<_> = candidate.parameter.into_iter().collect();
@@ -639,6 +694,33 @@ pub fn simulate(
             matches: matches(&tried, k, rule),
         })
         .collect();
+    // Which faults draw the same picture (to the rule) as one that matched a picture exactly:
+    // kept for the next picture of the line it explains (every such fault came through the screen and was
+    // rendered whole, so it is among these).
+    for k in (0..failing.len()).filter(|_| renders.kept.keeps()) {
+        let exactly: Vec<usize> = (0..candidates.len())
+            .filter(|&i| tried[i].bad[k] == 0.0)
+            .collect();
+        for &one in &exactly {
+            if renders.kept.same_pictures(&planted(one)).is_some() {
+                continue;
+            }
+            // Alike to the rule: every picture of the line passes against the other's.
+            let pictures = renders.whole(tried[one].plant)?;
+            let mut same = Vec::new();
+            for other in (0..candidates.len()).filter(|&i| tried[i].bad[k] <= rule.max_bad) {
+                let others = renders.whole(tried[other].plant)?;
+                let alike = pictures
+                    .iter()
+                    .zip(&others)
+                    .all(|(a, b)| compare(a, b, rule.tolerance).is_some_and(|c| rule.passes(&c)));
+                if other == one || alike {
+                    same.push(planted(other));
+                }
+            }
+            renders.kept.keep_same_pictures(&planted(one), &same);
+        }
+    }
     // Pairs, for the pictures no single fault explains: the closest render of each fault, the
     // closest faults first, paired in order of their closeness while the budget lasts.
     // How far each picture is from the course's render of the line, rendered once.
@@ -742,6 +824,11 @@ pub fn simulate(
         }
         results[k].matches = matches(&pairs, k, rule);
         tried.extend(pairs);
+    }
+    for result in &results {
+        for fault in result.matches.first().map_or(&[][..], |m| &m.faults[..]) {
+            super::likely::explained(fault.name);
+        }
     }
     Ok(results)
 }
