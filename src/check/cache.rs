@@ -128,22 +128,22 @@ impl LineRenders {
         self.folder.is_some()
     }
 
-    /// The faults (as planted) whose render of the line is the same picture as `planted`'s,
-    /// itself among them, where a search has found them.
-    pub fn same_pictures(&self, planted: &str) -> Option<Vec<String>> {
+    /// The faults (as planted) whose render of the line's image `image` is alike to
+    /// `planted`'s, itself among them, where a search has found them.
+    pub fn same_pictures(&self, planted: &str, image: usize) -> Option<Vec<String>> {
         let folder = self.folder.as_ref()?;
-        let path = folder.join(format!("{}.same", self.key(&[], Some(planted))));
+        let path = folder.join(format!("{}-{image}.same", self.key(&[], Some(planted))));
         let text = std::fs::read_to_string(&path).ok()?;
         used(&path);
         Some(text.lines().map(String::from).collect())
     }
 
-    /// Keeps which faults' renders of the line are the same picture as `planted`'s.
-    pub fn keep_same_pictures(&self, planted: &str, same: &[String]) {
+    /// Keeps which faults' renders of the line's image `image` are alike to `planted`'s.
+    pub fn keep_same_pictures(&self, planted: &str, image: usize, same: &[String]) {
         let Some(folder) = &self.folder else {
             return;
         };
-        let key = self.key(&[], Some(planted));
+        let key = format!("{}-{image}", self.key(&[], Some(planted)));
         let aside = folder.join(format!(".{key}.same.{}", std::process::id()));
         if std::fs::create_dir_all(folder).is_ok()
             && std::fs::write(&aside, same.join("\n")).is_ok()

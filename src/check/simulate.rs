@@ -584,14 +584,21 @@ pub fn simulate(
             if exact.iter().all(Option::is_some) {
                 break;
             }
-            let Some(same) = renders.kept.same_pictures(&planted(index)) else {
-                continue;
-            };
-            let pictures = renders.whole(Plant::one(candidates[index].1.planted))?;
+            let plant = Plant::one(candidates[index].1.planted);
+            let mut pictures: Option<Vec<Image>> = None;
             for (k, &(image, actual, _)) in failing.iter().enumerate() {
+                if exact[k].is_some() {
+                    continue;
+                }
+                let Some(same) = renders.kept.same_pictures(&planted(index), image) else {
+                    continue;
+                };
+                if pictures.is_none() {
+                    pictures = Some(renders.whole(plant)?);
+                }
                 // Only the very picture the fault draws: every fault that matches it is then
                 // alike to the fault's render, and the record names them all.
-                if exact[k].is_some() || pictures.get(image) != Some(actual) {
+                if pictures.as_ref().and_then(|p| p.get(image)) != Some(actual) {
                     continue;
                 }
                 // Each fault alike, compared again with this picture, as the search would.
@@ -615,19 +622,6 @@ pub fn simulate(
                 exact[k] = Some(matches(&alike, k, rule));
             }
         }
-    }
-    if exact.iter().all(Option::is_some) {
-        for matches in exact.iter().flatten() {
-            if let Some(first) = matches.first() {
-                super::likely::explained(first.faults[0].name);
-            }
-        }
-        return Ok(exact
-            .into_iter()
-            .map(|matches| Simulated {
-                matches: matches.unwrap_or_default(),
-            })
-            .collect());
     }
     let mut singles: Vec<Look> = Vec::with_capacity(candidates.len());
     for &(fault, candidate) in &candidates {
@@ -701,24 +695,32 @@ pub fn simulate(
         let exactly: Vec<usize> = (0..candidates.len())
             .filter(|&i| tried[i].bad[k] == 0.0)
             .collect();
+        let image = failing[k].0;
         for &one in &exactly {
-            if renders.kept.same_pictures(&planted(one)).is_some() {
+            if renders.kept.same_pictures(&planted(one), image).is_some() {
                 continue;
             }
-            // Alike to the rule: every picture of the line passes against the other's.
+            // Kept only where the fault draws this very picture: then the faults that match it
+            // are exactly those alike to the fault's render, all of them.
             let pictures = renders.whole(tried[one].plant)?;
+            if pictures.get(image) != Some(failing[k].1) {
+                continue;
+            }
+            // Alike to the rule: the image passes against the other's.
             let mut same = Vec::new();
             for other in (0..candidates.len()).filter(|&i| tried[i].bad[k] <= rule.max_bad) {
                 let others = renders.whole(tried[other].plant)?;
-                let alike = pictures
-                    .iter()
-                    .zip(&others)
-                    .all(|(a, b)| compare(a, b, rule.tolerance).is_some_and(|c| rule.passes(&c)));
+                let alike = match (pictures.get(image), others.get(image)) {
+                    (Some(a), Some(b)) => {
+                        compare(a, b, rule.tolerance).is_some_and(|c| rule.passes(&c))
+                    }
+                    _ => false,
+                };
                 if other == one || alike {
                     same.push(planted(other));
                 }
             }
-            renders.kept.keep_same_pictures(&planted(one), &same);
+            renders.kept.keep_same_pictures(&planted(one), image, &same);
         }
     }
     // Pairs, for the pictures no single fault explains: the closest render of each fault, the
