@@ -796,14 +796,9 @@ pub fn simulate(
         // the line's own screen).
         let mut residuals: Vec<(usize, Option<Screen>)> = Vec::new();
         let mut pairs: Vec<Tried> = Vec::new();
-        // Once a pair matches the picture exactly, the pairs with the same first fault are
-        // finished (a pair that matches as well is named beside it) and no other first is
-        // tried: nothing can match better.
-        let mut exact_with: Option<usize> = None;
+        // Every pair the budget allows: a pair that matches as well as the first found may
+        // begin with another fault (one drawing the same picture as a fault of the first).
         for (first_index, second_index) in order.into_iter().take(budget) {
-            if exact_with.is_some_and(|first| first != first_index) {
-                break;
-            }
             let (first, second) = (&tried[first_index], &tried[second_index]);
             if renders.screen.is_some() && !residuals.iter().any(|(i, _)| *i == first_index) {
                 let alone = renders.whole(first.plant)?;
@@ -818,11 +813,7 @@ pub fn simulate(
             let mut parameters = first.parameters.clone();
             parameters.extend(second.parameters.iter().copied());
             let faults = vec![first.faults[0], second.faults[0]];
-            let pair = look(plant, &faults, &parameters, screen)?.tried;
-            if pair.bad[k] == 0.0 {
-                exact_with = Some(first_index);
-            }
-            pairs.push(pair);
+            pairs.push(look(plant, &faults, &parameters, screen)?.tried);
         }
         results[k].matches = matches(&pairs, k, rule);
         tried.extend(pairs);

@@ -1,0 +1,189 @@
+//! The second pass over a renderer's lines, once every line is graded: the causes of each
+//! failing picture (an answer the course allows, the faults whose render matches, raycast's
+//! account of the pixel that differs most), the lines of the biggest group first, and what a
+//! diagnosis cut short says.
+
+use std::time::Duration;
+
+use super::suite::{Line, Suite};
+use super::{
+    CheckOptions, Finding, Graded, PictureKind, Status, WorstPixel, finding, simulate, worst_pixel,
+};
+use crate::render::StopFlag;
+use crate::shade::Image;
+
+/// Names the causes of a graded line's failing pictures: an answer the course allows, the
+/// faults whose render matches, and raycast's account of the pixel that differs most. Once
+/// `stop` is set, or `spent` says the renderer's budget is, the pictures not yet diagnosed say
+/// so and keep their guesses from the pixels.
+pub(super) fn diagnose_line(
+    options: &CheckOptions,
+    suite: &Suite,
+    line: &Line,
+    graded: &mut [Graded],
+    stop: &'static StopFlag,
+    spent: Option<Duration>,
+) {
+    if let Some(budget) = spent {
+        let why = format!("the --budget of {} s was spent", budget.as_secs_f64());
+        not_finished(graded.iter_mut().filter(|g| g.status == Status::Fail), &why);
+        return;
+    }
+    accept_allowed_answers(options, suite, line, graded, stop);
+    explain_by_simulation(options, suite, line, graded, stop);
+    for g in graded.iter_mut().filter(|g| g.status == Status::Fail) {
+        let (Some(actual), Some(reference)) = (&g.actual, &g.reference) else {
+            continue;
+        };
+        let Some((x, y, difference)) = worst_pixel(actual, reference) else {
+            continue;
+        };
+        if let Ok(ray_tree) = simulate::ray_tree(line, &suite.scenes, (x, y)) {
+            g.worst_pixel = Some(WorstPixel {
+                x,
+                y,
+                difference,
+                ray_tree,
+            });
+        }
+    }
+}
+
+/// Says of each of `graded` that its diagnosis was not finished, and why: its causes are the
+/// pixels' guesses, no more.
+pub(super) fn not_finished<'g>(graded: impl Iterator<Item = &'g mut Graded>, why: &str) {
+    for g in graded {
+        g.explanation = format!(
+            "Diagnosis not finished: {why}; from the pixels alone: {}",
+            g.explanation
+        );
+    }
+}
+
+/// The lines with a failing picture, in the order their diagnoses are run: the lines of the
+/// biggest group of the pixels' guesses first (what the verdict will most likely tell the
+/// student to fix first), then by the suite's order.
+pub(super) fn diagnosis_order(lines: &[Vec<Graded>]) -> Vec<usize> {
+    let guess = |g: &Graded| g.findings.first().map(Finding::code);
+    let failing = |g: &&Graded| g.status == Status::Fail;
+    let mut groups: std::collections::HashMap<Option<String>, usize> = Default::default();
+    for g in lines.iter().flatten().filter(failing) {
+        *groups.entry(guess(g)).or_default() += 1;
+    }
+    let mut order: Vec<(usize, usize)> = lines
+        .iter()
+        .enumerate()
+        .filter_map(|(number, graded)| {
+            let biggest = graded
+                .iter()
+                .filter(failing)
+                .map(|g| groups[&guess(g)])
+                .max()?;
+            Some((number, biggest))
+        })
+        .collect();
+    // Stable: among equal groups, the suite's order.
+    order.sort_by_key(|&(_, biggest)| std::cmp::Reverse(biggest));
+    order.into_iter().map(|(number, _)| number).collect()
+}
+
+/// A failing picture that matches another answer the course allows to one of its open
+/// questions passes, saying which; one that depends on a question the course leaves free is
+/// informational. Asked to stop, the pictures stay as they are (the diagnosis says so).
+fn accept_allowed_answers(
+    options: &CheckOptions,
+    suite: &Suite,
+    line: &Line,
+    graded: &mut [Graded],
+    stop: &'static StopFlag,
+) {
+    let failing: Vec<(usize, bool, &Image, Option<&Image>)> = graded
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| g.status == Status::Fail)
+        .filter_map(|(k, g)| {
+            let shaded = g.picture == PictureKind::Image;
+            let reference = g.reference.as_ref();
+            g.actual
+                .as_ref()
+                .map(|actual| (k, shaded, actual, reference))
+        })
+        .collect();
+    if failing.is_empty() {
+        return;
+    }
+    let Ok(accepted) = simulate::accepted(
+        line,
+        &suite.scenes,
+        &suite.pinned,
+        &failing,
+        options.rule,
+        stop,
+    ) else {
+        return;
+    };
+    let indices: Vec<usize> = failing.iter().map(|&(k, _, _, _)| k).collect();
+    for (k, acceptance) in indices.into_iter().zip(accepted) {
+        let Some(acceptance) = acceptance else {
+            continue;
+        };
+        let g = &mut graded[k];
+        g.status = Status::Pass;
+        g.findings.clear();
+        g.explanation = acceptance.sentence();
+        g.accepted = Some(acceptance);
+    }
+}
+
+/// Names the faults whose render of the line matches each failing picture; where none does,
+/// the pixels' guesses stay, said to be guesses.
+fn explain_by_simulation(
+    options: &CheckOptions,
+    suite: &Suite,
+    line: &Line,
+    graded: &mut [Graded],
+    stop: &'static StopFlag,
+) {
+    let failing: Vec<(usize, &Image, Option<&Image>)> = graded
+        .iter()
+        .enumerate()
+        .filter(|(_, g)| g.status == Status::Fail)
+        .filter_map(|(k, g)| {
+            g.actual
+                .as_ref()
+                .map(|actual| (k, actual, g.reference.as_ref()))
+        })
+        .collect();
+    if failing.is_empty() {
+        return;
+    }
+    let indices: Vec<usize> = failing.iter().map(|&(k, _, _)| k).collect();
+    let simulated = match simulate::simulate(line, &suite.scenes, &failing, options.rule, stop) {
+        Ok(simulated) => simulated,
+        // A line raycast cannot render itself leaves the guesses as they are.
+        Err(simulate::Unfinished::Failed(_)) => return,
+        // Asked to stop: the pixels' guesses stand, said to be no more than that.
+        Err(simulate::Unfinished::Stopped) => {
+            let why = if stop.is_out_of_time() {
+                "check's --deadline came"
+            } else {
+                "check was interrupted"
+            };
+            let cut_short = graded
+                .iter_mut()
+                .enumerate()
+                .filter(|(k, _)| indices.contains(k))
+                .map(|(_, g)| g);
+            not_finished(cut_short, why);
+            return;
+        }
+    };
+    for (k, result) in indices.into_iter().zip(simulated) {
+        if result.matches.is_empty() {
+            continue;
+        }
+        let g = &mut graded[k];
+        g.findings = result.matches.into_iter().map(Finding::Fault).collect();
+        g.explanation = finding::explain(&g.findings, g.picture);
+    }
+}
