@@ -16,6 +16,16 @@ use std::time::{Duration, SystemTime};
 
 const RAYCAST: &str = env!("CARGO_BIN_EXE_raycast");
 
+/// The course's conformance suite, where the tests may read it.
+fn conformance() -> Option<PathBuf> {
+    common::data_dir(
+        "the kept renders' tests",
+        "RAYCAST_CONFORMANCE_DIR",
+        "../shared/conformance",
+        "COMMANDS.txt",
+    )
+}
+
 /// A suite of one line of the course's second assignment, without references: its picture is
 /// graded against raycast's own render.
 fn suite(dir: &Path, conformance: &Path) -> PathBuf {
@@ -99,12 +109,7 @@ fn kept(cache: &Path) -> Vec<(PathBuf, u64, SystemTime)> {
 
 #[test]
 fn a_faults_render_is_kept_and_read_the_next_time() {
-    let Some(conformance) = common::data_dir(
-        "the kept renders' tests",
-        "RAYCAST_CONFORMANCE_DIR",
-        "../shared/conformance",
-        "COMMANDS.txt",
-    ) else {
+    let Some(conformance) = conformance() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -150,12 +155,7 @@ fn a_faults_render_is_kept_and_read_the_next_time() {
 
 #[test]
 fn the_folder_is_trimmed_to_its_size_the_least_recently_used_first() {
-    let Some(conformance) = common::data_dir(
-        "the kept renders' tests",
-        "RAYCAST_CONFORMANCE_DIR",
-        "../shared/conformance",
-        "COMMANDS.txt",
-    ) else {
+    let Some(conformance) = conformance() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -240,12 +240,7 @@ fn check_cache_says_what_is_kept_and_clears_it() {
 
 #[test]
 fn a_long_run_without_a_terminal_says_how_far_it_has_come() {
-    let Some(conformance) = common::data_dir(
-        "the kept renders' tests",
-        "RAYCAST_CONFORMANCE_DIR",
-        "../shared/conformance",
-        "COMMANDS.txt",
-    ) else {
+    let Some(conformance) = conformance() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

@@ -500,6 +500,30 @@ pub fn simulate(
             .and_then(|picture| compare(picture, actual, rule.tolerance))
             .map_or(1.0, |c| c.bad_fraction)
     };
+    // The pairs a single fault's render of image `k` makes with the faults that only move
+    // pixels: compared with the student's picture undone by each.
+    let moved = |k: usize,
+                 plant: Plant,
+                 fault: &'static Fault,
+                 parameters: &[(&'static str, f64)],
+                 picture: Option<&Image>| {
+        undone[k]
+            .iter()
+            .filter(|(mover, _)| mover.name != fault.name)
+            .map(|&(mover, ref undone_picture)| {
+                let mut found = vec![f64::INFINITY; failing.len()];
+                found[k] = bad(picture, undone_picture);
+                let pair = Tried {
+                    plant,
+                    faults: vec![mover, fault],
+                    parameters: parameters.to_vec(),
+                    bad: found,
+                    error: vec![f64::INFINITY; failing.len()],
+                };
+                (k, pair)
+            })
+            .collect::<Vec<_>>()
+    };
     // The line under `plant`, seen against each failing picture: by its screened rows where
     // they rule it out (kept, for the pictures undone by a fault that moves pixels), else by
     // its whole render, with the pairs that render makes with the faults that only move pixels.
@@ -539,23 +563,7 @@ pub fn simulate(
             tried.bad.push(bad(picture, actual));
             tried.error.push(renders.difference(picture, actual));
             if faults.len() == 1 {
-                for (fault, undone_picture) in &undone[k] {
-                    if faults[0].name == fault.name {
-                        continue;
-                    }
-                    let mut found = vec![f64::INFINITY; failing.len()];
-                    found[k] = bad(picture, undone_picture);
-                    permuted.push((
-                        k,
-                        Tried {
-                            plant,
-                            faults: vec![fault, faults[0]],
-                            parameters: parameters.to_vec(),
-                            bad: found,
-                            error: vec![f64::INFINITY; failing.len()],
-                        },
-                    ));
-                }
+                permuted.extend(moved(k, plant, faults[0], parameters, picture));
             }
         }
         Ok::<_, Unfinished>(Look {
@@ -654,23 +662,8 @@ pub fn simulate(
                 let whole = renders.whole(plant)?;
                 for &k in &unexplained {
                     let picture = whole.get(failing[k].0);
-                    for (moved, undone_picture) in &undone[k] {
-                        if moved.name == fault.name {
-                            continue;
-                        }
-                        let mut found = vec![f64::INFINITY; failing.len()];
-                        found[k] = bad(picture, undone_picture);
-                        singles[index].permuted.push((
-                            k,
-                            Tried {
-                                plant,
-                                faults: vec![moved, fault],
-                                parameters: parameters.clone(),
-                                bad: found,
-                                error: vec![f64::INFINITY; failing.len()],
-                            },
-                        ));
-                    }
+                    let pairs = moved(k, plant, fault, &parameters, picture);
+                    singles[index].permuted.extend(pairs);
                 }
             }
         }
