@@ -11,6 +11,7 @@ mod diagnosis;
 mod failure;
 pub mod faults;
 mod finding;
+mod fit;
 pub mod formats;
 mod guard;
 mod likely;

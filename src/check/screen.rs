@@ -87,6 +87,16 @@ impl Screen {
         wanted.contains(&true).then_some(Screen { wanted, rule })
     }
 
+    /// Every `n`th row of a picture `height` rows high, from the `n / 2`th: a sample of the
+    /// whole picture (a fit's measure), not of where it differs.
+    pub fn every(n: usize, height: usize, rule: Rule) -> Screen {
+        let n = n.max(1);
+        Screen {
+            wanted: (0..height).map(|row| row % n == n / 2).collect(),
+            rule,
+        }
+    }
+
     /// The rows to render, counted from the top.
     pub fn wanted(&self) -> &[bool] {
         &self.wanted

@@ -9,6 +9,7 @@ use std::path::Path;
 use super::cache;
 use super::choices::{self, Acceptance};
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
+use super::fit::fit_camera;
 use super::rule::{Rule, compare};
 use super::screen::{Failing, Screen};
 use super::suite::{Line, Pin};
@@ -26,6 +27,8 @@ const MIN_PAIRS: usize = 24;
 /// ...and where the line is screened by a few rows (a pair ruled out there is never rendered
 /// whole), this many.
 const SCREENED_PAIRS: usize = 128;
+/// A fit measures its renders on every this many rows of a picture.
+const FIT_ROWS: usize = 3;
 
 /// Faults (one, or two planted together) whose render of a line matches a picture.
 #[derive(Debug, Clone, PartialEq)]
@@ -253,6 +256,33 @@ impl<'a> Renders<'a> {
             (Some(screen), Some(picture)) => screen.mean_difference(picture, actual),
             _ => mean_difference(picture, actual),
         }
+    }
+
+    /// How far `plant`'s render is from the failing pictures `pictures` (their indices among
+    /// them): the sum of their mean differences over every [`FIT_ROWS`]th row. A fit's measure,
+    /// of numbers that are the student's alone: never kept.
+    fn fit_distance(&self, plant: Plant, pictures: &[usize]) -> Result<f64, Unfinished> {
+        let line = &self.prepared.line;
+        let sample = Screen::every(FIT_ROWS, line.options.height as usize, self.rule);
+        let rows = render_rows_until(
+            &line.options,
+            &line.scene,
+            plant,
+            self.stop,
+            sample.wanted(),
+        )
+        .ok_or(Unfinished::Stopped)?
+        .pictures;
+        Ok(pictures
+            .iter()
+            .map(|&k| {
+                let (image, actual) = self.failing[k];
+                rows.get(self.prepared.slots[image])
+                    .map_or(f64::INFINITY, |picture| {
+                        sample.mean_difference(picture, actual)
+                    })
+            })
+            .sum())
     }
 
     /// `plant`'s whole render of the line, in the order of the line's images: kept, or
@@ -637,6 +667,34 @@ pub fn simulate(
         let plant = Plant::one(candidate.planted);
         singles.push(look(plant, &[fault], &parameters, renders.screen.as_ref())?);
     }
+    // The camera fitted, for the pictures no fault explains whose objects stand elsewhere than
+    // the reference's: a camera's mistake written in a form the library does not list is named
+    // by where the fit lands.
+    let displaced: Vec<usize> = (0..failing.len())
+        .filter(|&k| {
+            singles
+                .iter()
+                .all(|single| single.tried.bad[k] > rule.max_bad)
+        })
+        .filter(|&k| {
+            let (image, actual, reference) = failing[k];
+            prepared.slots[image] < prepared.traced
+                && reference.is_some_and(|r| super::diagnose::silhouette_moved(actual, r, rule))
+        })
+        .collect();
+    if !displaced.is_empty() {
+        let distance = |plant: Plant| renders.fit_distance(plant, &displaced);
+        let pictures: Vec<(&Image, &Image)> = displaced
+            .iter()
+            .filter_map(|&k| Some((failing[k].1, failing[k].2?)))
+            .collect();
+        for fitted in fit_camera(&prepared.line, &pictures, distance)? {
+            let plant = Plant::one(fitted.plant);
+            for (faults, numbers) in &fitted.names {
+                singles.push(look(plant, faults, numbers, renders.screen.as_ref())?);
+            }
+        }
+    }
     let explained = |k: usize| {
         singles
             .iter()
@@ -849,6 +907,20 @@ fn matches(tried: &[Tried], k: usize, rule: Rule) -> Vec<FaultMatch> {
             }),
         }
     }
+    // Fewer mistakes first: a match whose faults hold another match's, and more, is dropped
+    // where the other is as close (a fit may name a second fault for numbers that change
+    // nothing the picture shows).
+    let simpler = |m: &FaultMatch, other: &FaultMatch| {
+        other.faults.len() < m.faults.len()
+            && other.bad_fraction <= m.bad_fraction
+            && other.faults.iter().all(|f| m.faults.contains(f))
+    };
+    let kept: Vec<bool> = found
+        .iter()
+        .map(|m| !found.iter().any(|other| simpler(m, other)))
+        .collect();
+    let mut kept = kept.into_iter();
+    found.retain(|_| kept.next().unwrap_or(true));
     // Stable: among equal figures, the library's order stands.
     found.sort_by(|a, b| a.bad_fraction.total_cmp(&b.bad_fraction));
     found

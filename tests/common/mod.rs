@@ -101,36 +101,60 @@ const RAYCAST: &str = env!("CARGO_BIN_EXE_raycast");
 /// where the checkout sits (a folder closed to other users, such as /root, holds the build).
 pub fn open_raycast() -> &'static str {
     static COPY: std::sync::OnceLock<String> = std::sync::OnceLock::new();
-    COPY.get_or_init(|| {
-        let built = std::fs::metadata(RAYCAST).unwrap();
-        let stamp = built
-            .modified()
-            .unwrap()
-            .duration_since(std::time::UNIX_EPOCH)
-            .unwrap()
-            .as_nanos();
-        let dir = std::env::temp_dir().join(format!("raycast-open-{}-{stamp}", built.len()));
-        let copy = dir.join("raycast");
-        if !copy.is_file() {
-            std::fs::create_dir_all(&dir).unwrap();
-            let partial = dir.join(format!("raycast.{}", std::process::id()));
-            std::fs::copy(RAYCAST, &partial).unwrap();
-            #[cfg(unix)]
-            std::fs::set_permissions(
-                &partial,
-                <std::fs::Permissions as std::os::unix::fs::PermissionsExt>::from_mode(0o755),
-            )
-            .unwrap();
-            std::fs::rename(&partial, &copy).unwrap();
-        }
+    COPY.get_or_init(|| open_copy(Path::new(RAYCAST)))
+}
+
+/// The example program `name` of this build (`cargo test` builds the examples beside the
+/// program), copied as [`open_raycast`] is.
+pub fn open_example(name: &str) -> String {
+    let built = Path::new(RAYCAST)
+        .parent()
+        .unwrap()
+        .join("examples")
+        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        built.is_file(),
+        "no example {} (build it: cargo build --examples, or run all the tests with cargo test)",
+        built.display()
+    );
+    open_copy(&built)
+}
+
+/// `built`, copied into a folder of its own in the system's temporary folder that every user
+/// may enter (once per build of it).
+fn open_copy(built: &Path) -> String {
+    let metadata = std::fs::metadata(built).unwrap();
+    let stamp = metadata
+        .modified()
+        .unwrap()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_nanos();
+    let name = built.file_name().unwrap().to_str().unwrap();
+    let dir = std::env::temp_dir().join(format!("{name}-open-{}-{stamp}", metadata.len()));
+    let copy = dir.join(name);
+    if !copy.is_file() {
+        std::fs::create_dir_all(&dir).unwrap();
+        // Each copy its own partial file: tests in threads may copy the same program at once.
+        static COPIES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let copy_number = COPIES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let partial = dir.join(format!("{name}.{}.{copy_number}", std::process::id()));
+        std::fs::copy(built, &partial).unwrap();
         #[cfg(unix)]
         std::fs::set_permissions(
-            &dir,
+            &partial,
             <std::fs::Permissions as std::os::unix::fs::PermissionsExt>::from_mode(0o755),
         )
         .unwrap();
-        copy.display().to_string()
-    })
+        std::fs::rename(&partial, &copy).unwrap();
+    }
+    #[cfg(unix)]
+    std::fs::set_permissions(
+        &dir,
+        <std::fs::Permissions as std::os::unix::fs::PermissionsExt>::from_mode(0o755),
+    )
+    .unwrap();
+    copy.display().to_string()
 }
 
 /// The folder of [`open_raycast`], for `--allow-read`.

@@ -323,6 +323,44 @@ pub fn diagnose(actual: &Image, reference: &Image, rule: Rule) -> Vec<Diagnosis>
     found
 }
 
+/// Whether the objects stand elsewhere in `actual` than in `reference`: more pixels than `rule`
+/// allows show the background in one picture and an object in the other (each picture's
+/// background its border's colour). Never for a reference without a background to tell by.
+pub fn silhouette_moved(actual: &Image, reference: &Image, rule: Rule) -> bool {
+    if compare(actual, reference, rule.tolerance).is_none() {
+        return false;
+    }
+    let pair = Pair::new(actual, reference, rule.tolerance);
+    if !pair.reference_has_background {
+        return false;
+    }
+    let moved = (0..pair.actual.len())
+        .filter(|&i| pair.reference_shows_background[i] != pair.actual_shows_background(i))
+        .count();
+    moved as f64 > rule.max_bad * pair.actual.len() as f64
+}
+
+/// The box that holds a picture's objects: the least and greatest column and row (rows from the
+/// top) of the pixels that are not its background (its border's colour); `None` where the
+/// picture shows nothing but background.
+pub fn object_bounds(image: &Image, tolerance: u8) -> Option<[f64; 4]> {
+    let (width, height) = (image.width as usize, image.height as usize);
+    if image.pixels.len() != width * height {
+        return None;
+    }
+    let background = pixels::border_mode(&image.pixels, width, height);
+    let mut bounds: Option<[f64; 4]> = None;
+    for (index, &colour) in image.pixels.iter().enumerate() {
+        if crate::check::rule::channel_difference(colour, background) <= tolerance {
+            continue;
+        }
+        let (x, y) = ((index % width) as f64, (index / width) as f64);
+        let b = bounds.get_or_insert([x, y, x, y]);
+        *b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+    }
+    bounds
+}
+
 #[cfg(test)]
 mod tests {
     use super::fixtures::*;

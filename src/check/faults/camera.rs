@@ -23,6 +23,48 @@ pub enum CameraFault {
     Other(Camera),
     /// Rays at equal angles across the field of view rather than through an image plane.
     EqualAngles(Camera, f32),
+    /// The camera a fit found for a student's pictures: the scene's camera, the full angle of
+    /// its view in radians (0 for an orthographic one), and how pixels map onto rays.
+    Mapped(Camera, f32, Mapping),
+}
+
+/// How a student's camera maps pixels onto rays, as a fit finds it: each pixel's film point
+/// moved by an offset, the view scaled per axis and sheared about its centre (an axis of
+/// another length, or leaning), and the ray made through a plane, by two turns, or by a tangent
+/// per axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mapping {
+    /// How the ray is made from a point of the view.
+    pub form: RayForm,
+    /// Added to each pixel's centre, in pixels (right, up).
+    pub offset: [f32; 2],
+    /// The view's width and height, as shares of the course's.
+    pub scale: [f32; 2],
+    /// How far the screen's x leans per unit of its y.
+    pub shear: f32,
+}
+
+impl Mapping {
+    /// The course's mapping, in `form`.
+    pub fn course(form: RayForm) -> Mapping {
+        Mapping {
+            form,
+            offset: [0.0; 2],
+            scale: [1.0; 2],
+            shear: 0.0,
+        }
+    }
+}
+
+/// How a perspective ray is made from a point (x, y) of the view, each in [-½, ½].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RayForm {
+    /// Through the point of an image plane: the course's.
+    Plane,
+    /// Turned by x·angle about the up axis, then by y·angle about the horizontal one.
+    TurnedAngles,
+    /// direction + tan(x·angle)·horizontal + tan(y·angle)·up.
+    TangentPerAxis,
 }
 
 impl CameraFault {
@@ -49,6 +91,10 @@ impl CameraFault {
                 };
                 Some((spread(i, width), spread(j, height)))
             }
+            CameraFault::Mapped(_, _, mapping) => Some((
+                i as f32 + 0.5 + mapping.offset[0],
+                j as f32 + 0.5 + mapping.offset[1],
+            )),
             _ => None,
         }
     }
@@ -65,6 +111,28 @@ impl CameraFault {
                     + horizontal * (a.sin() * b.cos())
                     + up * b.sin();
                 Some(Ray::new(camera.center(), turned))
+            }
+            CameraFault::Mapped(camera, angle, mapping) => {
+                let (x, y) = (u - 0.5, v - 0.5);
+                let (x, y) = (
+                    mapping.scale[0] * x + mapping.shear * y,
+                    mapping.scale[1] * y,
+                );
+                let (direction, horizontal, up) = camera.frame();
+                Some(match mapping.form {
+                    RayForm::Plane => camera.ray(0.5 + x, 0.5 + y),
+                    RayForm::TurnedAngles => {
+                        let (a, b) = (x * angle, y * angle);
+                        let turned = direction * (a.cos() * b.cos())
+                            + horizontal * (a.sin() * b.cos())
+                            + up * b.sin();
+                        Ray::new(camera.center(), turned)
+                    }
+                    RayForm::TangentPerAxis => Ray::new(
+                        camera.center(),
+                        direction + horizontal * (x * angle).tan() + up * (y * angle).tan(),
+                    ),
+                })
             }
             _ => None,
         }

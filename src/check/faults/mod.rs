@@ -28,7 +28,7 @@ use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surfa
 use crate::shade::PictureSeam;
 use crate::trace::{BackFace, TraceSeam};
 
-pub use camera::CameraFault;
+pub use camera::{CameraFault, Mapping, RayForm};
 pub use intersection::HitFault;
 pub use pictures::PictureFault;
 pub use rays::{CriticalAngle, RayFault};

@@ -1,0 +1,148 @@
+//! A student's tracer with one mistake written in a form of its own: not the way check's fault
+//! library plants it, so that check's tests can show a fit naming what no list holds.
+//!
+//! ```sh
+//! cargo run --release --example student_forms -- FORM -input scene.txt -size 200 200 -output out.tga
+//! ```
+//!
+//! FORM is one of the names in [`Form::named`]; the rest is the course's command line.
+
+use std::process::ExitCode;
+
+use raycast::Scene;
+use raycast::camera::{Camera, CameraSeam, film_to_screen};
+use raycast::geometry::Ray;
+use raycast::job::{Command, parse_args, render_to_files, reserve_outputs};
+use raycast::parse::description::Projection;
+use raycast::parse::read_scene;
+use raycast::sample::SampleSeam;
+use raycast::shade::PictureSeam;
+use raycast::trace::TraceSeam;
+use raycast::{UVec3, Vec3A};
+
+/// Each mistake, as a student might have written it.
+#[derive(Debug, Clone, Copy)]
+enum Form {
+    /// Perspective rays at equal angle steps, a tangent per axis:
+    /// `direction + tan((u - 0.5) * angle) * horizontal + tan((v - 0.5) * angle) * up`.
+    TangentPerAxis,
+    /// The up vector made orthogonal to the direction (`up - (up . d) d`) and never normalised.
+    UpOrthogonalNotNormalised(Vec3A),
+    /// The horizontal vector `direction x up` never normalised (the up vector made from it is).
+    HorizontalNotNormalised(Vec3A),
+    /// The screen built from the file's direction as written, not normalised.
+    RawDirection(Vec3A),
+    /// Half a pixel added to the row but not to the column.
+    LeftEdge,
+}
+
+impl Form {
+    fn named(name: &str, file_up: Vec3A, file_direction: Vec3A) -> Option<Form> {
+        Some(match name {
+            "tangent_per_axis" => Form::TangentPerAxis,
+            "up_orthogonal_not_normalised" => Form::UpOrthogonalNotNormalised(file_up),
+            "horizontal_not_normalised" => Form::HorizontalNotNormalised(file_up),
+            "raw_direction" => Form::RawDirection(file_direction),
+            "left_edge" => Form::LeftEdge,
+            _ => return None,
+        })
+    }
+
+    /// The student's frame: direction, horizontal and up, each as their code makes it.
+    fn frame(&self, camera: &Camera) -> (Vec3A, Vec3A, Vec3A) {
+        let (direction, horizontal, up) = camera.frame();
+        match *self {
+            Form::UpOrthogonalNotNormalised(file_up) => (
+                direction,
+                horizontal,
+                file_up - file_up.dot(direction) * direction,
+            ),
+            Form::HorizontalNotNormalised(file_up) => {
+                let long = direction.cross(file_up);
+                (direction, long, long.normalize().cross(direction))
+            }
+            Form::RawDirection(raw) => (raw, horizontal, up),
+            Form::TangentPerAxis | Form::LeftEdge => (direction, horizontal, up),
+        }
+    }
+}
+
+impl CameraSeam for Form {
+    fn pixel_to_screen(&self, i: u32, j: u32, width: u32, height: u32) -> (f32, f32) {
+        match self {
+            Form::LeftEdge => film_to_screen(i as f32, j as f32 + 0.5, width, height),
+            _ => film_to_screen(i as f32 + 0.5, j as f32 + 0.5, width, height),
+        }
+    }
+
+    fn ray(&self, camera: &Camera, u: f32, v: f32) -> Ray {
+        let (x, y) = (u - 0.5, v - 0.5);
+        let (direction, horizontal, up) = self.frame(camera);
+        match (camera.projection(), self) {
+            (Projection::Perspective { angle }, Form::TangentPerAxis) => {
+                let angle = angle.to_radians();
+                let through = direction + (x * angle).tan() * horizontal + (y * angle).tan() * up;
+                Ray::new(camera.center(), through)
+            }
+            (Projection::Perspective { angle }, _) => {
+                let screen = 2.0 * (angle.to_radians() / 2.0).tan();
+                let through = direction + (x * screen) * horizontal + (y * screen) * up;
+                Ray::new(camera.center(), through)
+            }
+            (Projection::Orthographic { size }, _) => Ray::new(
+                camera.center() + (x * size) * horizontal + (y * size) * up,
+                direction.normalize(),
+            ),
+        }
+    }
+}
+
+impl TraceSeam for Form {}
+impl PictureSeam for Form {}
+impl SampleSeam for Form {}
+
+fn run(args: Vec<String>) -> Result<(), String> {
+    let (form, course) = args
+        .split_first()
+        .ok_or("usage: student_forms FORM RAYTRACER-ARGUMENTS...")?;
+    let options = match parse_args(course.iter().map(Into::into).collect())? {
+        Command::Render(options) => *options,
+        _ => return Err("expected a render's command line".into()),
+    };
+    let description = read_scene(&options.input).map_err(|e| e.to_string())?;
+    let camera = description.camera;
+    let raw_direction = written_direction(&options.input).unwrap_or(camera.direction.into());
+    let form = Form::named(form, camera.up.into(), raw_direction)
+        .ok_or_else(|| format!("unknown form '{form}'"))?;
+    let mut scene = Scene::from_description(&description).map_err(|e| e.to_string())?;
+    if let Some([x, y, z]) = options.grid {
+        scene
+            .world
+            .use_grid(UVec3::new(x, y, z))
+            .map_err(|e| e.to_string())?;
+    }
+    let pending = reserve_outputs(&options).map_err(|e| e.to_string())?;
+    render_to_files(&options, &scene, form, pending).map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// The camera's direction as the scene file writes it (the parser normalises it).
+fn written_direction(path: &std::path::Path) -> Option<Vec3A> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let mut words = text
+        .split_whitespace()
+        .skip_while(|w| *w != "direction")
+        .skip(1);
+    let mut next = || words.next()?.parse::<f32>().ok();
+    Some(Vec3A::new(next()?, next()?, next()?))
+}
+
+fn main() -> ExitCode {
+    match run(std::env::args().skip(1).collect()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("student_forms: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

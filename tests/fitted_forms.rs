@@ -1,0 +1,176 @@
+//! Camera mistakes written in forms of their own (the example `student_forms`, not the fault
+//! library's code): check fits the camera to the student's pictures and names the fault from
+//! where the fit lands, on every picture the mistake changes.
+
+// The renderers here are shell scripts around the example.
+#![cfg(unix)]
+
+mod common;
+
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const RAYCAST: &str = env!("CARGO_BIN_EXE_raycast");
+
+fn conformance_dir() -> Option<PathBuf> {
+    common::data_dir(
+        "the fitted forms",
+        "RAYCAST_CONFORMANCE_DIR",
+        "../shared/conformance",
+        "COMMANDS.txt",
+    )
+}
+
+/// check's report of the example's `form` on the conformance lines of `scenes`: each failing
+/// picture's line of the terminal's table.
+fn failing(form: &str, scenes: &[&str]) -> Vec<String> {
+    let conformance = conformance_dir().expect("the conformance suite");
+    let dir = tempfile::tempdir().unwrap();
+    let suite = dir.path().join("suite");
+    std::fs::create_dir_all(&suite).unwrap();
+    for folder in ["scenes", "reference"] {
+        std::os::unix::fs::symlink(conformance.join(folder), suite.join(folder)).unwrap();
+    }
+    let commands = std::fs::read_to_string(conformance.join("COMMANDS.txt")).unwrap();
+    let lines: Vec<&str> = commands
+        .lines()
+        .filter(|line| scenes.iter().any(|s| line.contains(&format!(" {s}"))))
+        .collect();
+    std::fs::write(suite.join("COMMANDS.txt"), lines.join("\n") + "\n").unwrap();
+    let example = common::open_example("student_forms");
+    let renderer = dir.path().join(form);
+    std::fs::write(
+        &renderer,
+        format!("#!/bin/sh\nexec {example} {form} \"$@\"\n"),
+    )
+    .unwrap();
+    std::fs::set_permissions(&renderer, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let output = Command::new(RAYCAST)
+        .args(["check", suite.to_str().unwrap(), "--renderer"])
+        .arg(&renderer)
+        .args([
+            "--allow-read",
+            Path::new(&example).parent().unwrap().to_str().unwrap(),
+        ])
+        .env("RAYCAST_CACHE_DIR", dir.path().join("cache"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&output.stdout).into_owned();
+    let failing: Vec<String> = out
+        .lines()
+        .filter(|l| l.starts_with("FAIL"))
+        .map(String::from)
+        .collect();
+    assert!(!failing.is_empty(), "{form}: nothing failed\n{out}");
+    failing
+}
+
+/// Every failing picture names `fault` first, alone.
+fn all_named(form: &str, scenes: &[&str], fault: &str) -> Vec<String> {
+    let failing = failing(form, scenes);
+    for line in &failing {
+        assert!(
+            line.contains(&format!("% of pixels off: {fault}: raycast's render"))
+                || line.contains(&format!("% of pixels off: {fault}, ")),
+            "{form}: {line}\n{}",
+            failing.join("\n")
+        );
+    }
+    failing
+}
+
+#[test]
+fn perspective_rays_by_a_tangent_per_axis_are_equal_angle_rays() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    all_named(
+        "tangent_per_axis",
+        &["scene2_04_perspective.txt", "scene2_08_cube.txt"],
+        "equal_angle_rays",
+    );
+}
+
+#[test]
+fn an_up_vector_made_orthogonal_and_never_normalised_is_the_camera_basis() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = all_named(
+        "up_orthogonal_not_normalised",
+        &[
+            "scene1_03.txt",
+            "scene1_04.txt",
+            "scene1_05.txt",
+            "scene2_08_cube.txt",
+        ],
+        "camera_basis",
+    );
+    // Pictures only the fit explains: the depth of a frame whose up is shortened.
+    assert_eq!(failing.len(), 7, "{}", failing.join("\n"));
+    assert!(
+        failing
+            .iter()
+            .any(|l| l.contains("depth1_05") && l.contains("scale_x 1, scale_y 0.8165")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn a_horizontal_vector_never_normalised_is_the_camera_basis_with_its_length() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = all_named(
+        "horizontal_not_normalised",
+        &["scene1_03.txt", "scene1_04.txt"],
+        "camera_basis",
+    );
+    // |direction × up| of scene1_03's up (0.5, 1, 0): √1.25.
+    assert!(
+        failing
+            .iter()
+            .any(|l| l.contains("output1_03") && l.contains("scale_x 1.118")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn a_screen_built_from_the_unnormalised_direction_is_a_view_of_another_size() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // scene2_08's direction (-0.5, -0.5, -1) is √1.5 long: the view is 1/√1.5 as wide, which
+    // the picture cannot tell from a narrower angle; both are named.
+    let failing = all_named("raw_direction", &["scene2_08_cube.txt"], "field_of_view");
+    assert!(
+        failing[0].contains("field_of_view, camera_basis:"),
+        "{}",
+        failing[0]
+    );
+}
+
+#[test]
+fn half_a_pixel_added_to_the_row_alone_is_a_ray_through_a_pixel_edge() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = all_named(
+        "left_edge",
+        &[
+            "scene1_01.txt",
+            "scene1_05.txt",
+            "scene2_04_perspective.txt",
+            "scene2_14_axes_cube.txt",
+        ],
+        "pixel_corner",
+    );
+    assert!(
+        failing.iter().all(|l| l.contains("offset_x -0.5")),
+        "{}",
+        failing.join("\n")
+    );
+}
