@@ -34,16 +34,20 @@ enum Form {
     RawDirection(Vec3A),
     /// Half a pixel added to the row but not to the column.
     LeftEdge,
+    /// The depth picture's grey counted from the picture's nearest hit, over the command line's
+    /// range: `1 - (t - nearest) / (TMAX - TMIN)`.
+    DepthFromNearest(f32),
 }
 
 impl Form {
-    fn named(name: &str, file_up: Vec3A, file_direction: Vec3A) -> Option<Form> {
+    fn named(name: &str, file_up: Vec3A, file_direction: Vec3A, nearest: f32) -> Option<Form> {
         Some(match name {
             "tangent_per_axis" => Form::TangentPerAxis,
             "up_orthogonal_not_normalised" => Form::UpOrthogonalNotNormalised(file_up),
             "horizontal_not_normalised" => Form::HorizontalNotNormalised(file_up),
             "raw_direction" => Form::RawDirection(file_direction),
             "left_edge" => Form::LeftEdge,
+            "depth_from_nearest" => Form::DepthFromNearest(nearest),
             _ => return None,
         })
     }
@@ -62,7 +66,7 @@ impl Form {
                 (direction, long, long.normalize().cross(direction))
             }
             Form::RawDirection(raw) => (raw, horizontal, up),
-            Form::TangentPerAxis | Form::LeftEdge => (direction, horizontal, up),
+            _ => (direction, horizontal, up),
         }
     }
 }
@@ -98,7 +102,16 @@ impl CameraSeam for Form {
 }
 
 impl TraceSeam for Form {}
-impl PictureSeam for Form {}
+impl PictureSeam for Form {
+    fn depth_grey(&self, t: f32, t_near: f32, t_far: f32) -> f32 {
+        match *self {
+            Form::DepthFromNearest(nearest) => {
+                (1.0 - (t - nearest) / (t_far - t_near)).clamp(0.0, 1.0)
+            }
+            _ => raycast::shade::depth_grey(t, t_near, t_far),
+        }
+    }
+}
 impl SampleSeam for Form {}
 
 fn run(args: Vec<String>) -> Result<(), String> {
@@ -112,8 +125,6 @@ fn run(args: Vec<String>) -> Result<(), String> {
     let description = read_scene(&options.input).map_err(|e| e.to_string())?;
     let camera = description.camera;
     let raw_direction = written_direction(&options.input).unwrap_or(camera.direction.into());
-    let form = Form::named(form, camera.up.into(), raw_direction)
-        .ok_or_else(|| format!("unknown form '{form}'"))?;
     let mut scene = Scene::from_description(&description).map_err(|e| e.to_string())?;
     if let Some([x, y, z]) = options.grid {
         scene
@@ -121,9 +132,28 @@ fn run(args: Vec<String>) -> Result<(), String> {
             .use_grid(UVec3::new(x, y, z))
             .map_err(|e| e.to_string())?;
     }
+    let nearest = nearest_hit(&scene, options.width, options.height);
+    let form = Form::named(form, camera.up.into(), raw_direction, nearest)
+        .ok_or_else(|| format!("unknown form '{form}'"))?;
     let pending = reserve_outputs(&options).map_err(|e| e.to_string())?;
     render_to_files(&options, &scene, form, pending).map_err(|e| e.to_string())?;
     Ok(())
+}
+
+/// The distance of the nearest hit of the rays through the pixels' centres.
+fn nearest_hit(scene: &Scene, width: u32, height: u32) -> f32 {
+    let camera = &scene.camera;
+    let mut nearest = f32::INFINITY;
+    for j in 0..height {
+        for i in 0..width {
+            let (u, v) = raycast::camera::pixel_to_screen(i, j, width, height);
+            let ray = camera.ray(u, v);
+            if let Some(hit) = scene.world.intersect(&ray, camera.t_min()) {
+                nearest = nearest.min(hit.t * ray.direction.length());
+            }
+        }
+    }
+    nearest
 }
 
 /// The camera's direction as the scene file writes it (the parser normalises it).

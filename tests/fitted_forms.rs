@@ -174,3 +174,28 @@ fn half_a_pixel_added_to_the_row_alone_is_a_ray_through_a_pixel_edge() {
         failing.join("\n")
     );
 }
+
+#[test]
+fn a_depth_counted_from_the_pictures_nearest_hit_is_the_depth_range_with_its_distances() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = all_named(
+        "depth_from_nearest",
+        &[
+            "scene1_02.txt",
+            "scene2_06_plane.txt",
+            "scene2_16_t_scale.txt",
+        ],
+        "depth_range",
+    );
+    assert_eq!(failing.len(), 3, "{}", failing.join("\n"));
+    // scene1_02's nearest hit is 8.25 away: the student's range is 8.25 to 12.25.
+    assert!(
+        failing
+            .iter()
+            .any(|l| l.contains("depth1_02") && l.contains("near 8.25") && l.contains("far 12.2")),
+        "{}",
+        failing.join("\n")
+    );
+}

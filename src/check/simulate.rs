@@ -9,7 +9,8 @@ use std::path::Path;
 use super::cache;
 use super::choices::{self, Acceptance};
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
-use super::fit::fit_camera;
+use super::faults::{PictureFault, Planted};
+use super::fit::{fit_camera, fit_depth_range};
 use super::rule::{Rule, compare};
 use super::screen::{Failing, Screen};
 use super::suite::{Line, Pin};
@@ -692,6 +693,29 @@ pub fn simulate(
             let plant = Plant::one(fitted.plant);
             for (faults, numbers) in &fitted.names {
                 singles.push(look(plant, faults, numbers, renders.screen.as_ref())?);
+            }
+        }
+    }
+    // The depth picture's range, fitted to a depth picture no fault explains.
+    let options = &prepared.line.options;
+    let depth_slot = usize::from(options.output.is_some()) + usize::from(options.normals.is_some());
+    if let (Some((near, far, _)), Some(fault)) =
+        (&options.depth, super::faults::fault("depth_range"))
+    {
+        for (k, &(image, actual, reference)) in failing.iter().enumerate() {
+            let unexplained = singles
+                .iter()
+                .all(|single| single.tried.bad[k] > rule.max_bad);
+            let Some(reference) = reference.filter(|_| unexplained) else {
+                continue;
+            };
+            if prepared.slots[image] != depth_slot {
+                continue;
+            }
+            if let Some((a, b)) = fit_depth_range(*near, *far, actual, reference) {
+                let plant = Plant::one(Planted::Picture(PictureFault::DepthRange(a, b)));
+                let numbers = [("near", f64::from(a)), ("far", f64::from(b))];
+                singles.push(look(plant, &[fault], &numbers, renders.screen.as_ref())?);
             }
         }
     }

@@ -14,8 +14,11 @@ use crate::parse::description::Projection;
 use crate::shade::Image;
 
 // The numbers of a mapping, in order: the offset (x, y) in pixels, the scale (x, y), the shear.
-/// Renders allowed for each stage of a form's search.
+/// Renders allowed for each stage of a form's search...
 const EVALUATIONS: usize = 30;
+/// ...and for all of a line's (each of a third of the rows: some three hundred renders' worth,
+/// milliseconds each on the course's first assignments).
+const BUDGET: usize = 1000;
 /// The searches of a fit, in two orders: which numbers each stage searches, and whether by the
 /// finer steps.
 const ORDERS: [[(&[usize], bool); 3]; 2] = [
@@ -83,15 +86,25 @@ pub fn fit_camera<E>(
         )))
     };
     let course_at = [0.0, 0.0, 1.0, 1.0, 0.0];
+    let guess = estimate(pictures);
     let course = distance(plant(RayForm::Plane, &course_at))?;
     let mut fitted = Vec::new();
+    let mut spent = 0;
     for &form in forms {
-        let mut measure = |p: &[f64]| distance(plant(form, p));
+        // Past the line's budget every render is as far as can be: the searches end at once.
+        let mut measure = |p: &[f64]| {
+            spent += 1;
+            if spent > BUDGET {
+                Ok(f64::INFINITY)
+            } else {
+                distance(plant(form, p))
+            }
+        };
         // In stages, each a search of a few numbers (a search of all five at once settles on
         // the steps that edges make of a distance), in two orders (an offset can stand in for
         // part of a scale, and the reverse): the first to land nearest is kept.
         let mut best = (course_at.to_vec(), f64::INFINITY);
-        let starts = estimate(pictures).into_iter().chain([course_at]);
+        let starts = guess.into_iter().chain([course_at]);
         let tries: Vec<([f64; 5], _)> = starts
             .enumerate()
             .flat_map(|(k, start)| {

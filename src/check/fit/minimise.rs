@@ -166,7 +166,7 @@ mod tests {
             if p[0] > 0.9 {
                 Err("stopped")
             } else {
-                Ok(-p[0])
+                Ok(2.0 - p[0])
             }
         });
         assert_eq!(result, Err("stopped"));

@@ -6,6 +6,8 @@
 //! formula that put it there).
 
 mod camera;
+mod depth;
 mod minimise;
 
 pub use camera::fit_camera;
+pub use depth::fit_depth_range;
