@@ -46,7 +46,8 @@ fn graded_of(value: &Value) -> Option<Graded> {
         reference: None,
         stderr: value["stderr"].as_str()?.to_string(),
         seconds: value["seconds"].as_f64()?,
-        against_raycast: value["reference"] == "raycast",
+        against_raycast: value["reference"] == "raycast" || value["reference"] == "raycast_seeds",
+        by_chance: value["reference"] == "raycast_seeds",
         picture,
         worst_pixel: value["worst_pixel"].as_object().and_then(|w| {
             Some(WorstPixel {

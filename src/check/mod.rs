@@ -4,6 +4,7 @@
 
 mod cache;
 mod cage;
+mod chance;
 pub mod choices;
 pub mod class;
 pub mod diagnose;
@@ -25,6 +26,7 @@ mod refused;
 mod report;
 mod rule;
 mod run;
+mod samples_picture;
 mod scratch;
 mod screen;
 mod simulate;
@@ -169,6 +171,9 @@ pub struct Graded {
     pub seconds: f64,
     /// The suite has no reference for it: it is graded against raycast's render of the line.
     pub against_raycast: bool,
+    /// It is drawn by chance (random or jittered samples): graded against the spread of
+    /// raycast's renders with several seeds, or by a samples picture's structure.
+    pub by_chance: bool,
     /// What kind of picture it is (the option that names it).
     pub picture: PictureKind,
     /// For a failing picture: raycast's account (`-inspect`) of the pixel where it differs
@@ -206,6 +211,7 @@ impl Graded {
             stderr: String::new(),
             seconds: 0.0,
             against_raycast: false,
+            by_chance: false,
             picture: line.picture_kind(k),
             worst_pixel: None,
             pictures: Pictures::default(),
@@ -278,7 +284,23 @@ pub struct Judgement {
 /// Compares `actual` with `reference` by `rule`, and diagnoses a failure: the one decision of
 /// pass or fail, for `check` and `diff` alike.
 pub fn judge(actual: &Image, reference: &Image, rule: Rule) -> Judgement {
-    let Some(comparison) = compare(actual, reference, rule.tolerance) else {
+    judge_by(actual, reference, None, rule)
+}
+
+/// [`judge`], where a picture drawn by chance is graded by its rule (`spread`: the spread of
+/// raycast's seeded renders, or the samples picture's structure) instead of against the one
+/// `reference` (which its guesses from the pixels still use).
+fn judge_by(
+    actual: &Image,
+    reference: &Image,
+    spread: Option<&chance::ByChance>,
+    rule: Rule,
+) -> Judgement {
+    let comparison = match spread {
+        Some(spread) => spread.compare(actual, rule.tolerance),
+        None => compare(actual, reference, rule.tolerance),
+    };
+    let Some(comparison) = comparison else {
         return Judgement {
             pass: false,
             bad_fraction: None,
@@ -787,19 +809,21 @@ fn unique_names(graded: &mut [Graded]) {
 }
 
 /// A line's references, one for each image it writes: the suite's, or raycast's own render of
-/// the line (`true`) where the suite has none.
-type References = Vec<(Result<Image, String>, bool)>;
+/// the line (`true`) where the suite has none; with, for a picture drawn by chance, the spread
+/// of raycast's renders with several seeds, which grades it in the reference's stead.
+type References = Vec<(Result<Image, String>, bool, Option<chance::ByChance>)>;
 
 /// Reads the references of `line`'s images, rendering the line with raycast for those the suite
 /// lacks (once for all of them).
 fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> References {
     let own = std::sync::OnceLock::new();
+    let spreads = std::sync::OnceLock::new();
     line.outputs
         .iter()
         .enumerate()
         .map(
             |(k, (_, name))| match suite.reference(&suite::image_name(name)) {
-                Some(path) => (read_image(&path), false),
+                Some(path) => (read_image(&path), false, None),
                 None => {
                     let pictures = own.get_or_init(|| {
                         cache::LineRenders::of(line, &suite.scenes).course(&suite.pinned, || {
@@ -813,7 +837,17 @@ fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> Referen
                             .ok_or_else(|| "raycast made no such picture".to_string()),
                         Err(why) => Err(format!("raycast itself could not render it: {why}")),
                     };
-                    (picture, true)
+                    let spread = spreads.get_or_init(|| {
+                        simulate::spreads(line, &suite.scenes, stop)
+                            .map_err(|why| format!("raycast itself could not render it: {why}"))
+                    });
+                    match spread {
+                        Ok(spreads) => {
+                            let spread = spreads.as_ref().and_then(|s| s.get(k).cloned().flatten());
+                            (picture, true, spread)
+                        }
+                        Err(why) => (Err(why.clone()), true, None),
+                    }
                 }
             },
         )
@@ -897,7 +931,7 @@ fn grade_line(
         .iter()
         .zip(references)
         .enumerate()
-        .map(|(k, ((_, name), (reference, own_render)))| {
+        .map(|(k, ((_, name), (reference, own_render, spread)))| {
             let image_name = suite::image_name(name);
             let mut graded = picture::grade(
                 options,
@@ -907,9 +941,10 @@ fn grade_line(
                 &image_name,
                 &ran,
                 &out.join(file_name(name)),
-                reference,
+                (reference, spread.as_ref()),
             );
             graded.against_raycast = own_render;
+            graded.by_chance = spread.is_some();
             graded.points = suite.points(&image_name);
             graded
         })
@@ -976,10 +1011,10 @@ fn file_name(name: &str) -> String {
 
 /// The one-line verdict of an image for the terminal.
 pub fn verdict(graded: &Graded) -> String {
-    let against = if graded.against_raycast {
-        " against raycast's render"
-    } else {
-        ""
+    let against = match (graded.against_raycast, graded.by_chance) {
+        (_, true) => " against the spread of raycast's renders with several seeds",
+        (true, false) => " against raycast's render",
+        (false, false) => "",
     };
     let off = graded
         .bad_fraction
@@ -1047,7 +1082,11 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
             "bad_fraction": g.bad_fraction,
             "diagnoses": g.findings.iter().map(Finding::json).collect::<Vec<_>>(),
             "explanation": g.explanation,
-            "reference": if g.against_raycast { "raycast" } else { "suite" },
+            "reference": match (g.against_raycast, g.by_chance) {
+                (_, true) => "raycast_seeds",
+                (true, false) => "raycast",
+                (false, false) => "suite",
+            },
             "stderr": untrusted::tail(&g.stderr),
             "seconds": g.seconds,
             "points": g.points,

@@ -4,9 +4,10 @@
 
 use std::path::Path;
 
+use super::chance::ByChance;
 use super::failure::{failed_run, how_it_ended, missing_output, said};
 use super::{
-    CheckOptions, Diagnosis, Ending, Finding, Graded, Image, Line, Ran, Status, finding, judge,
+    CheckOptions, Diagnosis, Ending, Finding, Graded, Image, Line, Ran, Status, finding, judge_by,
     output,
 };
 
@@ -21,7 +22,7 @@ pub(super) fn grade(
     name: &str,
     ran: &Ran,
     path: &Path,
-    reference: Result<Image, String>,
+    (reference, spread): (Result<Image, String>, Option<&ByChance>),
 ) -> Graded {
     let graded = |status, findings: Vec<Finding>, explanation: String| Graded {
         status,
@@ -55,7 +56,7 @@ pub(super) fn grade(
             Some(Ok(actual))
                 if matches!(ran.ending, Ending::Failed { .. } | Ending::Signaled { .. }) =>
             {
-                let judgement = judge(&actual, &reference, options.rule);
+                let judgement = judge_by(&actual, &reference, spread, options.rule);
                 let picture = if judgement.pass {
                     "Your picture matches the reference"
                 } else {
@@ -164,7 +165,7 @@ pub(super) fn grade(
             };
         }
     };
-    let judgement = judge(&actual, &reference, options.rule);
+    let judgement = judge_by(&actual, &reference, spread, options.rule);
     let findings: Vec<Finding> = judgement
         .diagnoses
         .into_iter()

@@ -266,7 +266,15 @@ fn block(
     };
     // The course published no picture for the line: say whose the reference is, on the page
     // as the terminal does.
-    let (reference_caption, against) = if g.against_raycast {
+    let (reference_caption, against) = if g.by_chance {
+        (
+            "reference: raycast's render (one seed)",
+            "<p class=\"against\">The course published no picture for this line, and its samples \
+             fall by chance: it is graded against the spread of raycast's renders with several \
+             seeds (a samples picture by where its dots may fall); the reference shown is one \
+             of them.</p>",
+        )
+    } else if g.against_raycast {
         (
             "reference: raycast's render",
             "<p class=\"against\">The course published no picture for this line: the \

@@ -7,11 +7,13 @@
 use std::path::Path;
 
 use super::cache;
+use super::chance::{ByChance, SEEDS, Spread, depends_on_chance};
 use super::choices::{self, Acceptance};
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
 use super::faults::{PictureFault, Planted};
 use super::fit::{fit_camera, fit_depth_range};
 use super::rule::{Rule, compare};
+use super::samples_picture::SamplesRule;
 use super::screen::{Failing, Screen};
 use super::suite::{Line, Pin};
 use crate::job::{Command, parse_args, render_pictures_until, render_rows_until};
@@ -99,7 +101,7 @@ pub fn accepted(
         .iter()
         .map(|&(image, _, actual, reference)| (image, actual, reference))
         .collect();
-    let renders = Renders::new(line, scenes, &prepared, &pictures, rule, stop);
+    let renders = Renders::new(line, scenes, &prepared, &pictures, rule, stop)?;
     // A question the suite pins accepts its pinned answer alone, which is the reference.
     let open = choices::answers()
         .filter(|(choice, _)| !pinned.iter().any(|pin| pin.choice.name == choice.name));
@@ -114,10 +116,7 @@ pub fn accepted(
             }
             let rendered = renders.whole(plant)?;
             for (k, &(image, _, actual, _)) in failing.iter().enumerate() {
-                let matches = rendered
-                    .get(image)
-                    .and_then(|picture| compare(picture, actual, rule.tolerance))
-                    .is_some_and(|c| rule.passes(&c));
+                let matches = renders.passes(k, rendered.get(image), actual);
                 if accepted[k].is_none() && matches {
                     accepted[k] = Some(Acceptance::Answer(choice, answer));
                 }
@@ -144,6 +143,9 @@ struct Renders<'a> {
     screen: Option<Screen>,
     /// The failing pictures: the index of each among the line's images, and the student's.
     failing: Vec<(usize, &'a Image)>,
+    /// For each failing picture, where the line depends on chance, the spread of raycast's
+    /// renders with several seeds (a render of the line is then one draw, compared as one).
+    spreads: Vec<Option<Spread>>,
     rule: Rule,
     stop: &'static StopFlag,
 }
@@ -156,7 +158,7 @@ impl<'a> Renders<'a> {
         failing: &[(usize, &'a Image, Option<&'a Image>)],
         rule: Rule,
         stop: &'static StopFlag,
-    ) -> Renders<'a> {
+    ) -> Result<Renders<'a>, Unfinished> {
         let screened: Vec<Failing> = failing
             .iter()
             .map(|&(image, actual, reference)| Failing {
@@ -165,17 +167,58 @@ impl<'a> Renders<'a> {
                 traced: prepared.slots[image] < prepared.traced,
             })
             .collect();
-        Renders {
+        let chance = depends_on_chance(&prepared.line.options);
+        let mut renders = Renders {
             prepared,
             kept: cache::LineRenders::of(line, scenes),
-            screen: Screen::of(&screened, rule),
+            // Rows of a picture drawn by chance differ from another draw's everywhere a little:
+            // a few rows cannot rule a render out by the course's tolerance.
+            screen: Screen::of(&screened, rule).filter(|_| !chance),
             failing: failing
                 .iter()
                 .map(|&(image, actual, _)| (image, actual))
                 .collect(),
+            spreads: vec![None; failing.len()],
             rule,
             stop,
+        };
+        if chance {
+            let spreads = seeded_spreads(&renders.kept, prepared, stop)?;
+            // A fault's samples picture is compared dot for dot: only raycast's own generator
+            // draws the same dots.
+            renders.spreads = failing
+                .iter()
+                .map(|&(image, _, _)| match spreads.get(image) {
+                    Some(Some(ByChance::Spread(spread))) => Some(spread.clone()),
+                    _ => None,
+                })
+                .collect();
         }
+        Ok(renders)
+    }
+
+    /// The share of pixels by which `picture` (a render of the line) and failing picture `k`
+    /// (`actual`, or that picture undone by a fault that moves pixels) differ: by the suite's
+    /// rule, or, for a picture drawn by chance, as two draws of the line's spread.
+    fn bad(&self, k: usize, picture: Option<&Image>, actual: &Image) -> f64 {
+        let Some(picture) = picture else {
+            return 1.0;
+        };
+        let comparison = match &self.spreads[k] {
+            Some(spread) => spread.compare_draws(actual, picture, self.rule.tolerance),
+            None => compare(picture, actual, self.rule.tolerance),
+        };
+        comparison.map_or(1.0, |c| c.bad_fraction)
+    }
+
+    /// Whether a render's picture `image` matches failing picture `k`.
+    fn passes(&self, k: usize, picture: Option<&Image>, actual: &Image) -> bool {
+        self.bad(k, picture, actual) <= self.rule.max_bad
+    }
+
+    /// Whether the pictures of the line are drawn by chance.
+    fn by_chance(&self) -> bool {
+        self.spreads.iter().any(Option::is_some)
     }
 
     /// A screen by the rows where the failing pictures differ most from `pictures` (a fault's
@@ -301,6 +344,102 @@ impl<'a> Renders<'a> {
                 .map(|&slot| pictures[slot].clone())
                 .collect())
         })
+    }
+}
+
+/// For each of the line's images, where the line depends on chance, how chance is allowed for:
+/// a picture traced from its samples by the spread of raycast's renders of it with [`SEEDS`]
+/// seeds (each kept in the cache as a fault's render is), the samples picture by its structure
+/// over raycast's render of the line at its zoom; `None` for the others.
+fn seeded_spreads(
+    kept: &cache::LineRenders,
+    prepared: &Prepared,
+    stop: &'static StopFlag,
+) -> Result<Vec<Option<ByChance>>, Unfinished> {
+    let line = &prepared.line;
+    let mut seeded: Vec<Vec<Image>> = Vec::new();
+    for seed in 1..=SEEDS {
+        seeded.push(kept.fault(&format!("seed {seed}"), || {
+            let mut options = line.options.clone();
+            options.sampling.seed = seed;
+            let pictures = render_pictures_until(&options, &line.scene, crate::render::Exact, stop)
+                .ok_or(Unfinished::Stopped)?
+                .pictures;
+            Ok(prepared
+                .slots
+                .iter()
+                .map(|&slot| pictures[slot].clone())
+                .collect())
+        })?);
+    }
+    let samples_rule = match line.options.render_samples {
+        Some((_, zoom)) => Some(samples_rule(line, zoom, stop)?),
+        None => None,
+    };
+    Ok((0..prepared.slots.len())
+        .map(|image| {
+            let slot = prepared.slots[image];
+            if slot < prepared.traced {
+                let renders: Vec<&Image> = seeded.iter().filter_map(|r| r.get(image)).collect();
+                Spread::of(&renders).map(ByChance::Spread)
+            } else if slot == prepared.traced {
+                samples_rule.clone().map(ByChance::Samples)
+            } else {
+                None
+            }
+        })
+        .collect())
+}
+
+/// The rule of the line's samples picture: raycast's render of the scene at `zoom` times the
+/// line's size, a ray through each picture pixel's centre, is the colour a dot there may have.
+fn samples_rule(
+    line: &LineScene,
+    zoom: u32,
+    stop: &'static StopFlag,
+) -> Result<SamplesRule, Unfinished> {
+    let mut options = line.options.clone();
+    options.width *= zoom;
+    options.height *= zoom;
+    options.sampling = crate::sample::Sampling::default();
+    options.render_samples = None;
+    options.render_filter = None;
+    options.normals = None;
+    options.depth = None;
+    options.output = Some(std::path::PathBuf::from("scene.tga"));
+    let scene = render_pictures_until(&options, &line.scene, crate::render::Exact, stop)
+        .ok_or(Unfinished::Stopped)?
+        .pictures
+        .into_iter()
+        .next()
+        .ok_or_else(|| Unfinished::Failed("raycast drew no scene for the samples".into()))?;
+    let sampler = line.options.sampling.sampler;
+    Ok(SamplesRule {
+        width: line.options.width,
+        height: line.options.height,
+        zoom,
+        samples: sampler.samples(),
+        jittered: matches!(sampler, crate::sample::Sampler::Jittered(_)),
+        scene,
+    })
+}
+
+/// The spread of raycast's renders of `line` with several seeds, for each of its images: `None`
+/// for a line that does not depend on chance, and for its pictures not traced from samples.
+pub fn spreads(
+    line: &Line,
+    scenes: &Path,
+    stop: &'static StopFlag,
+) -> Result<Option<Vec<Option<ByChance>>>, String> {
+    let prepared = prepare(line, scenes)?;
+    if !depends_on_chance(&prepared.line.options) {
+        return Ok(None);
+    }
+    let kept = cache::LineRenders::of(line, scenes);
+    match seeded_spreads(&kept, &prepared, stop) {
+        Ok(spreads) => Ok(Some(spreads)),
+        Err(Unfinished::Stopped) => Err(STOPPED.to_string()),
+        Err(Unfinished::Failed(why)) => Err(why),
     }
 }
 
@@ -525,12 +664,8 @@ pub fn simulate(
                 .collect()
         })
         .collect();
-    let renders = Renders::new(line, scenes, &prepared, failing, rule, stop);
-    let bad = |picture: Option<&Image>, actual: &Image| {
-        picture
-            .and_then(|picture| compare(picture, actual, rule.tolerance))
-            .map_or(1.0, |c| c.bad_fraction)
-    };
+    let renders = Renders::new(line, scenes, &prepared, failing, rule, stop)?;
+    let bad = |k: usize, picture: Option<&Image>, actual: &Image| renders.bad(k, picture, actual);
     // The pairs a single fault's render of image `k` makes with the faults that only move
     // pixels: compared with the student's picture undone by each.
     let moved = |k: usize,
@@ -543,7 +678,7 @@ pub fn simulate(
             .filter(|(mover, _)| mover.name != fault.name)
             .map(|&(mover, ref undone_picture)| {
                 let mut found = vec![f64::INFINITY; failing.len()];
-                found[k] = bad(picture, undone_picture);
+                found[k] = bad(k, picture, undone_picture);
                 let pair = Tried {
                     plant,
                     faults: vec![mover, fault],
@@ -591,7 +726,7 @@ pub fn simulate(
         let mut permuted = Vec::new();
         for (k, &(image, actual, _)) in failing.iter().enumerate() {
             let picture = pictures.get(image);
-            tried.bad.push(bad(picture, actual));
+            tried.bad.push(bad(k, picture, actual));
             tried.error.push(renders.difference(picture, actual));
             if faults.len() == 1 {
                 permuted.extend(moved(k, plant, faults[0], parameters, picture));
@@ -618,7 +753,10 @@ pub fn simulate(
     // alike to it, those are compared and nothing else is rendered.
     let planted = |index: usize| format!("{:?}", Plant::one(candidates[index].1.planted));
     let mut exact: Vec<Option<Vec<FaultMatch>>> = vec![None; failing.len()];
-    for name in super::likely::faults() {
+    for name in super::likely::faults()
+        .into_iter()
+        .filter(|_| !renders.by_chance())
+    {
         for index in (0..candidates.len()).filter(|&i| candidates[i].0.name == name) {
             if exact.iter().all(Option::is_some) {
                 break;
@@ -649,7 +787,7 @@ pub fn simulate(
                     let plant = Plant::one(candidate.planted);
                     let rendered = renders.whole(plant)?;
                     let mut score = vec![f64::INFINITY; failing.len()];
-                    score[k] = bad(rendered.get(image), actual);
+                    score[k] = bad(k, rendered.get(image), actual);
                     alike.push(Tried {
                         plant,
                         faults: vec![fault],
@@ -766,7 +904,8 @@ pub fn simulate(
     // Which faults draw the same picture (to the rule) as one that matched a picture exactly:
     // kept for the next picture of the line it explains (every such fault came through the screen and was
     // rendered whole, so it is among these).
-    for k in (0..failing.len()).filter(|_| renders.kept.keeps()) {
+    // Never for pictures drawn by chance: alike there is a matter of spread, not of pixels.
+    for k in (0..failing.len()).filter(|_| renders.kept.keeps() && !renders.by_chance()) {
         let exactly: Vec<usize> = (0..candidates.len())
             .filter(|&i| tried[i].bad[k] == 0.0)
             .collect();

@@ -257,6 +257,7 @@ mod tests {
             stderr: String::new(),
             seconds: 0.0,
             against_raycast: false,
+            by_chance: false,
             picture: PictureKind::Image,
             worst_pixel: None,
             pictures: Pictures::default(),
