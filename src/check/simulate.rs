@@ -431,10 +431,18 @@ pub fn spreads(
     scenes: &Path,
     stop: &'static StopFlag,
 ) -> Result<Option<Vec<Option<ByChance>>>, String> {
-    let prepared = prepare(line, scenes)?;
-    if !depends_on_chance(&prepared.line.options) {
+    if stop.is_set() {
+        return Err(STOPPED.to_string());
+    }
+    // The command line alone says whether chance is in it: most lines' scenes are not built.
+    let by_chance = match parse_args(line.args.iter().map(Into::into).collect()) {
+        Ok(Command::Render(options)) => depends_on_chance(&options),
+        _ => false,
+    };
+    if !by_chance {
         return Ok(None);
     }
+    let prepared = prepare(line, scenes)?;
     let kept = cache::LineRenders::of(line, scenes);
     match seeded_spreads(&kept, &prepared, stop) {
         Ok(spreads) => Ok(Some(spreads)),
