@@ -155,7 +155,7 @@ impl World {
             .windows(2)
             .filter(|pair| pair[0] == "--timeout")
             .filter_map(|pair| pair[1].parse::<u64>().ok())
-            .last()
+            .next_back()
             .unwrap_or(TIMEOUT);
         let deadline = Duration::from_secs(timeout + 6);
         while child.try_wait().unwrap().is_none() {
