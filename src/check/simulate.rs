@@ -73,6 +73,16 @@ struct Prepared {
     traced: usize,
 }
 
+impl Prepared {
+    /// A render's pictures (in the job's order) in the order of the line's images.
+    fn in_line_order(&self, pictures: &[Image]) -> Vec<Image> {
+        self.slots
+            .iter()
+            .map(|&slot| pictures[slot].clone())
+            .collect()
+    }
+}
+
 /// For each of `failing` (the index of an image among the line's outputs, whether it is the
 /// shaded picture, the student's picture of it, and its reference), how the course's open
 /// questions not `pinned` by the suite accept it: the first other allowed answer whose render
@@ -271,13 +281,7 @@ impl<'a> Renders<'a> {
         )
         .ok_or(Unfinished::Stopped)?
         .pictures;
-        Ok(Some(
-            self.prepared
-                .slots
-                .iter()
-                .map(|&slot| rows[slot].clone())
-                .collect(),
-        ))
+        Ok(Some(self.prepared.in_line_order(&rows)))
     }
 
     /// Of pictures in the order of the line's images, those of the failing pictures.
@@ -337,12 +341,7 @@ impl<'a> Renders<'a> {
             let pictures = render_pictures_until(&line.options, &line.scene, plant, self.stop)
                 .ok_or(Unfinished::Stopped)?
                 .pictures;
-            Ok(self
-                .prepared
-                .slots
-                .iter()
-                .map(|&slot| pictures[slot].clone())
-                .collect())
+            Ok(self.prepared.in_line_order(&pictures))
         })
     }
 }
@@ -365,11 +364,7 @@ fn seeded_spreads(
             let pictures = render_pictures_until(&options, &line.scene, crate::render::Exact, stop)
                 .ok_or(Unfinished::Stopped)?
                 .pictures;
-            Ok(prepared
-                .slots
-                .iter()
-                .map(|&slot| pictures[slot].clone())
-                .collect())
+            Ok(prepared.in_line_order(&pictures))
         })?);
     }
     let samples_rule = match line.options.render_samples {
@@ -588,11 +583,7 @@ pub fn course_pictures(
     }
     .ok_or(STOPPED)?
     .pictures;
-    Ok(prepared
-        .slots
-        .iter()
-        .map(|&slot| pictures[slot].clone())
-        .collect())
+    Ok(prepared.in_line_order(&pictures))
 }
 
 /// Raycast's account (`-inspect X Y`, as text) of pixel (x, y) of the line (x from the left, y
