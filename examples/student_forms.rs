@@ -10,12 +10,15 @@
 use std::process::ExitCode;
 
 use raycast::Scene;
+use raycast::accel::Hit;
 use raycast::camera::{Camera, CameraSeam, film_to_screen};
 use raycast::geometry::Ray;
+use raycast::glam::Mat4;
 use raycast::job::{Command, parse_args, render_to_files, reserve_outputs};
 use raycast::parse::description::Projection;
 use raycast::parse::read_scene;
 use raycast::sample::SampleSeam;
+use raycast::scene::{Highlight, SpecularFalloff};
 use raycast::shade::PictureSeam;
 use raycast::trace::TraceSeam;
 use raycast::{UVec3, Vec3A};
@@ -37,6 +40,13 @@ enum Form {
     /// The depth picture's grey counted from the picture's nearest hit, over the command line's
     /// range: `1 - (t - nearest) / (TMAX - TMIN)`.
     DepthFromNearest(f32),
+    /// A Transform's normal carried as the 4-vector (n, 0) by the whole inverse transpose and
+    /// normalised with its fourth component, whose first three are then the normal: shortened
+    /// wherever the translation leans on it.
+    NormalFourVector,
+    /// Two mistakes of the shading sum at once: the ambient term inside the loop over the
+    /// lights, and each light's diffuse term written `kd * light * pow(max(N.L, 0), 2)`.
+    AmbientInLoopCosineSquared,
 }
 
 impl Form {
@@ -48,6 +58,8 @@ impl Form {
             "raw_direction" => Form::RawDirection(file_direction),
             "left_edge" => Form::LeftEdge,
             "depth_from_nearest" => Form::DepthFromNearest(nearest),
+            "normal_four_vector" => Form::NormalFourVector,
+            "ambient_in_loop_cosine_squared" => Form::AmbientInLoopCosineSquared,
             _ => return None,
         })
     }
@@ -101,7 +113,50 @@ impl CameraSeam for Form {
     }
 }
 
-impl TraceSeam for Form {}
+impl TraceSeam for Form {
+    fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {
+        match self {
+            Form::AmbientInLoopCosineSquared => (0..lights).map(|_| term).sum(),
+            _ => term,
+        }
+    }
+
+    fn light(
+        &self,
+        shade: impl Fn(Vec3A, SpecularFalloff, Highlight) -> Vec3A,
+        normal: Vec3A,
+        to_light: Vec3A,
+        falloff: SpecularFalloff,
+    ) -> Vec3A {
+        let shaded = shade(normal, falloff, Highlight::Course);
+        match self {
+            Form::AmbientInLoopCosineSquared => {
+                shaded * normal.dot(to_light).max(0.0).powi(2)
+                    / normal.dot(to_light).max(f32::MIN_POSITIVE)
+            }
+            _ => shaded,
+        }
+    }
+
+    fn found(&self, scene: &Scene, ray: &Ray, t_min: f32, hit: Option<Hit>) -> Option<Hit> {
+        let hit = hit?;
+        let Form::NormalFourVector = self else {
+            return Some(hit);
+        };
+        let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min) else {
+            return Some(hit);
+        };
+        let object_normal = object_normal.normalize();
+        // The inverse's transpose, as a 4×4 matrix, times (n, 0): its fourth row is the
+        // inverse's translation.
+        let inverse = Mat4::from(transform.world_to_object);
+        let carried = inverse.transpose() * object_normal.extend(0.0);
+        Some(Hit {
+            normal: Vec3A::from(carried.normalize().truncate()),
+            ..hit
+        })
+    }
+}
 impl PictureSeam for Form {
     fn depth_grey(&self, t: f32, t_near: f32, t_far: f32) -> f32 {
         match *self {

@@ -1,6 +1,6 @@
-//! Camera mistakes written in forms of their own (the example `student_forms`, not the fault
-//! library's code): check fits the camera to the student's pictures and names the fault from
-//! where the fit lands, on every picture the mistake changes.
+//! Mistakes written in forms of their own (the example `student_forms`, not the fault library's
+//! code): check fits the camera, the depth range and the shading to the student's pictures and
+//! names the fault from where the fit lands, on every picture the mistake changes.
 
 // The renderers here are shell scripts around the example.
 #![cfg(unix)]
@@ -197,5 +197,53 @@ fn a_depth_counted_from_the_pictures_nearest_hit_is_the_depth_range_with_its_dis
             .any(|l| l.contains("depth1_02") && l.contains("near 8.25") && l.contains("far 12.2")),
         "{}",
         failing.join("\n")
+    );
+}
+
+#[test]
+fn a_normal_normalised_as_a_four_vector_is_a_normal_of_another_length_with_its_numbers() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // Only the objects moved by a Transform's translation change: scene2_11 to 2_13's spheres
+    // are scaled and turned at the origin, and pass.
+    let failing = all_named(
+        "normal_four_vector",
+        &[
+            "scene2_11_squashed_sphere.txt",
+            "scene2_14_axes_cube.txt",
+            "scene2_15_crazy_transforms.txt",
+            "scene2_16_t_scale.txt",
+        ],
+        "normal_length",
+    );
+    assert_eq!(failing.len(), 3, "{}", failing.join("\n"));
+    // 1/|n|² = 1 + (t·n)²: the fourth component is the translation along the normal.
+    assert!(
+        failing
+            .iter()
+            .all(|l| l.contains("normal's 1/|n|²: constant 1, times |Aᵀn|² 0, times (t·n)² 1")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn two_mistakes_of_the_shading_sum_written_their_own_way_are_both_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = failing(
+        "ambient_in_loop_cosine_squared",
+        &["scene2_01_diffuse.txt", "scene2_03_colored_lights.txt"],
+    );
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    // One light: the ambient term once either way.
+    assert!(failing[0].contains("output2_01") && failing[0].contains("off: cosine_twice: "));
+    assert!(
+        failing[1].contains("output2_03")
+            && failing[1].contains("off: ambient_per_light+cosine_twice: "),
+        "{}",
+        failing[1]
     );
 }

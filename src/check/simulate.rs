@@ -11,7 +11,7 @@ use super::chance::{ByChance, SEEDS, Spread, depends_on_chance};
 use super::choices::{self, Acceptance};
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
 use super::faults::{PictureFault, Planted};
-use super::fit::{fit_camera, fit_depth_range};
+use super::fit::{fit_camera, fit_depth_range, fit_shading};
 use super::rule::{Rule, compare};
 use super::samples_picture::SamplesRule;
 use super::screen::{Failing, Screen};
@@ -854,6 +854,36 @@ pub fn simulate(
                 let numbers = [("near", f64::from(a)), ("far", f64::from(b))];
                 singles.push(look(plant, &[fault], &numbers, renders.screen.as_ref())?);
             }
+        }
+    }
+    // The shading fitted to the shaded and normals pictures no fault explains whose objects
+    // stand where the reference's do.
+    let normals_slot = usize::from(options.output.is_some());
+    let mut shading: [Option<&Image>; 2] = [None, None];
+    for (k, &(image, actual, reference)) in failing.iter().enumerate() {
+        let unexplained = singles
+            .iter()
+            .all(|single| single.tried.bad[k] > rule.max_bad);
+        let slot = prepared.slots[image];
+        let shown = slot == 0 && options.output.is_some()
+            || slot == normals_slot && options.normals.is_some();
+        let in_place =
+            reference.is_some_and(|r| !super::diagnose::silhouette_moved(actual, r, rule));
+        if unexplained && shown && in_place {
+            shading[usize::from(slot == normals_slot && options.normals.is_some())] = Some(actual);
+        }
+    }
+    if shading.iter().any(Option::is_some)
+        && let Some((plants, (faults, numbers))) =
+            fit_shading(&prepared.line, shading[0], shading[1])
+    {
+        let plant = match plants[..] {
+            [one] => Some(Plant::one(one)),
+            [first, second] => Some(Plant::two(first, second)),
+            _ => None,
+        };
+        if let Some(plant) = plant {
+            singles.push(look(plant, &faults, &numbers, renders.screen.as_ref())?);
         }
     }
     let explained = |k: usize| {

@@ -3,9 +3,10 @@
 use super::{Candidate, Fault, LineScene, Planted};
 use crate::accel::Hit;
 use crate::camera::Camera;
-use crate::geometry::Ray;
+use crate::geometry::{Ray, Transform};
 use crate::parse::description::Projection;
 use crate::scene::Scene;
+use glam::Vec3A;
 
 /// How a student's tracer takes the nearest hit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,6 +32,40 @@ pub enum HitFault {
     EdgeEpsilon(f32),
     /// The grid's search stopped at the first cell with any hit in it.
     FirstCellHit,
+    /// Normals of the length check's shading fit found: see [`normal_length`].
+    NormalLength([f32; 3]),
+}
+
+/// The length of a normal of unit direction `normal` on an object placed by `transform`, as a
+/// student's tracer leaves it: 1/|n|² = a + b |Aᵀn|² + c (t·n)², A and t the Transform's linear
+/// part and translation (the identity and 0 in world space). The course's is (1, 0, 0); a normal
+/// carried by the inverse transpose and not made unit again is (0, 1, 0); one carried as the
+/// 4-vector (n, 0) by the whole inverse transpose and normalised with its fourth component,
+/// (1, 0, 1).
+pub fn normal_length(numbers: [f32; 3], normal: Vec3A, transform: Option<&Transform>) -> f32 {
+    let (stretched, along) = normal_stretch(normal, transform);
+    length_from(numbers, stretched, along)
+}
+
+/// For [`normal_length`]: |Aᵀn|² and t·n.
+pub fn normal_stretch(normal: Vec3A, transform: Option<&Transform>) -> (f32, f32) {
+    match transform {
+        Some(t) => (
+            (t.object_to_world.matrix3.transpose() * normal).length_squared(),
+            t.object_to_world.translation.dot(normal),
+        ),
+        None => (1.0, 0.0),
+    }
+}
+
+/// [`normal_length`] from [`normal_stretch`]'s numbers.
+pub fn length_from([a, b, c]: [f32; 3], stretched: f32, along: f32) -> f32 {
+    let inverse_square = a + b * stretched + c * along * along;
+    if inverse_square > 0.0 {
+        inverse_square.sqrt().recip()
+    } else {
+        1.0
+    }
 }
 
 /// The handout's triangle test by Cramer's rule, for `ray` against corners a, b and c: the
@@ -91,6 +126,14 @@ impl HitFault {
                 Some(h) if h.t * length < near => scene.world.intersect(ray, near / length),
                 other => other,
             },
+            HitFault::NormalLength(numbers) => {
+                let hit = hit?;
+                let transform = scene.world.normal_origin(ray, t_min).and_then(|(_, t)| t);
+                Some(Hit {
+                    normal: hit.normal * normal_length(numbers, hit.normal, transform),
+                    ..hit
+                })
+            }
             HitFault::NormalByMatrix | HitFault::NormalNotUnit => {
                 let hit = hit?;
                 let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, hit.t)

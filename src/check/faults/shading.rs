@@ -8,7 +8,7 @@ use crate::scene::{Highlight, Illumination, Light, SpecularFalloff};
 use crate::trace::BackFace;
 
 /// How a student's tracer shades a hit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ShadingFault {
     /// `-shade_back` ignored: back faces black even when asked to shade them.
     ShadeBackIgnored,
@@ -30,6 +30,15 @@ pub enum ShadingFault {
     Highlight(Highlight),
     /// A point light's attenuation worked out another way.
     Attenuation(Attenuation),
+    /// The terms weighed by numbers check's shading fit found.
+    Weighed {
+        /// What the ambient term is multiplied by.
+        ambient: f32,
+        /// The power of each light's N·L (its term is multiplied by N·L `power - 1` more times).
+        power: f32,
+        /// Whether a surface lit from behind is shaded as if from in front (|N·L|).
+        absolute: bool,
+    },
 }
 
 /// How a student's tracer dims a point light with distance d, the file giving c, l and q.
@@ -95,10 +104,11 @@ impl ShadingFault {
         }
     }
 
-    pub(super) fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {
+    pub(crate) fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {
         match self {
             ShadingFault::AmbientPerLight => term * lights as f32,
             ShadingFault::AmbientMissing => Vec3A::ZERO,
+            ShadingFault::Weighed { ambient, .. } => term * ambient,
             _ => term,
         }
     }
@@ -110,7 +120,7 @@ impl ShadingFault {
         }
     }
 
-    pub(super) fn light(
+    pub(crate) fn light(
         &self,
         shade: &dyn Fn(Vec3A, SpecularFalloff, Highlight) -> Vec3A,
         normal: Vec3A,
@@ -134,6 +144,22 @@ impl ShadingFault {
                 highlight,
             ),
             ShadingFault::Highlight(student) => shade(normal, falloff, student),
+            ShadingFault::Weighed {
+                power, absolute, ..
+            } => {
+                let cosine = normal.dot(to_light);
+                let (turned, cosine) = if absolute && cosine < 0.0 {
+                    (-normal, -cosine)
+                } else {
+                    (normal, cosine.max(0.0))
+                };
+                let shaded = shade(turned, falloff, highlight);
+                if power == 1.0 {
+                    shaded
+                } else {
+                    shaded * cosine.powf(power - 1.0)
+                }
+            }
             _ => shade(normal, falloff, highlight),
         }
     }

@@ -8,6 +8,8 @@
 mod camera;
 mod depth;
 mod minimise;
+mod shading;
 
 pub use camera::fit_camera;
 pub use depth::fit_depth_range;
+pub use shading::fit_shading;
