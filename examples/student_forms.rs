@@ -17,7 +17,7 @@ use raycast::glam::Mat4;
 use raycast::job::{Command, parse_args, render_to_files, reserve_outputs};
 use raycast::parse::description::Projection;
 use raycast::parse::read_scene;
-use raycast::sample::SampleSeam;
+use raycast::sample::{Filter, SampleSeam};
 use raycast::scene::{Highlight, SpecularFalloff};
 use raycast::shade::PictureSeam;
 use raycast::trace::TraceSeam;
@@ -47,6 +47,12 @@ enum Form {
     /// Two mistakes of the shading sum at once: the ambient term inside the loop over the
     /// lights, and each light's diffuse term written `kd * light * pow(max(N.L, 0), 2)`.
     AmbientInLoopCosineSquared,
+    /// Shadow, mirror and glass rays started at `point + 1e-7 * normal`: the t of that point
+    /// along the ray, `1e-7 / |d.n|`.
+    TinyNormalOffset,
+    /// Each filter's reach (the box's and the tent's radius, the Gaussian's sigma) half a
+    /// pixel more than the command line says.
+    FilterHalfPixelWider,
 }
 
 impl Form {
@@ -60,6 +66,8 @@ impl Form {
             "depth_from_nearest" => Form::DepthFromNearest(nearest),
             "normal_four_vector" => Form::NormalFourVector,
             "ambient_in_loop_cosine_squared" => Form::AmbientInLoopCosineSquared,
+            "tiny_normal_offset" => Form::TinyNormalOffset,
+            "filter_half_pixel_wider" => Form::FilterHalfPixelWider,
             _ => return None,
         })
     }
@@ -114,6 +122,13 @@ impl CameraSeam for Form {
 }
 
 impl TraceSeam for Form {
+    fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
+        match self {
+            Form::TinyNormalOffset => 1e-7 / direction.dot(normal).abs(),
+            _ => raycast::trace::start_t(clearance, direction, normal),
+        }
+    }
+
     fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {
         match self {
             Form::AmbientInLoopCosineSquared => (0..lights).map(|_| term).sum(),
@@ -167,7 +182,16 @@ impl PictureSeam for Form {
         }
     }
 }
-impl SampleSeam for Form {}
+impl SampleSeam for Form {
+    fn filter(&self, filter: Filter) -> Filter {
+        match (self, filter) {
+            (Form::FilterHalfPixelWider, Filter::Box(r)) => Filter::Box(r + 0.5),
+            (Form::FilterHalfPixelWider, Filter::Tent(r)) => Filter::Tent(r + 0.5),
+            (Form::FilterHalfPixelWider, Filter::Gaussian(s)) => Filter::Gaussian(s + 0.5),
+            _ => filter,
+        }
+    }
+}
 
 fn run(args: Vec<String>) -> Result<(), String> {
     let (form, course) = args

@@ -25,7 +25,16 @@ fn conformance_dir() -> Option<PathBuf> {
 /// check's report of the example's `form` on the conformance lines of `scenes`: each failing
 /// picture's line of the terminal's table.
 fn failing(form: &str, scenes: &[&str]) -> Vec<String> {
-    let conformance = conformance_dir().expect("the conformance suite");
+    failing_in(
+        &conformance_dir().expect("the conformance suite"),
+        form,
+        scenes,
+    )
+}
+
+/// [`failing`] on the lines of the suite in `conformance` that name any of `scenes` (a scene
+/// file, or an output's file name).
+fn failing_in(conformance: &Path, form: &str, scenes: &[&str]) -> Vec<String> {
     let dir = tempfile::tempdir().unwrap();
     let suite = dir.path().join("suite");
     std::fs::create_dir_all(&suite).unwrap();
@@ -35,6 +44,7 @@ fn failing(form: &str, scenes: &[&str]) -> Vec<String> {
     let commands = std::fs::read_to_string(conformance.join("COMMANDS.txt")).unwrap();
     let lines: Vec<&str> = commands
         .lines()
+        .filter(|line| line.starts_with("raytracer "))
         .filter(|line| scenes.iter().any(|s| line.contains(&format!(" {s}"))))
         .collect();
     std::fs::write(suite.join("COMMANDS.txt"), lines.join("\n") + "\n").unwrap();
@@ -68,11 +78,21 @@ fn failing(form: &str, scenes: &[&str]) -> Vec<String> {
 
 /// Every failing picture names `fault` first, alone.
 fn all_named(form: &str, scenes: &[&str], fault: &str) -> Vec<String> {
-    let failing = failing(form, scenes);
+    named_in(&failing(form, scenes), form, fault)
+}
+
+/// Every line of `failing` names `fault` first, alone.
+fn named_in(failing: &[String], form: &str, fault: &str) -> Vec<String> {
+    let failing = failing.to_vec();
     for line in &failing {
         assert!(
-            line.contains(&format!("% of pixels off: {fault}: raycast's render"))
-                || line.contains(&format!("% of pixels off: {fault}, ")),
+            // Graded against the staff's image, or raycast's render where there is none.
+            ["% of pixels off", "against raycast's render"]
+                .iter()
+                .any(
+                    |graded| line.contains(&format!("{graded}: {fault}: raycast's render"))
+                        || line.contains(&format!("{graded}: {fault}, "))
+                ),
             "{form}: {line}\n{}",
             failing.join("\n")
         );
@@ -246,4 +266,46 @@ fn two_mistakes_of_the_shading_sum_written_their_own_way_are_both_named() {
         "{}",
         failing[1]
     );
+}
+
+#[test]
+fn rays_started_a_tiny_offset_along_the_normal_are_shadow_acne_with_the_offset() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "tiny_normal_offset",
+        &["scene4_01_sphere_shadow.txt", "output4_04b.tga"],
+    );
+    let failing = named_in(&failing, "tiny_normal_offset", "shadow_acne");
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    // 1e-7, or a little more where the student's 1e-7 / |d·n| grows past raycast's bound at
+    // grazing angles.
+    for line in &failing {
+        let offset: f64 = line
+            .split("offset along the normal ")
+            .nth(1)
+            .and_then(|rest| rest.split(')').next())
+            .and_then(|number| number.parse().ok())
+            .unwrap_or_else(|| panic!("no offset: {line}"));
+        assert!((1e-7..=1.5e-7).contains(&offset), "{line}");
+    }
+}
+
+#[test]
+fn a_filter_half_a_pixel_wider_is_the_filter_radius_with_its_scale() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 7") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "filter_half_pixel_wider",
+        &["output7_01e_low_res.tga", "output7_01f_low_res.tga"],
+    );
+    let failing = named_in(&failing, "filter_half_pixel_wider", "filter_radius");
+    // A tent of 1.5 reaching 2: 4/3 as far; a Gaussian's sigma of 1 made 1.5.
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(failing[0].contains("scale 1.3333"), "{}", failing[0]);
+    assert!(failing[1].contains("scale 1.5)"), "{}", failing[1]);
 }

@@ -250,20 +250,36 @@ pub fn headline(findings: &[Finding], explanation: &str) -> String {
     text
 }
 
-/// A parameter as a person reads it: whole numbers without a fraction, others to four places.
+/// A parameter as a person reads it: whole numbers without a fraction, others to at most four
+/// places,
+/// those too small for four places in scientific notation (1e-7).
 fn show(value: f64) -> String {
     if value.fract() == 0.0 && value.abs() < 1e9 {
         format!("{value:.0}")
+    } else if value != 0.0 && value.abs() < 1e-3 {
+        format!("{value:e}")
     } else if value.is_infinite() {
         if value > 0.0 { "infinity" } else { "-infinity" }.to_string()
     } else {
-        format!("{value:.4}")
+        let text = format!("{value:.4}");
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn parameters_read_as_people_write_them() {
+        assert_eq!(show(2.0), "2");
+        assert_eq!(show(0.8165), "0.8165");
+        assert_eq!(show(1.5), "1.5");
+        assert_eq!(show(1.000_01), "1");
+        assert_eq!(show(1e-7), "1e-7");
+        assert_eq!(show(2.5e-5), "2.5e-5");
+        assert_eq!(show(f64::INFINITY), "infinity");
+    }
 
     #[test]
     fn a_guess_about_a_depth_or_normals_picture_speaks_of_that_picture() {

@@ -10,8 +10,7 @@ use super::cache;
 use super::chance::{ByChance, SEEDS, Spread, depends_on_chance};
 use super::choices::{self, Acceptance};
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
-use super::faults::{PictureFault, Planted};
-use super::fit::{fit_camera, fit_depth_range, fit_shading};
+use super::fit::{Named, Picture, Trial, fit_line};
 use super::rule::{Rule, compare};
 use super::samples_picture::SamplesRule;
 use super::screen::{Failing, Screen};
@@ -612,6 +611,43 @@ struct Look {
     rows: Option<Vec<Image>>,
 }
 
+/// The fits' renders: measured on some rows, or proven whole and kept among the singles.
+struct Trials<'t, 'a, L> {
+    renders: &'t Renders<'a>,
+    look: &'t L,
+    screen: Option<&'t Screen>,
+    singles: &'t mut Vec<Look>,
+}
+
+impl<L> Trial for Trials<'_, '_, L>
+where
+    L: Fn(
+        Plant,
+        &[&'static Fault],
+        &[(&'static str, f64)],
+        Option<&Screen>,
+    ) -> Result<Look, Unfinished>,
+{
+    type Error = Unfinished;
+
+    fn distance(&mut self, plant: Plant, pictures: &[usize]) -> Result<f64, Unfinished> {
+        self.renders.fit_distance(plant, pictures)
+    }
+
+    fn prove(&mut self, plant: Plant, (faults, numbers): &Named) -> Result<Vec<bool>, Unfinished> {
+        let look = (self.look)(plant, faults, numbers, self.screen)?;
+        let rule = self.renders.rule;
+        let proven = look
+            .tried
+            .bad
+            .iter()
+            .map(|&bad| bad <= rule.max_bad)
+            .collect();
+        self.singles.push(look);
+        Ok(proven)
+    }
+}
+
 #[derive(Clone)]
 /// One render tried: the plant, the faults in it and their parameters, and the share of pixels
 /// off against each failing picture.
@@ -805,93 +841,33 @@ pub fn simulate(
         let plant = Plant::one(candidate.planted);
         singles.push(look(plant, &[fault], &parameters, renders.screen.as_ref())?);
     }
-    // The camera fitted, for the pictures no fault explains whose objects stand elsewhere than
-    // the reference's: a camera's mistake written in a form the library does not list is named
-    // by where the fit lands.
-    let displaced: Vec<usize> = (0..failing.len())
-        .filter(|&k| {
+    // The fits, for the pictures no listed fault explains: a mistake written in a form the
+    // library does not list is named by where the fit's numbers land.
+    let mut explained: Vec<bool> = (0..failing.len())
+        .map(|k| {
             singles
                 .iter()
-                .all(|single| single.tried.bad[k] > rule.max_bad)
-        })
-        .filter(|&k| {
-            let (image, actual, reference) = failing[k];
-            prepared.slots[image] < prepared.traced
-                && reference.is_some_and(|r| super::diagnose::silhouette_moved(actual, r, rule))
+                .any(|single| single.tried.bad[k] <= rule.max_bad)
         })
         .collect();
-    if !displaced.is_empty() {
-        let distance = |plant: Plant| renders.fit_distance(plant, &displaced);
-        let pictures: Vec<(&Image, &Image)> = displaced
+    if explained.iter().any(|e| !e) {
+        let pictures: Vec<Picture<'_>> = failing
             .iter()
-            .filter_map(|&k| Some((failing[k].1, failing[k].2?)))
+            .map(|&(image, actual, reference)| Picture {
+                slot: prepared.slots[image],
+                actual,
+                reference,
+            })
             .collect();
-        for fitted in fit_camera(&prepared.line, &pictures, distance)? {
-            let plant = Plant::one(fitted.plant);
-            for (faults, numbers) in &fitted.names {
-                singles.push(look(plant, faults, numbers, renders.screen.as_ref())?);
-            }
-        }
-    }
-    // The depth picture's range, fitted to a depth picture no fault explains.
-    let options = &prepared.line.options;
-    let depth_slot = usize::from(options.output.is_some()) + usize::from(options.normals.is_some());
-    if let (Some((near, far, _)), Some(fault)) =
-        (&options.depth, super::faults::fault("depth_range"))
-    {
-        for (k, &(image, actual, reference)) in failing.iter().enumerate() {
-            let unexplained = singles
-                .iter()
-                .all(|single| single.tried.bad[k] > rule.max_bad);
-            let Some(reference) = reference.filter(|_| unexplained) else {
-                continue;
-            };
-            if prepared.slots[image] != depth_slot {
-                continue;
-            }
-            if let Some((a, b)) = fit_depth_range(*near, *far, actual, reference) {
-                let plant = Plant::one(Planted::Picture(PictureFault::DepthRange(a, b)));
-                let numbers = [("near", f64::from(a)), ("far", f64::from(b))];
-                singles.push(look(plant, &[fault], &numbers, renders.screen.as_ref())?);
-            }
-        }
-    }
-    // The shading fitted to the shaded and normals pictures no fault explains whose objects
-    // stand where the reference's do.
-    let normals_slot = usize::from(options.output.is_some());
-    let mut shading: [Option<&Image>; 2] = [None, None];
-    for (k, &(image, actual, reference)) in failing.iter().enumerate() {
-        let unexplained = singles
-            .iter()
-            .all(|single| single.tried.bad[k] > rule.max_bad);
-        let slot = prepared.slots[image];
-        let shown = slot == 0 && options.output.is_some()
-            || slot == normals_slot && options.normals.is_some();
-        let in_place =
-            reference.is_some_and(|r| !super::diagnose::silhouette_moved(actual, r, rule));
-        if unexplained && shown && in_place {
-            shading[usize::from(slot == normals_slot && options.normals.is_some())] = Some(actual);
-        }
-    }
-    if shading.iter().any(Option::is_some)
-        && let Some((plants, (faults, numbers))) =
-            fit_shading(&prepared.line, shading[0], shading[1])
-    {
-        let plant = match plants[..] {
-            [one] => Some(Plant::one(one)),
-            [first, second] => Some(Plant::two(first, second)),
-            _ => None,
+        let mut trial = Trials {
+            renders: &renders,
+            look: &look,
+            screen: renders.screen.as_ref(),
+            singles: &mut singles,
         };
-        if let Some(plant) = plant {
-            singles.push(look(plant, &faults, &numbers, renders.screen.as_ref())?);
-        }
+        fit_line(&prepared.line, &pictures, &mut explained, rule, &mut trial)?;
     }
-    let explained = |k: usize| {
-        singles
-            .iter()
-            .any(|single| single.tried.bad[k] <= rule.max_bad)
-    };
-    let unexplained: Vec<usize> = (0..failing.len()).filter(|&k| !explained(k)).collect();
+    let unexplained: Vec<usize> = (0..failing.len()).filter(|&k| !explained[k]).collect();
     // For a picture no single fault explains, a fault that moves pixels with another: made whole
     // where the screened rows do not rule the other out against the picture undone.
     if let Some(screen) = &renders.screen {

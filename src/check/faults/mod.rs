@@ -408,7 +408,7 @@ impl TraceSeam for Plant {
 
     fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
         self.rays()
-            .find_map(|r| r.start_t())
+            .find_map(|r| r.start_t(direction, normal))
             .unwrap_or_else(|| crate::trace::start_t(clearance, direction, normal))
     }
 

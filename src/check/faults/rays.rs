@@ -25,6 +25,9 @@ pub enum RayFault {
     /// An allowed answer (check/choices.rs): shadow and secondary rays ignore hits nearer than
     /// this fixed t (the course's "epsilon"), instead of raycast's clearance scaled to the hit.
     FixedStart(f32),
+    /// Shadow and secondary rays start this far off the surface along its normal (check's fit
+    /// of the offset), not by raycast's clearance scaled to the hit.
+    NormalOffset(f32),
     /// An allowed answer: a hit exactly at the light's distance blocks it (t ≤ distance, not
     /// t < distance).
     ShadowToLight,
@@ -52,11 +55,15 @@ impl RayFault {
         }
     }
 
-    /// The least t of a ray leaving a surface: 0, for no offset; the fixed epsilon.
-    pub(super) fn start_t(&self) -> Option<f32> {
+    /// The least t of a ray leaving a surface of unit `normal` along `direction`: 0, for no
+    /// offset; the fixed epsilon; as far as takes the ray `offset` off the surface.
+    pub(super) fn start_t(&self, direction: Vec3A, normal: Vec3A) -> Option<f32> {
         match *self {
             RayFault::NoOffset => Some(0.0),
             RayFault::FixedStart(epsilon) => Some(epsilon),
+            RayFault::NormalOffset(offset) => {
+                Some(crate::trace::start_t(offset, direction, normal))
+            }
             _ => None,
         }
     }

@@ -149,7 +149,8 @@ pub(super) const UNIFORM_CORNERS: Fault = Fault {
 pub(super) const FILTER_RADIUS: Fault = Fault {
     name: "filter_radius",
     assignment: 7,
-    sentence: "My filter reaches twice as far, or half as far, as the command line says.",
+    sentence: "My filter reaches farther or nearer than the command line says (scale: how many \
+               times as far; twice and half as far are the usual slips).",
     look_for: "The filter's support: a box or tent of radius r weighs samples within r of the \
                pixel's centre (in pixels, not in the image's units or as a diameter); a Gaussian \
                of σ reaches to 2σ.",

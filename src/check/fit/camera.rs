@@ -17,8 +17,11 @@ use crate::shade::Image;
 /// Renders allowed for each stage of a form's search...
 const EVALUATIONS: usize = 30;
 /// ...and for all of a line's (each of a third of the rows: some three hundred renders' worth,
-/// milliseconds each on the course's first assignments).
+/// milliseconds each on the course's first assignments), shared among a pixel's samples: a
+/// line of 16 samples a pixel costs its renders 16 times over...
 const BUDGET: usize = 1000;
+/// ...down to this many.
+const LEAST_BUDGET: usize = 60;
 /// The searches of a fit, in two orders: which numbers each stage searches, and whether by the
 /// finer steps.
 const ORDERS: [[(&[usize], bool); 3]; 2] = [
@@ -90,11 +93,13 @@ pub fn fit_camera<E>(
     let course = distance(plant(RayForm::Plane, &course_at))?;
     let mut fitted = Vec::new();
     let mut spent = 0;
+    let samples = line.options.sampling.sampler.samples().max(1) as usize;
+    let budget = (BUDGET / samples).max(LEAST_BUDGET);
     for &form in forms {
         // Past the line's budget every render is as far as can be: the searches end at once.
         let mut measure = |p: &[f64]| {
             spent += 1;
-            if spent > BUDGET {
+            if spent > budget {
                 Ok(f64::INFINITY)
             } else {
                 distance(plant(form, p))

@@ -7,9 +7,10 @@
 
 mod camera;
 mod depth;
+mod line;
 mod minimise;
+mod parameters;
 mod shading;
 
-pub use camera::fit_camera;
-pub use depth::fit_depth_range;
-pub use shading::fit_shading;
+pub use camera::Named;
+pub use line::{Picture, Trial, fit_line};
