@@ -15,10 +15,12 @@ use raycast::camera::{Camera, CameraSeam, film_to_screen};
 use raycast::geometry::Ray;
 use raycast::glam::Mat4;
 use raycast::job::{Command, parse_args, render_to_files, reserve_outputs};
+use raycast::parse::description::Pattern;
 use raycast::parse::description::Projection;
 use raycast::parse::read_scene;
 use raycast::sample::{Filter, SampleSeam};
-use raycast::scene::{Highlight, SpecularFalloff};
+use raycast::scene::perlin::octave_noise;
+use raycast::scene::{Highlight, SpecularFalloff, Surface, Texture};
 use raycast::shade::PictureSeam;
 use raycast::trace::TraceSeam;
 use raycast::{UVec3, Vec3A};
@@ -53,6 +55,9 @@ enum Form {
     /// Each filter's reach (the box's and the tent's radius, the Gaussian's sigma) half a
     /// pixel more than the command line says.
     FilterHalfPixelWider,
+    /// Marble's veins as `sin(2 pi frequency x + amplitude noise)`: the file's frequency taken
+    /// as turns per unit, not radians.
+    MarbleInTurns,
 }
 
 impl Form {
@@ -68,6 +73,7 @@ impl Form {
             "ambient_in_loop_cosine_squared" => Form::AmbientInLoopCosineSquared,
             "tiny_normal_offset" => Form::TinyNormalOffset,
             "filter_half_pixel_wider" => Form::FilterHalfPixelWider,
+            "marble_in_turns" => Form::MarbleInTurns,
             _ => return None,
         })
     }
@@ -122,6 +128,13 @@ impl CameraSeam for Form {
 }
 
 impl TraceSeam for Form {
+    fn weigh(&self, surface: &mut Surface<'_>, point: Vec3A) {
+        match self {
+            Form::MarbleInTurns => surface.weigh(point, marble_in_turns),
+            _ => surface.weigh(point, Texture::weight),
+        }
+    }
+
     fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
         match self {
             Form::TinyNormalOffset => 1e-7 / direction.dot(normal).abs(),
@@ -191,6 +204,22 @@ impl SampleSeam for Form {
             _ => filter,
         }
     }
+}
+
+/// Where `point` falls between a texture's materials, Marble's frequency in turns.
+fn marble_in_turns(texture: &Texture, point: Vec3A) -> f32 {
+    let Pattern::Marble {
+        octaves,
+        frequency,
+        amplitude,
+    } = texture.pattern
+    else {
+        return texture.weight(point);
+    };
+    let p = texture.to_texture.transform_point3(point.as_dvec3());
+    let noise = octave_noise(p.x, p.y, p.z, octaves);
+    let turns = std::f64::consts::TAU * frequency * p.x;
+    (0.5 * ((turns + amplitude * noise).sin() + 1.0)) as f32
 }
 
 fn run(args: Vec<String>) -> Result<(), String> {

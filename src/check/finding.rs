@@ -89,6 +89,7 @@ impl Finding {
                     .collect::<serde_json::Map<_, _>>(),
                 "parameter_order": m.parameters.iter().map(|&(name, _)| name).collect::<Vec<_>>(),
                 "match": m.bad_fraction,
+                "accounts_for": m.accounts_for,
                 "assignment": m.faults.iter().map(|f| f.assignment).collect::<Vec<_>>(),
                 "sentence": m.faults.iter().map(|f| f.sentence).collect::<Vec<_>>().join(" "),
                 "look_for": m.faults.iter().map(|f| f.look_for).collect::<Vec<_>>().join(" "),
@@ -129,6 +130,7 @@ impl Finding {
             faults,
             parameters,
             bad_fraction: value["match"].as_f64()?,
+            accounts_for: value["accounts_for"].as_f64(),
         }))
     }
 }
@@ -192,16 +194,23 @@ pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
             )
         };
     };
-    let planted = if first.faults.len() == 1 {
-        "this fault"
+    let planted = match first.faults.len() {
+        1 => "this fault".to_string(),
+        2 => "these two faults".to_string(),
+        n => format!("these {n} faults"),
+    };
+    // "Equals" only where not a pixel is off; otherwise as close as the suite's rule asks.
+    let likeness = if first.bad_fraction == 0.0 {
+        "equals"
     } else {
-        "these two faults"
+        "matches, within the suite's rule,"
     };
     let parameters = parameters_text(first);
     let mut text = format!(
-        "Your picture equals raycast's render of this line with {planted} planted ({:.3}% of \
-         pixels off{parameters}). {} Look for: {}",
+        "Your picture {likeness} raycast's render of this line with {planted} planted ({:.3}% \
+         of pixels off{parameters}){}. {} Look for: {}",
         100.0 * first.bad_fraction,
+        accounted(first, ": it accounts for"),
         first
             .faults
             .iter()
@@ -235,19 +244,35 @@ pub fn headline(findings: &[Finding], explanation: &str) -> String {
         return explanation.to_string();
     };
     let mut text = format!(
-        "raycast's render with {} planted matches ({:.3}% of pixels off{})",
+        "raycast's render with {} planted matches ({:.3}% of pixels off{}){}",
         if first.faults.len() == 1 {
             "this fault"
         } else {
             "these faults"
         },
         100.0 * first.bad_fraction,
-        parameters_text(first)
+        parameters_text(first),
+        accounted(first, ", accounting for"),
     );
     if faults.len() > 1 {
         text.push_str("; this line alone cannot tell the faults named apart");
     }
     text
+}
+
+/// How much of the picture's difference from its reference a match accounts for, after
+/// `lead`: empty where that is not known.
+fn accounted(m: &FaultMatch, lead: &str) -> String {
+    match m.accounts_for {
+        Some(share) if share >= 0.9995 => {
+            format!("{lead} every pixel that differs from the reference")
+        }
+        Some(share) => format!(
+            "{lead} {:.1}% of the pixels that differ from the reference",
+            100.0 * share
+        ),
+        None => String::new(),
+    }
 }
 
 /// A parameter as a person reads it: whole numbers without a fraction, others to at most four

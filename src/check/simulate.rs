@@ -41,6 +41,10 @@ pub struct FaultMatch {
     pub parameters: Vec<(&'static str, f64)>,
     /// The share of pixels by which the render and the student's picture still differ.
     pub bad_fraction: f64,
+    /// The share of the pixels by which the student's picture differs from its reference that
+    /// the render accounts for: 1 − [`FaultMatch::bad_fraction`] / the picture's own share off
+    /// (none where the picture is graded against no single reference).
+    pub accounts_for: Option<f64>,
 }
 
 impl FaultMatch {
@@ -835,6 +839,18 @@ pub fn simulate(
             }
         }
     }
+    // Every picture drawn by a likely fault itself: its record names every match, and nothing
+    // else is rendered.
+    if exact.iter().all(Option::is_some) {
+        let mut results: Vec<Simulated> = exact
+            .into_iter()
+            .map(|matches| Simulated {
+                matches: matches.unwrap_or_default(),
+            })
+            .collect();
+        account(&mut results, failing, &renders);
+        return Ok(results);
+    }
     let mut singles: Vec<Look> = Vec::with_capacity(candidates.len());
     for &(fault, candidate) in &candidates {
         let parameters: Vec<_> = candidate.parameter.into_iter().collect();
@@ -1037,12 +1053,32 @@ pub fn simulate(
         results[k].matches = matches(&pairs, k, rule);
         tried.extend(pairs);
     }
-    for result in &results {
+    account(&mut results, failing, &renders);
+    Ok(results)
+}
+
+/// Says, of each match, how much of its picture's difference from the reference it accounts
+/// for; and notes the faults that explained pictures, to be tried first on the next lines.
+fn account(
+    results: &mut [Simulated],
+    failing: &[(usize, &Image, Option<&Image>)],
+    renders: &Renders<'_>,
+) {
+    // (A picture drawn by chance has a spread, not one reference.)
+    for (k, (result, &(_, actual, reference))) in results.iter_mut().zip(failing).enumerate() {
+        let off = reference
+            .filter(|_| renders.spreads[k].is_none())
+            .and_then(|r| compare(r, actual, renders.rule.tolerance));
+        if let Some(off) = off.map(|c| c.bad_fraction) {
+            for m in &mut result.matches {
+                m.accounts_for =
+                    (off > 0.0).then(|| ((off - m.bad_fraction) / off).clamp(0.0, 1.0));
+            }
+        }
         for fault in result.matches.first().map_or(&[][..], |m| &m.faults[..]) {
             super::likely::explained(fault.name);
         }
     }
-    Ok(results)
 }
 
 /// The renders that pass against picture `k`, the closest of each fault (or pair, in either
@@ -1072,6 +1108,7 @@ fn matches(tried: &[Tried], k: usize, rule: Rule) -> Vec<FaultMatch> {
                 faults,
                 parameters: t.parameters.clone(),
                 bad_fraction: t.bad[k],
+                accounts_for: None,
             }),
         }
     }

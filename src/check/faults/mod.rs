@@ -32,9 +32,11 @@ pub use camera::{CameraFault, Mapping, RayForm};
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
 pub use pictures::PictureFault;
 pub use rays::{CriticalAngle, RayFault};
+pub(crate) use rays::{bounces, glass_index};
 pub use samples::{SampleFault, gaussian_radius};
 pub use shading::{Attenuation, ShadingFault};
 pub use textures::TextureFault;
+pub(crate) use textures::shows_veins;
 
 /// One mistake a student's tracer may make.
 #[derive(Debug)]
@@ -177,6 +179,7 @@ pub static FAULTS: &[Fault] = &[
     samples::FILTER_WEIGHTS,
     textures::CHECKER_TRUNCATION,
     textures::TEXTURE_TRANSFORM,
+    textures::NOISE_CONSTANTS,
     pictures::DEPTH_RANGE,
     intersection::NORMAL_TRANSFORM,
     intersection::NORMAL_LENGTH,

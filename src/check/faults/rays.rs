@@ -33,6 +33,10 @@ pub enum RayFault {
     ShadowToLight,
     /// An allowed answer: this cut-off weight where the line gives `-bounces` but no `-weight`.
     DefaultWeight(f32),
+    /// Every glass refracts as if its index were this (check's fit of the index).
+    IndexAs(f32),
+    /// Mirror and glass rays cut off at this weight whatever `-weight` says (check's fit).
+    CutoffAt(f32),
 }
 
 /// What a student's refraction does where the square root's argument is negative.
@@ -79,6 +83,7 @@ impl RayFault {
         match self {
             RayFault::NoCutoff => 0.0,
             RayFault::DefaultWeight(default) if weight == 0.0 => *default,
+            RayFault::CutoffAt(cutoff) => *cutoff,
             _ => weight,
         }
     }
@@ -109,6 +114,7 @@ impl RayFault {
     pub(super) fn crossing_ratio(&self, index: f32, inside: bool) -> Option<f32> {
         match self {
             RayFault::InvertedIndex => Some(1.0 / crate::trace::crossing_ratio(index, inside)),
+            RayFault::IndexAs(instead) => Some(crate::trace::crossing_ratio(*instead, inside)),
             _ => None,
         }
     }
@@ -118,8 +124,20 @@ fn only(fault: RayFault) -> Vec<Candidate> {
     vec![Candidate::plain(Planted::Ray(fault))]
 }
 
+/// The index of refraction of the line's glass, where it shows glass and all of it has one.
+pub(crate) fn glass_index(line: &LineScene) -> Option<f32> {
+    let mut indices = line.description.materials.iter().filter_map(|m| match m {
+        crate::parse::description::MaterialSpec::Phong(p) if p.transparent != glam::Vec3::ZERO => {
+            Some(p.index_of_refraction)
+        }
+        _ => None,
+    });
+    let first = indices.next()?;
+    (bounces(line) && indices.all(|index| index == first)).then_some(first)
+}
+
 /// Whether the line traces mirror or glass rays.
-fn bounces(line: &LineScene) -> bool {
+pub(crate) fn bounces(line: &LineScene) -> bool {
     line.options.trace.bounces > 0 && line.has_image()
 }
 
@@ -194,7 +212,9 @@ pub(super) const REFLECTION_DIRECTION: Fault = Fault {
 pub(super) const REFRACTION_INDEX: Fault = Fault {
     name: "refraction_index",
     assignment: 4,
-    sentence: "I invert the ratio of the indices of refraction when a ray enters or leaves glass.",
+    sentence: "My glass bends rays as glass of another index would: the ratio of the indices \
+               inverted when a ray enters or leaves it (where no index is given), or the index \
+               taken as the number given.",
     look_for: "Snell's ratio η_i / η_t: entering glass from air it is 1 / index, leaving it, \
                index / 1; tell the two apart by the sign of d·n.",
     candidates: |line: &LineScene| {
@@ -260,7 +280,9 @@ pub(super) const BOUNCES_OFF_BY_ONE: Fault = Fault {
 pub(super) const WEIGHT_CUTOFF: Fault = Fault {
     name: "weight_cutoff",
     assignment: 4,
-    sentence: "I ignore -weight: every mirror and glass ray is traced however little it adds.",
+    sentence: "I cut mirror and glass rays off at another weight than -weight says: at none, \
+               every ray traced however little it adds (where no weight is given), or at the \
+               weight given.",
     look_for: "Before tracing a mirror or glass ray: its weight (the product of the colours' \
                magnitudes on the way) must be at least -weight.",
     candidates: |line: &LineScene| {

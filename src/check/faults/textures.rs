@@ -8,7 +8,7 @@ use crate::parse::description::{MaterialSpec, Pattern, TextureSpec};
 use crate::scene::Texture;
 
 /// How a student's tracer weighs a texture at a point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum TextureFault {
     /// The checkerboard's cubes numbered by truncating toward zero, not by flooring: the
     /// cubes either side of each axis plane through the origin are one.
@@ -26,6 +26,44 @@ pub enum TextureFault {
     MarbleClamped,
     /// An allowed answer: Marble's sine taken as its absolute value.
     MarbleAbsolute,
+    /// Noise, Marble and Wood with other numbers than the file's.
+    Constants {
+        /// How many octaves more (or fewer) are summed.
+        octaves: i32,
+        /// What Marble's and Wood's frequency is multiplied by.
+        frequency: f32,
+        /// What Marble's and Wood's amplitude is multiplied by.
+        amplitude: f32,
+    },
+}
+
+/// `pattern` with its numbers changed as [`TextureFault::Constants`] says.
+fn with_constants(pattern: Pattern, more: i32, frequency_by: f64, amplitude_by: f64) -> Pattern {
+    let octaves_of = |octaves: u32| octaves.saturating_add_signed(more);
+    match pattern {
+        Pattern::Checkerboard => pattern,
+        Pattern::Noise { octaves } => Pattern::Noise {
+            octaves: octaves_of(octaves),
+        },
+        Pattern::Marble {
+            octaves,
+            frequency,
+            amplitude,
+        } => Pattern::Marble {
+            octaves: octaves_of(octaves),
+            frequency: frequency * frequency_by,
+            amplitude: amplitude * amplitude_by,
+        },
+        Pattern::Wood {
+            octaves,
+            frequency,
+            amplitude,
+        } => Pattern::Wood {
+            octaves: octaves_of(octaves),
+            frequency: frequency * frequency_by,
+            amplitude: amplitude * amplitude_by,
+        },
+    }
 }
 
 impl TextureFault {
@@ -76,6 +114,17 @@ impl TextureFault {
                 };
                 weight.clamp(0.0, 1.0) as f32
             }
+            TextureFault::Constants {
+                octaves,
+                frequency,
+                amplitude,
+            } => with_constants(
+                texture.pattern,
+                *octaves,
+                f64::from(*frequency),
+                f64::from(*amplitude),
+            )
+            .weight(texture.to_texture.transform_point3(world)),
             TextureFault::MatrixIgnored => texture.pattern.weight(world),
             TextureFault::MatrixInverted => texture
                 .pattern
@@ -132,6 +181,47 @@ pub(super) const TEXTURE_TRANSFORM: Fault = Fault {
     },
 };
 
+/// Whether the line shows a texture made of noise (Noise, Marble or Wood)...
+fn shows_noise(line: &LineScene) -> bool {
+    textures(line).any(|t| t.pattern != Pattern::Checkerboard)
+}
+
+/// ...and one with a frequency and an amplitude (Marble or Wood).
+pub(crate) fn shows_veins(line: &LineScene) -> bool {
+    textures(line).any(|t| matches!(t.pattern, Pattern::Marble { .. } | Pattern::Wood { .. }))
+}
+
+pub(super) const NOISE_CONSTANTS: Fault = Fault {
+    name: "noise_constants",
+    assignment: 6,
+    sentence: "My Noise, Marble or Wood uses other numbers than the file gives (octaves: how \
+               many more octaves are summed; frequency and amplitude: how many times the \
+               file's).",
+    look_for: "The texture's noise: the sum over exactly the file's number of octaves (octave i \
+               at 2^i times the frequency and 1/2^i of the weight); Marble is sin(frequency·x + \
+               amplitude·noise), Wood the same of the distance from the y axis, with the \
+               file's frequency and amplitude.",
+    candidates: |line: &LineScene| {
+        if !shows_noise(line) {
+            return Vec::new();
+        }
+        [-1, 1]
+            .into_iter()
+            .map(|more| {
+                Candidate::with(
+                    Planted::Texture(TextureFault::Constants {
+                        octaves: more,
+                        frequency: 1.0,
+                        amplitude: 1.0,
+                    }),
+                    "octaves",
+                    f64::from(more),
+                )
+            })
+            .collect()
+    },
+};
+
 #[cfg(test)]
 mod tests {
     use glam::{DAffine3, DVec3};
@@ -166,5 +256,41 @@ mod tests {
             TextureFault::CheckerTruncated.weight(&noise, p),
             noise.weight(p)
         );
+    }
+
+    #[test]
+    fn other_constants_are_the_pattern_with_other_numbers() {
+        let marble = |octaves, frequency, amplitude| {
+            texture(
+                Pattern::Marble {
+                    octaves,
+                    frequency,
+                    amplitude,
+                },
+                2.0,
+            )
+        };
+        let p = Vec3A::new(0.3, -0.7, 1.1);
+        let course = marble(3, 2.0, 1.5);
+        let same = TextureFault::Constants {
+            octaves: 0,
+            frequency: 1.0,
+            amplitude: 1.0,
+        };
+        assert_eq!(same.weight(&course, p), course.weight(p));
+        let other = TextureFault::Constants {
+            octaves: -1,
+            frequency: 2.0,
+            amplitude: 0.5,
+        };
+        assert_eq!(other.weight(&course, p), marble(2, 4.0, 0.75).weight(p));
+        // No fewer than no octaves.
+        let noise = texture(Pattern::Noise { octaves: 0 }, 1.0);
+        let fewer = TextureFault::Constants {
+            octaves: -1,
+            frequency: 1.0,
+            amplitude: 1.0,
+        };
+        assert_eq!(fewer.weight(&noise, p), noise.weight(p));
     }
 }

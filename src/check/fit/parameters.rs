@@ -1,12 +1,15 @@
 //! Numbers of the stages past the first ray, fitted one family at a time: how near shadow and
 //! secondary rays start to their surface (a t along the ray, or a distance along the normal, up
-//! to the course's largest allowed epsilon: nearer shadows and reflects the surface itself), and
-//! how far the filter reaches. Each family is one number searched over its range by the
+//! to the course's largest allowed epsilon: nearer shadows and reflects the surface itself), how
+//! far the filter reaches, and Marble's and Wood's frequency and amplitude. Each family is one number searched over its range by the
 //! render's distance from the student's pictures; where it lands names its fault with the number
 //! (an epsilon of 1e-6 is `shadow_acne` at 1e-6, whatever the formula that put it there).
 
 use super::camera::Named;
-use crate::check::faults::{FAULTS, LineScene, Plant, Planted, RayFault, SampleFault};
+use crate::check::faults::{
+    FAULTS, LineScene, Plant, Planted, RayFault, SampleFault, TextureFault, bounces, glass_index,
+    shows_veins,
+};
 
 /// A stage's number as a family of renders.
 struct Family {
@@ -16,9 +19,9 @@ struct Family {
     parameter: &'static str,
     /// The range searched, evenly in the number's logarithm.
     range: (f64, f64),
-    /// The number the course's render has, where one has: a fit landing as close as that to
-    /// it names nothing.
-    course: Option<f64>,
+    /// The number the course's render of the line has, where one has: a fit landing as close
+    /// as that to it names nothing.
+    course: fn(&LineScene) -> Option<f64>,
     /// Whether the family can change the line's pictures.
     applies: fn(&LineScene) -> bool,
     /// The render with the number.
@@ -30,12 +33,12 @@ fn leaves_surfaces(line: &LineScene) -> bool {
     line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0)
 }
 
-const FAMILIES: [Family; 3] = [
+const FAMILIES: [Family; 7] = [
     Family {
         fault: "shadow_acne",
         parameter: "least t",
         range: (1e-9, 1e-3),
-        course: None,
+        course: |_| None,
         applies: leaves_surfaces,
         plant: |epsilon| Planted::Ray(RayFault::FixedStart(epsilon)),
     },
@@ -43,17 +46,61 @@ const FAMILIES: [Family; 3] = [
         fault: "shadow_acne",
         parameter: "offset along the normal",
         range: (1e-9, 1e-3),
-        course: None,
+        course: |_| None,
         applies: leaves_surfaces,
         plant: |offset| Planted::Ray(RayFault::NormalOffset(offset)),
+    },
+    Family {
+        fault: "refraction_index",
+        parameter: "index",
+        range: (0.25, 4.0),
+        course: |line| glass_index(line).map(f64::from),
+        applies: |line| glass_index(line).is_some(),
+        plant: |index| Planted::Ray(RayFault::IndexAs(index)),
+    },
+    Family {
+        fault: "weight_cutoff",
+        parameter: "weight",
+        range: (1e-4, 0.5),
+        course: |line| Some(f64::from(line.options.trace.cutoff_weight)),
+        applies: bounces,
+        plant: |weight| Planted::Ray(RayFault::CutoffAt(weight)),
     },
     Family {
         fault: "filter_radius",
         parameter: "scale",
         range: (0.2, 5.0),
-        course: Some(1.0),
+        course: |_| Some(1.0),
         applies: |line| !line.options.sampling.is_plain(),
         plant: |scale| Planted::Sample(SampleFault::FilterScale(scale)),
+    },
+    Family {
+        fault: "noise_constants",
+        parameter: "frequency",
+        range: (0.1, 10.0),
+        course: |_| Some(1.0),
+        applies: shows_veins,
+        plant: |frequency| {
+            Planted::Texture(TextureFault::Constants {
+                octaves: 0,
+                frequency,
+                amplitude: 1.0,
+            })
+        },
+    },
+    Family {
+        fault: "noise_constants",
+        parameter: "amplitude",
+        range: (0.1, 10.0),
+        course: |_| Some(1.0),
+        applies: shows_veins,
+        plant: |amplitude| {
+            Planted::Texture(TextureFault::Constants {
+                octaves: 0,
+                frequency: 1.0,
+                amplitude,
+            })
+        },
     },
 ];
 
@@ -125,8 +172,7 @@ pub fn fit_parameters<E>(
                 break;
             }
         }
-        if family
-            .course
+        if (family.course)(line)
             .is_some_and(|course| number / course <= SAME && course / number <= SAME)
         {
             continue;
