@@ -309,3 +309,22 @@ fn a_filter_half_a_pixel_wider_is_the_filter_radius_with_its_scale() {
     assert!(failing[0].contains("scale 1.3333"), "{}", failing[0]);
     assert!(failing[1].contains("scale 1.5)"), "{}", failing[1]);
 }
+
+#[test]
+fn marble_in_turns_per_unit_is_the_noise_constants_with_a_frequency_of_two_pi() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 6") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "marble_in_turns",
+        &["scene6_15_marble_cubes.txt", "output6_17a.tga"],
+    );
+    let failing = named_in(&failing, "marble_in_turns", "noise_constants");
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(
+        failing.iter().all(|l| l.contains("frequency 6.2832)")),
+        "{}",
+        failing.join("\n")
+    );
+}

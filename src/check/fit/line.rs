@@ -1,6 +1,6 @@
 //! The fits of one line, in turn, for the failing pictures no listed fault explains: the depth
-//! picture's range, the shading where the objects stand in place, the numbers of the later
-//! assignments' stages, and the camera where the objects stand elsewhere than the reference's. Each
+//! picture's range, the shading and the textures where the objects stand in place, the numbers
+//! of the later assignments' stages, and the camera where the objects stand elsewhere than the reference's. Each
 //! fit's render is proven against the pictures before the next fit runs, so that a picture a
 //! fit explains costs no later fit.
 
@@ -8,8 +8,9 @@ use super::camera::{Named, fit_camera};
 use super::depth::fit_depth_range;
 use super::parameters::fit_parameters;
 use super::shading::fit_shading;
+use super::texture::fit_texture;
 use crate::check::diagnose::silhouette_moved;
-use crate::check::faults::{FAULTS, LineScene, PictureFault, Plant, Planted};
+use crate::check::faults::{FAULTS, LineScene, PictureFault, Plant, Planted, shows_veins};
 use crate::check::rule::Rule;
 use crate::shade::Image;
 
@@ -85,12 +86,15 @@ pub fn fit_line<T: Trial>(
         }
     }
     // The shading, for the shaded and normals pictures whose objects stand in place.
-    let in_place = |slot: Option<usize>| {
+    let in_place = |slot: Option<usize>, explained: &[bool]| {
         (0..pictures.len())
             .find(|&k| !explained[k] && Some(pictures[k].slot) == slot && !moved(&pictures[k]))
             .map(|k| pictures[k].actual)
     };
-    let (shaded, normals) = (in_place(shaded_slot), in_place(normals_slot));
+    let (shaded, normals) = (
+        in_place(shaded_slot, explained),
+        in_place(normals_slot, explained),
+    );
     if (shaded.is_some() || normals.is_some())
         && let Some((plants, named)) = fit_shading(line, shaded, normals)
     {
@@ -102,6 +106,13 @@ pub fn fit_line<T: Trial>(
         if let Some(plant) = plant {
             prove(trial, plant, &named, explained)?;
         }
+    }
+    // Marble's and Wood's numbers, for the shaded picture where its objects stand in place.
+    if shows_veins(line)
+        && let Some(shaded) = in_place(shaded_slot, explained)
+        && let Some((plant, named)) = fit_texture(line, shaded)
+    {
+        prove(trial, Plant::one(plant), &named, explained)?;
     }
     // The numbers of the stages past the first ray (secondary rays' offset, the filter's
     // reach), for every picture still unexplained.

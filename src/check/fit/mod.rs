@@ -11,6 +11,7 @@ mod line;
 mod minimise;
 mod parameters;
 mod shading;
+mod texture;
 
 pub use camera::Named;
 pub use line::{Picture, Trial, fit_line};

@@ -1,14 +1,13 @@
 //! Numbers of the stages past the first ray, fitted one family at a time: how near shadow and
 //! secondary rays start to their surface (a t along the ray, or a distance along the normal, up
-//! to the course's largest allowed epsilon: nearer shadows and reflects the surface itself), how
-//! far the filter reaches, and Marble's and Wood's frequency and amplitude. Each family is one number searched over its range by the
+//! to the course's largest allowed epsilon: nearer shadows and reflects the surface itself),
+//! glass's index, the weight below which rays are cut off, and how far the filter reaches. Each family is one number searched over its range by the
 //! render's distance from the student's pictures; where it lands names its fault with the number
 //! (an epsilon of 1e-6 is `shadow_acne` at 1e-6, whatever the formula that put it there).
 
 use super::camera::Named;
 use crate::check::faults::{
-    FAULTS, LineScene, Plant, Planted, RayFault, SampleFault, TextureFault, bounces, glass_index,
-    shows_veins,
+    FAULTS, LineScene, Plant, Planted, RayFault, SampleFault, bounces, glass_index,
 };
 
 /// A stage's number as a family of renders.
@@ -33,7 +32,7 @@ fn leaves_surfaces(line: &LineScene) -> bool {
     line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0)
 }
 
-const FAMILIES: [Family; 7] = [
+const FAMILIES: [Family; 5] = [
     Family {
         fault: "shadow_acne",
         parameter: "least t",
@@ -73,34 +72,6 @@ const FAMILIES: [Family; 7] = [
         course: |_| Some(1.0),
         applies: |line| !line.options.sampling.is_plain(),
         plant: |scale| Planted::Sample(SampleFault::FilterScale(scale)),
-    },
-    Family {
-        fault: "noise_constants",
-        parameter: "frequency",
-        range: (0.1, 10.0),
-        course: |_| Some(1.0),
-        applies: shows_veins,
-        plant: |frequency| {
-            Planted::Texture(TextureFault::Constants {
-                octaves: 0,
-                frequency,
-                amplitude: 1.0,
-            })
-        },
-    },
-    Family {
-        fault: "noise_constants",
-        parameter: "amplitude",
-        range: (0.1, 10.0),
-        course: |_| Some(1.0),
-        applies: shows_veins,
-        plant: |amplitude| {
-            Planted::Texture(TextureFault::Constants {
-                octaves: 0,
-                frequency: 1.0,
-                amplitude,
-            })
-        },
     },
 ];
 
