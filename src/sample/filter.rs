@@ -24,6 +24,10 @@ pub enum Filter {
     BoxClosed(f32),
     /// The box with its edges out: −r < x, y < r (an allowed answer, `-choose box_open`).
     BoxOpen(f32),
+    /// A mistake of check's library: the tent made of two straight ones, (1 − |x|/r)(1 − |y|/r).
+    TentAcross(f32),
+    /// A mistake of check's library: the box round, weight 1 nearer than r.
+    BoxRound(f32),
 }
 
 impl Filter {
@@ -44,6 +48,14 @@ impl Filter {
                 if inside(x) && inside(y) { 1.0 } else { 0.0 }
             }
             Filter::Tent(r) => (1.0 - (x * x + y * y).sqrt() / r).max(0.0),
+            Filter::TentAcross(r) => (1.0 - x.abs() / r).max(0.0) * (1.0 - y.abs() / r).max(0.0),
+            Filter::BoxRound(r) => {
+                if x * x + y * y < r * r {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
             Filter::GaussianUncut { sigma, .. } => (-(x * x + y * y) / (2.0 * sigma * sigma)).exp(),
             Filter::Gaussian(sigma) => {
                 let d2 = x * x + y * y;
@@ -59,7 +71,11 @@ impl Filter {
     /// How far the filter reaches, in pixels from the centre, before its weight is 0.
     fn reach(&self) -> f32 {
         match *self {
-            Filter::Box(r) | Filter::BoxOpen(r) | Filter::Tent(r) => r,
+            Filter::Box(r)
+            | Filter::BoxOpen(r)
+            | Filter::Tent(r)
+            | Filter::TentAcross(r)
+            | Filter::BoxRound(r) => r,
             // Its edge's samples weigh 1: the support takes the next pixel where one lies there.
             Filter::BoxClosed(r) => r + f32::EPSILON * r.max(1.0),
             Filter::Gaussian(sigma) => 2.0 * sigma,
@@ -102,6 +118,21 @@ mod tests {
         // Cut at 2σ = 1.
         assert!(g.weight(0.99, 0.0) > 0.1);
         assert_eq!(g.weight(1.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn the_library_s_shapes_by_hand() {
+        let across = Filter::TentAcross(2.0);
+        assert_eq!(across.weight(1.0, 0.0), 0.5);
+        // (1 − 0.6/2)(1 − 0.8/2) = 0.7 × 0.6; the course's tent has 0.5 at distance 1.
+        assert!((across.weight(0.6, 0.8) - 0.42).abs() < 1e-6);
+        assert_eq!(across.weight(2.0, 0.0), 0.0);
+        let round = Filter::BoxRound(1.0);
+        assert_eq!(round.weight(0.7, 0.7), 1.0);
+        assert_eq!(round.weight(0.8, 0.8), 0.0);
+        assert_eq!(Filter::Box(1.0).weight(0.8, 0.8), 1.0);
+        assert_eq!(across.support_radius(), 2);
+        assert_eq!(round.support_radius(), 1);
     }
 
     #[test]

@@ -109,6 +109,13 @@ pub trait TraceSeam: Copy + Send + Sync {
         weight
     }
 
+    /// What the colour a mirror ray (or, with `transparent`, a glass ray) brings back is
+    /// multiplied by, the material's reflective (or transparent) colour being `colour`.
+    #[inline(always)]
+    fn carried(&self, colour: Vec3A, _transparent: bool) -> Vec3A {
+        colour
+    }
+
     /// The mirror direction of unit `direction` about unit `normal`.
     #[inline(always)]
     fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Vec3A {
@@ -530,8 +537,9 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         }
         if branch.bounces_left > 0 {
             let unit = direction.normalize();
-            let mut spawn = |colour: Vec3A, direction: Vec3A| {
-                let (weight, throughput) = spawned(branch.weight, branch.throughput, colour);
+            let mut spawn = |colour: Vec3A, transparent: bool, direction: Vec3A| {
+                let (weight, _) = spawned(branch.weight, branch.throughput, colour);
+                let throughput = branch.throughput * self.variant.carried(colour, transparent);
                 let cutoff = self.variant.cutoff_weight(self.settings.cutoff_weight);
                 if worth_tracing(cutoff, weight, throughput) {
                     scratch.pending.push(Pending {
@@ -547,7 +555,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             };
             let reflective = surface.reflective();
             if reflective != Vec3A::ZERO {
-                spawn(reflective, self.variant.reflect(unit, normal));
+                spawn(reflective, false, self.variant.reflect(unit, normal));
             }
             let transparent = surface.transparent();
             if transparent != Vec3A::ZERO {
@@ -555,7 +563,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 let index = surface.index_of_refraction();
                 let ratio = self.variant.crossing_ratio(index, inside);
                 if let Some(refracted) = self.variant.refract(unit, normal, ratio) {
-                    spawn(transparent, refracted);
+                    spawn(transparent, true, refracted);
                 }
             }
         }

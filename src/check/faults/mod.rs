@@ -173,10 +173,12 @@ pub static FAULTS: &[Fault] = &[
     rays::TOTAL_INTERNAL_REFLECTION,
     rays::BOUNCES_OFF_BY_ONE,
     rays::WEIGHT_CUTOFF,
+    rays::SECONDARY_COLOUR,
     samples::JITTER_WHOLE_PIXEL,
     samples::UNIFORM_CORNERS,
     samples::FILTER_RADIUS,
     samples::FILTER_WEIGHTS,
+    samples::FILTER_SHAPE,
     textures::CHECKER_TRUNCATION,
     textures::TEXTURE_TRANSFORM,
     textures::NOISE_CONSTANTS,
@@ -421,6 +423,12 @@ impl TraceSeam for Plant {
 
     fn cutoff_weight(&self, weight: f32) -> f32 {
         self.rays().fold(weight, |w, r| r.cutoff_weight(w))
+    }
+
+    fn carried(&self, colour: Vec3A, transparent: bool) -> Vec3A {
+        self.rays()
+            .find_map(|r| r.carried(transparent))
+            .unwrap_or(colour)
     }
 
     fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Vec3A {

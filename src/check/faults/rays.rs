@@ -37,6 +37,12 @@ pub enum RayFault {
     IndexAs(f32),
     /// Mirror and glass rays cut off at this weight whatever `-weight` says (check's fit).
     CutoffAt(f32),
+    /// What a mirror ray (or, with `transparent`, a glass ray) brings back added whole, not
+    /// multiplied by the material's colour for it.
+    ColourIgnored {
+        /// Glass rays', not mirror rays'.
+        transparent: bool,
+    },
 }
 
 /// What a student's refraction does where the square root's argument is negative.
@@ -88,6 +94,16 @@ impl RayFault {
         }
     }
 
+    /// What a mirror (or glass) ray's colour is multiplied by, where not the material's.
+    pub(super) fn carried(&self, transparent: bool) -> Option<Vec3A> {
+        match *self {
+            RayFault::ColourIgnored { transparent: which } if which == transparent => {
+                Some(Vec3A::ONE)
+            }
+            _ => None,
+        }
+    }
+
     pub(super) fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Option<Vec3A> {
         match self {
             RayFault::MirrorSign => Some(direction + 2.0 * direction.dot(normal) * normal),
@@ -122,6 +138,22 @@ impl RayFault {
 
 fn only(fault: RayFault) -> Vec<Candidate> {
     vec![Candidate::plain(Planted::Ray(fault))]
+}
+
+/// Whether any material of the line's scene reflects (or, with `transparent`, refracts) with a
+/// colour other than white: there a colour left out changes the picture.
+fn has_tinted_material(line: &LineScene, transparent: bool) -> bool {
+    line.description.materials.iter().any(|m| match m {
+        crate::parse::description::MaterialSpec::Phong(p) => {
+            let colour = if transparent {
+                p.transparent
+            } else {
+                p.reflective
+            };
+            colour != glam::Vec3::ZERO && colour != glam::Vec3::ONE
+        }
+        crate::parse::description::MaterialSpec::Texture(_) => false,
+    })
 }
 
 /// The index of refraction of the line's glass, where it shows glass and all of it has one.
@@ -291,6 +323,30 @@ pub(super) const WEIGHT_CUTOFF: Fault = Fault {
         } else {
             Vec::new()
         }
+    },
+};
+
+pub(super) const SECONDARY_COLOUR: Fault = Fault {
+    name: "secondary_colour",
+    assignment: 4,
+    sentence: "I add what my mirror rays (form 0) or glass rays (form 1) bring back whole, not \
+               multiplied by the material's reflective or transparent colour.",
+    look_for: "Where a mirror or glass ray's colour is added to the hit's: colour += \
+               reflectiveColor × traceRay(mirror ray), and transparentColor × traceRay(glass \
+               ray).",
+    candidates: |line: &LineScene| {
+        if !bounces(line) {
+            return Vec::new();
+        }
+        // Numbered over both forms, then only those that can change this line kept.
+        Candidate::forms(
+            [false, true].map(|transparent| Planted::Ray(RayFault::ColourIgnored { transparent })),
+        )
+        .into_iter()
+        .zip([false, true])
+        .filter(|&(_, transparent)| has_tinted_material(line, transparent))
+        .map(|(candidate, _)| candidate)
+        .collect()
     },
 };
 

@@ -31,6 +31,8 @@ pub enum SampleFault {
     BoxClosed,
     /// An allowed answer: the box's edges out.
     BoxOpen,
+    /// The filter another shape: the tent made of two straight ones, the box round.
+    Shape,
 }
 
 impl SampleFault {
@@ -74,6 +76,8 @@ impl SampleFault {
                 Filter::BoxClosed(r) => Filter::BoxClosed(r * by),
                 Filter::BoxOpen(r) => Filter::BoxOpen(r * by),
                 Filter::Tent(r) => Filter::Tent(r * by),
+                Filter::TentAcross(r) => Filter::TentAcross(r * by),
+                Filter::BoxRound(r) => Filter::BoxRound(r * by),
                 Filter::Gaussian(s) => Filter::Gaussian(s * by),
                 Filter::GaussianUncut { sigma, radius } => Filter::GaussianUncut {
                     sigma: sigma * by,
@@ -93,6 +97,11 @@ impl SampleFault {
             },
             SampleFault::BoxOpen => match filter {
                 Filter::Box(r) => Filter::BoxOpen(r),
+                other => other,
+            },
+            SampleFault::Shape => match filter {
+                Filter::Tent(r) => Filter::TentAcross(r),
+                Filter::Box(r) => Filter::BoxRound(r),
                 other => other,
             },
             _ => filter,
@@ -168,6 +177,24 @@ pub(super) const FILTER_RADIUS: Fault = Fault {
                 )
             })
             .collect()
+    },
+};
+
+pub(super) const FILTER_SHAPE: Fault = Fault {
+    name: "filter_shape",
+    assignment: 7,
+    sentence: "My filter has another shape: a tent made of two straight ones, (1 - |x|/r)(1 - \
+               |y|/r), or a round box that takes the samples nearer than r.",
+    look_for: "The filter's weight of a sample at (x, y) from the pixel's centre: the tent is 1 \
+               - d/r with d the distance sqrt(x² + y²); the box is 1 where both |x| and |y| are \
+               below r (a square), 0 elsewhere.",
+    candidates: |line: &LineScene| {
+        let sampling = &line.options.sampling;
+        let shaped = matches!(sampling.filter, Filter::Tent(_) | Filter::Box(_));
+        if sampling.is_plain() || !shaped {
+            return Vec::new();
+        }
+        vec![Candidate::plain(Planted::Sample(SampleFault::Shape))]
     },
 };
 

@@ -184,7 +184,7 @@ mod tests {
         };
         let description =
             crate::parse::parse_scene(std::path::Path::new("scene.txt"), scene).unwrap();
-        let scene = crate::Scene::from_description(&description).unwrap();
+        let scene = crate::scene::Scene::from_description(&description).unwrap();
         LineScene {
             options,
             description,
