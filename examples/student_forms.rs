@@ -20,7 +20,7 @@ use raycast::parse::description::Projection;
 use raycast::parse::read_scene;
 use raycast::sample::{Filter, SampleSeam};
 use raycast::scene::perlin::octave_noise;
-use raycast::scene::{Highlight, SpecularFalloff, Surface, Texture};
+use raycast::scene::{Highlight, Illumination, Light, SpecularFalloff, Surface, Texture};
 use raycast::shade::PictureSeam;
 use raycast::trace::TraceSeam;
 use raycast::{UVec3, Vec3A};
@@ -58,6 +58,9 @@ enum Form {
     /// Marble's veins as `sin(2 pi frequency x + amplitude noise)`: the file's frequency taken
     /// as turns per unit, not radians.
     MarbleInTurns,
+    /// A point light dimmed as light falls off in the world, `colour / (d * d)`, whatever the
+    /// file's attenuation says.
+    InverseSquareLight,
 }
 
 impl Form {
@@ -74,6 +77,7 @@ impl Form {
             "tiny_normal_offset" => Form::TinyNormalOffset,
             "filter_half_pixel_wider" => Form::FilterHalfPixelWider,
             "marble_in_turns" => Form::MarbleInTurns,
+            "inverse_square_light" => Form::InverseSquareLight,
             _ => return None,
         })
     }
@@ -132,6 +136,17 @@ impl TraceSeam for Form {
         match self {
             Form::MarbleInTurns => surface.weigh(point, marble_in_turns),
             _ => surface.weigh(point, Texture::weight),
+        }
+    }
+
+    fn illuminate(&self, light: &Light, point: Vec3A) -> Option<Illumination> {
+        let lit = light.illuminate(point)?;
+        match (self, light) {
+            (Form::InverseSquareLight, Light::Point { colour, .. }) => Some(Illumination {
+                colour: *colour / (lit.distance * lit.distance),
+                ..lit
+            }),
+            _ => Some(lit),
         }
     }
 

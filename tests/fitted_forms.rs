@@ -328,3 +328,27 @@ fn marble_in_turns_per_unit_is_the_noise_constants_with_a_frequency_of_two_pi() 
         failing.join("\n")
     );
 }
+
+#[test]
+fn a_point_light_dimmed_by_the_square_of_its_distance_is_the_attenuation_with_its_divisor() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "inverse_square_light",
+        &[
+            "scene4_12_point_light_circle_d_attenuation.txt",
+            "scene4_13_point_light_circle_d2_attenuation.txt",
+        ],
+    );
+    let failing = named_in(&failing, "inverse_square_light", "attenuation");
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(
+        failing
+            .iter()
+            .all(|l| l.contains("divisor: constant 0, times d 0, times d² 1")),
+        "{}",
+        failing.join("\n")
+    );
+}

@@ -38,33 +38,36 @@ pub enum HitFault {
 
 /// The length of a normal of unit direction `normal` on an object placed by `transform`, as a
 /// student's tracer leaves it: 1/|n|² = a + b |Aᵀn|² + c (t·n)², A and t the Transform's linear
-/// part and translation (the identity and 0 in world space). The course's is (1, 0, 0); a normal
+/// part and translation; unit in world space, where no Transform carries it (a length that is
+/// the same everywhere would stand in for any factor of the light's). The course's is
+/// (1, 0, 0); a normal
 /// carried by the inverse transpose and not made unit again is (0, 1, 0); one carried as the
 /// 4-vector (n, 0) by the whole inverse transpose and normalised with its fourth component,
 /// (1, 0, 1).
 pub fn normal_length(numbers: [f32; 3], normal: Vec3A, transform: Option<&Transform>) -> f32 {
-    let (stretched, along) = normal_stretch(normal, transform);
-    length_from(numbers, stretched, along)
+    length_from(numbers, normal_stretch(normal, transform))
 }
 
-/// For [`normal_length`]: |Aᵀn|² and t·n.
-pub fn normal_stretch(normal: Vec3A, transform: Option<&Transform>) -> (f32, f32) {
-    match transform {
-        Some(t) => (
+/// For [`normal_length`]: |Aᵀn|² and t·n, where a Transform carries the normal.
+pub fn normal_stretch(normal: Vec3A, transform: Option<&Transform>) -> Option<(f32, f32)> {
+    transform.map(|t| {
+        (
             (t.object_to_world.matrix3.transpose() * normal).length_squared(),
             t.object_to_world.translation.dot(normal),
-        ),
-        None => (1.0, 0.0),
-    }
+        )
+    })
 }
 
-/// [`normal_length`] from [`normal_stretch`]'s numbers.
-pub fn length_from([a, b, c]: [f32; 3], stretched: f32, along: f32) -> f32 {
+/// [`normal_length`] from [`normal_stretch`]'s numbers (0 where the numbers give no length).
+pub fn length_from([a, b, c]: [f32; 3], stretch: Option<(f32, f32)>) -> f32 {
+    let Some((stretched, along)) = stretch else {
+        return 1.0;
+    };
     let inverse_square = a + b * stretched + c * along * along;
     if inverse_square > 0.0 {
         inverse_square.sqrt().recip()
     } else {
-        1.0
+        0.0
     }
 }
 

@@ -38,11 +38,14 @@ pub enum ShadingFault {
         power: f32,
         /// Whether a surface lit from behind is shaded as if from in front (|N·L|).
         absolute: bool,
+        /// A point light's colour at distance d divided by these terms' x + y·d + z·d², not
+        /// by the file's c + l·d + q·d².
+        divisor: Option<[f32; 3]>,
     },
 }
 
 /// How a student's tracer dims a point light with distance d, the file giving c, l and q.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Attenuation {
     /// Not at all.
     Ignored,
@@ -50,6 +53,8 @@ pub enum Attenuation {
     NotSquared,
     /// 1 / (q + l·d + c·d²): the terms read in the wrong order.
     Reversed,
+    /// 1 / (x + y·d + z·d²), whatever the file says (check's shading fit).
+    Divisor([f32; 3]),
 }
 
 impl Attenuation {
@@ -65,6 +70,7 @@ impl Attenuation {
             Attenuation::Ignored => 1.0,
             Attenuation::NotSquared => c + l * d + q * d,
             Attenuation::Reversed => q + l * d + c * d * d,
+            Attenuation::Divisor([x, y, z]) => (x + y * d + z * d * d).max(f32::MIN_POSITIVE),
         }
     }
 
@@ -90,6 +96,7 @@ impl Attenuation {
             Attenuation::Ignored => [c, l, q] != [1.0, 0.0, 0.0],
             Attenuation::NotSquared => q != 0.0,
             Attenuation::Reversed => c != q,
+            Attenuation::Divisor(terms) => *terms != [c, l, q],
         }
     }
 }
@@ -116,6 +123,7 @@ impl ShadingFault {
     pub(super) fn attenuation(&self) -> Option<Attenuation> {
         match *self {
             ShadingFault::Attenuation(way) => Some(way),
+            ShadingFault::Weighed { divisor, .. } => divisor.map(Attenuation::Divisor),
             _ => None,
         }
     }

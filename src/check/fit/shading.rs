@@ -19,26 +19,32 @@ use crate::check::faults::{
 };
 use crate::geometry::Ray;
 use crate::sample::Sampler;
-use crate::scene::{Illumination, Surface, Texture};
+use crate::scene::{Illumination, Light, Surface, Texture};
 use crate::shade::{Image, to_byte};
 use crate::trace::{Scratch, Tracer, clearance, shadow_end, start_t};
 
-/// The family's numbers, in order: the ambient weight, the power of N·L, and the normal's
-/// length's a, b and c; the course's values...
-const COURSE: [f64; 5] = [1.0, 1.0, 1.0, 0.0, 0.0];
-/// ...the first steps of the search...
-const STEPS: [f64; 5] = [0.5, 0.5, 0.5, 0.5, 0.5];
+/// How many numbers the family has: the ambient weight, the power of N·L, the normal's length's
+/// a, b and c, and a point light's divisor's constant, linear and quadratic terms.
+const NUMBERS: usize = 8;
+/// The first steps of the search (the divisor's relative to the file's terms)...
+const STEPS: [f64; NUMBERS] = [0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5];
 /// ...and the round values each is tried at once fitted (the ambient weight also at the number
-/// of lights).
-const ROUND: [&[f64]; 5] = [
+/// of lights, the divisor's terms also at the file's three).
+const ROUND: [&[f64]; NUMBERS] = [
     &[0.0, 1.0],
     &[1.0, 2.0],
     &[0.0, 1.0],
     &[0.0, 1.0],
     &[0.0, 1.0],
+    &[0.0, 1.0],
+    &[0.0, 1.0],
+    &[0.0, 1.0],
 ];
-/// Evaluations of the model (not renders) for each search...
-const EVALUATIONS: usize = 400;
+/// The numbers of each stage of the pipeline: the shading's weights, the normal's length, a
+/// point light's divisor.
+const STAGES: [&[usize]; 3] = [&[0, 1], &[2, 3, 4], &[5, 6, 7]];
+/// Evaluations of the model (not renders) for each search, for each number searched...
+const EVALUATIONS: usize = 80;
 /// ...and searches, each from where the last ended.
 const RESTARTS: usize = 4;
 /// At most this many pixels are weighed (evenly spread over the picture).
@@ -61,12 +67,12 @@ struct Seen<'a> {
     /// The course's unit normal, turned toward the ray.
     normal: Vec3A,
     /// The length of the normal's direction on its object, for the family's a, b and c.
-    stretch: f32,
-    along: f32,
+    stretch: Option<(f32, f32)>,
     surface: Surface<'a>,
     ambient: Vec3A,
-    /// Each light that reaches the hit unshadowed.
-    lights: Vec<Illumination>,
+    /// Each light that reaches the hit unshadowed, with the divisor the file's attenuation
+    /// gives a point light there.
+    lights: Vec<(Illumination, Option<f32>)>,
     /// What mirrors and glass bring (the course's colour less the hit's own).
     rest: Vec3A,
 }
@@ -90,6 +96,20 @@ pub fn fit_shading(
         return None;
     }
     let scene = &line.scene;
+    // The course's numbers; a point light's divisor is fitted where every point light has the
+    // same attenuation (the course's terms then the file's).
+    let terms: Vec<[f32; 3]> = scene
+        .lights
+        .iter()
+        .filter_map(|light| match *light {
+            Light::Point { attenuation, .. } => Some(attenuation),
+            Light::Directional { .. } => None,
+        })
+        .collect();
+    let shared = terms.first().filter(|t| terms.iter().all(|o| o == *t));
+    let [c, l, q] = shared.map_or([1.0, 0.0, 0.0], |t| t.map(f64::from));
+    let course: [f64; NUMBERS] = [1.0, 1.0, 1.0, 0.0, 0.0, c, l, q];
+    let free: Vec<usize> = (0..if shared.is_some() { NUMBERS } else { 5 }).collect();
     let (width, height) = (options.width, options.height);
     let pixels = (width * height) as usize;
     let every = pixels.div_ceil(MAX_PIXELS).max(1);
@@ -113,20 +133,30 @@ pub fn fit_shading(
         surface.weigh(point, Texture::weight);
         let normal = if inside { -hit.normal } else { hit.normal };
         let transform = scene.world.normal_origin(&ray, t_min).and_then(|(_, t)| t);
-        let (stretch, along) = normal_stretch(hit.normal, transform);
+        let stretch = normal_stretch(hit.normal, transform);
         let clearance = clearance(point, ray.origin);
         let lights = scene
             .lights
             .iter()
-            .filter_map(|light| light.illuminate(point))
-            .filter(|light| {
-                let shadow = Ray::new(point, light.to_light);
+            .filter_map(|light| Some((light.illuminate(point)?, light)))
+            .filter(|(lit, _)| {
+                let shadow = Ray::new(point, lit.to_light);
                 !settings.shadows
                     || !scene.world.occluded(
                         &shadow,
-                        start_t(clearance, light.to_light, normal),
-                        shadow_end(light.distance),
+                        start_t(clearance, lit.to_light, normal),
+                        shadow_end(lit.distance),
                     )
+            })
+            .map(|(lit, light)| {
+                let divisor = match *light {
+                    Light::Point {
+                        attenuation: [c, l, q],
+                        ..
+                    } => Some(c + l * lit.distance + q * lit.distance * lit.distance),
+                    Light::Directional { .. } => None,
+                };
+                (lit, divisor)
             })
             .collect();
         let mut one = Seen {
@@ -134,14 +164,13 @@ pub fn fit_shading(
             view: ray.direction,
             normal,
             stretch,
-            along,
             ambient: scene.ambient * surface.diffuse(),
             surface,
             lights,
             rest: Vec3A::ZERO,
         };
-        let course = tracer.colour(&ray, Some(&hit), &mut scratch);
-        one.rest = course - shade(&one, &COURSE, false, scene.lights.len(), settings.specular);
+        let colour = tracer.colour(&ray, Some(&hit), &mut scratch);
+        one.rest = colour - shade(&one, &course, false, scene.lights.len(), settings.specular);
         seen.push(one);
     }
     if seen.is_empty() {
@@ -163,94 +192,156 @@ pub fn fit_shading(
         }
         sum / seen.len() as f64
     };
-    let course = cost(&COURSE, false);
+    let course_cost = cost(&course, false);
     // |N·L| only where some light is behind a surface it would light.
     let behind = seen.iter().any(|one| {
         one.lights
             .iter()
-            .any(|light| one.normal.dot(light.to_light) < 0.0)
+            .any(|(light, _)| one.normal.dot(light.to_light) < 0.0)
     });
-    let mut best: Option<([f64; 5], bool, f64)> = None;
+    // Each number's steps and round values: the divisor's in the file's terms' scale.
+    let scale_of = |index: usize| match index {
+        5..=7 => [c, l, q].into_iter().fold(0.0, f64::max).max(1e-3),
+        _ => 1.0,
+    };
+    // The course's value first: a number that changes nothing is taken as the course's.
+    let round_values = |index: usize| {
+        let mut round: Vec<f64> = vec![course[index]];
+        round.extend(ROUND[index]);
+        match index {
+            0 => round.push(lights as f64),
+            5..=7 => round.extend([c, l, q]),
+            _ => {}
+        }
+        round
+    };
+    let mut best: Option<([f64; NUMBERS], bool, f64)> = None;
     for absolute in [false, true].into_iter().filter(|&a| !a || behind) {
-        // Searched again from where each search ends, by smaller steps: the simplex of one
-        // search may settle short of the least in a valley.
-        let mut at: [f64; 5] = COURSE;
+        // Each stage's numbers alone first (the normal's length and a light's divisor trade
+        // off against each other: searched together from the course's, they settle anywhere
+        // along the valley between), the best of those, then every number from there.
+        let search = |start: [f64; NUMBERS], searched: &[usize]| {
+            search_from(
+                start,
+                searched,
+                |numbers| cost(numbers, absolute),
+                &scale_of,
+            )
+        };
+        let mut at = course;
         let mut value = f64::INFINITY;
-        for restart in 0..RESTARTS {
-            let scale = 0.5f64.powi(restart as i32);
-            let starts: Vec<Start> = at
-                .iter()
-                .zip(STEPS)
-                .map(|(&value, step)| Start {
-                    value,
-                    step: step * scale,
-                })
-                .collect();
-            let least = minimise::<()>(&starts, EVALUATIONS, |at| Ok(cost(at, absolute))).ok()?;
-            let better = least.value < value - 1e-6;
-            if least.value < value {
-                at = least.at.try_into().ok()?;
-                value = least.value;
+        for stage in STAGES {
+            let searched: Vec<usize> = stage.iter().copied().filter(|i| free.contains(i)).collect();
+            if searched.is_empty() {
+                continue;
             }
-            if !better || value == 0.0 {
-                break;
+            let (there, cost_there) = search(course, &searched);
+            if cost_there < value {
+                (at, value) = (there, cost_there);
+            }
+        }
+        if value > 0.0 {
+            let (there, cost_there) = search(at, &free);
+            if cost_there < value {
+                (at, value) = (there, cost_there);
             }
         }
         // Every number at the round value nearest it at once, where that costs (almost)
         // nothing (numbers that trade off against each other may each sit off their round value
         // while the others do); then each number alone, again while any moves (one number may
         // round only once another has).
-        let nearest: [f64; 5] = std::array::from_fn(|index| {
-            round_values(index, lights)
+        let nearest: [f64; NUMBERS] = std::array::from_fn(|index| {
+            round_values(index)
                 .into_iter()
                 .min_by(|a, b| (a - at[index]).abs().total_cmp(&(b - at[index]).abs()))
                 .unwrap_or(at[index])
         });
+        // A round value is taken where the picture is (almost) as near as the search's least.
+        let near_enough = value * (1.0 + ROUND_SHARE) + ROUND_LEVELS;
+        let mut current = value;
         let there = cost(&nearest, absolute);
-        if there <= value * (1.0 + ROUND_SHARE) + ROUND_LEVELS {
-            at = nearest;
-            value = there.min(value);
+        if there <= near_enough {
+            (at, current) = (nearest, there);
         }
         for _ in 0..at.len() {
             let mut moved = false;
             for index in 0..at.len() {
-                for r in round_values(index, lights)
-                    .into_iter()
-                    .filter(|&r| r != at[index])
-                {
+                // The nearest of its round values (the course's first among equals).
+                let mut choice = (at[index], current);
+                for r in round_values(index) {
                     let mut tried = at;
                     tried[index] = r;
                     let there = cost(&tried, absolute);
-                    if there <= value * (1.0 + ROUND_SHARE) + ROUND_LEVELS {
-                        at = tried;
-                        value = there.min(value);
-                        moved = true;
-                        break;
+                    if there <= near_enough && there < choice.1 {
+                        choice = (r, there);
                     }
+                }
+                if choice.0 != at[index] {
+                    at[index] = choice.0;
+                    current = choice.1;
+                    moved = true;
                 }
             }
             if !moved {
                 break;
             }
         }
+        let value = current;
         if best.is_none_or(|(_, _, v)| value < v) {
             best = Some((at, absolute, value));
         }
     }
     let (at, absolute, value) = best?;
-    if value >= course || (at == COURSE && !absolute) {
+    if value >= course_cost || (at == course && !absolute) {
         return None;
     }
-    name(at, absolute, lights)
+    name(at, absolute, lights, [c, l, q])
 }
 
-/// The round values number `index` is tried at.
-fn round_values(index: usize, lights: usize) -> Vec<f64> {
-    let mut round = ROUND[index].to_vec();
-    if index == 0 {
-        round.push(lights as f64);
+/// The least of `cost` over the numbers `searched` (the others as in `start`), by the simplex
+/// searched again from where each search ends, by smaller steps (one search may settle short of
+/// the least in a valley).
+fn search_from(
+    start: [f64; NUMBERS],
+    searched: &[usize],
+    cost: impl Fn(&[f64; NUMBERS]) -> f64,
+    scale_of: &impl Fn(usize) -> f64,
+) -> ([f64; NUMBERS], f64) {
+    // `at` with the searched numbers set to `values`.
+    let set = |at: [f64; NUMBERS], values: &[f64]| {
+        let mut numbers = at;
+        for (&index, &v) in searched.iter().zip(values) {
+            numbers[index] = v;
+        }
+        numbers
+    };
+    let (mut at, mut value) = (start, cost(&start));
+    for restart in 0..RESTARTS {
+        let scale = 0.5f64.powi(restart as i32);
+        let starts: Vec<Start> = searched
+            .iter()
+            .map(|&index| Start {
+                value: at[index],
+                step: STEPS[index] * scale * scale_of(index),
+            })
+            .collect();
+        let evaluations = EVALUATIONS * searched.len();
+        let least = match minimise(&starts, evaluations, |x| {
+            Ok::<_, std::convert::Infallible>(cost(&set(at, x)))
+        }) {
+            Ok(least) => least,
+            Err(never) => match never {},
+        };
+        let better = least.value < value - 1e-6;
+        if least.value < value {
+            at = set(at, &least.at);
+            value = least.value;
+        }
+        if !better || value == 0.0 {
+            break;
+        }
     }
-    round
+    (at, value)
 }
 
 /// The colour the family draws at `one` with `numbers` (unclamped).
@@ -261,10 +352,23 @@ fn shade(
     lights: usize,
     falloff: crate::scene::SpecularFalloff,
 ) -> Vec3A {
-    let fault = weighed(numbers, absolute);
+    // (Point lights dimmed below, from the file's divisor.)
+    let fault = weighed(numbers, absolute, false);
     let normal = one.normal * length(one, numbers);
     let mut colour = fault.ambient(one.ambient, lights) + one.rest;
-    for light in &one.lights {
+    for &(lit, divisor) in &one.lights {
+        // A point light as the student dims it: the file's divisor taken back, theirs applied.
+        let light = match divisor {
+            Some(course) => {
+                let d = f64::from(lit.distance);
+                let theirs = numbers[5] + numbers[6] * d + numbers[7] * d * d;
+                Illumination {
+                    colour: lit.colour * (f64::from(course) / theirs.max(1e-9)) as f32,
+                    ..lit
+                }
+            }
+            None => lit,
+        };
         colour += fault.light(
             &|n, f, h| {
                 one.surface
@@ -280,18 +384,20 @@ fn shade(
 }
 
 /// The shading the numbers say, as the fault library plants it.
-fn weighed(numbers: &[f64], absolute: bool) -> ShadingFault {
+/// (`divided`: with the numbers' own divisor for point lights.)
+fn weighed(numbers: &[f64], absolute: bool, divided: bool) -> ShadingFault {
     ShadingFault::Weighed {
         ambient: numbers[0] as f32,
         power: numbers[1] as f32,
         absolute,
+        divisor: divided.then(|| [numbers[5], numbers[6], numbers[7]].map(|n| n as f32)),
     }
 }
 
 /// The normal's length at `one` with `numbers`.
 fn length(one: &Seen<'_>, numbers: &[f64]) -> f32 {
     let numbers = [numbers[2], numbers[3], numbers[4]].map(|n| n as f32);
-    length_from(numbers, one.stretch, one.along)
+    length_from(numbers, one.stretch)
 }
 
 /// How many levels `colour` lands from the student's bytes, summed over the channels, each at
@@ -313,17 +419,23 @@ fn levels_off(colour: Vec3A, student: [u8; 3]) -> f64 {
 }
 
 /// The faults fitted numbers name, with the numbers that show them; none where a number off the
-/// course's lands on no fault.
-fn name(at: [f64; 5], absolute: bool, lights: usize) -> Option<(Vec<Planted>, Named)> {
+/// course's lands on no fault. `terms` are the file's attenuation (c, l, q).
+fn name(
+    at: [f64; NUMBERS],
+    absolute: bool,
+    lights: usize,
+    [c, l, q]: [f64; 3],
+) -> Option<(Vec<Planted>, Named)> {
     let fault = |name: &str| FAULTS.iter().find(|f| f.name == name);
     let mut faults: Vec<&'static Fault> = Vec::new();
     let mut numbers: Vec<(&'static str, f64)> = Vec::new();
     let mut plants: Vec<Planted> = Vec::new();
-    let [ambient, power, a, b, c] = at;
-    if ambient != 1.0 || power != 1.0 || absolute {
+    let [ambient, power, a, b, n, x, y, z] = at;
+    let divided = [x, y, z] != [c, l, q];
+    if ambient != 1.0 || power != 1.0 || absolute || divided {
         if ambient == 0.0 {
             faults.push(fault("ambient_missing")?);
-        } else if ambient == lights as f64 {
+        } else if ambient == lights as f64 && lights > 1 {
             faults.push(fault("ambient_per_light")?);
         } else if ambient != 1.0 {
             return None;
@@ -336,19 +448,30 @@ fn name(at: [f64; 5], absolute: bool, lights: usize) -> Option<(Vec<Planted>, Na
         if absolute {
             faults.push(fault("shade_back_abs")?);
         }
-        numbers.push(("ambient weight", ambient));
-        numbers.push(("power of N·L", power));
-        plants.push(Planted::Shading(weighed(&at, absolute)));
+        if divided {
+            faults.push(fault("attenuation")?);
+            // The listed forms by their numbers; any other divisor by its terms.
+            let forms = [[1.0, 0.0, 0.0], [c, l + q, 0.0], [q, l, c]];
+            match forms.iter().position(|form| *form == [x, y, z]) {
+                Some(form) => numbers.push(("form", form as f64)),
+                None => numbers.extend([("divisor: constant", x), ("times d", y), ("times d²", z)]),
+            }
+        }
+        if ambient != 1.0 || power != 1.0 || absolute {
+            numbers.push(("ambient weight", ambient));
+            numbers.push(("power of N·L", power));
+        }
+        plants.push(Planted::Shading(weighed(&at, absolute, divided)));
     }
-    if [a, b, c] != [COURSE[2], COURSE[3], COURSE[4]] {
+    if [a, b, n] != [1.0, 0.0, 0.0] {
         faults.push(fault("normal_length")?);
         numbers.extend([
             ("normal's 1/|n|²: constant", a),
             ("times |Aᵀn|²", b),
-            ("times (t·n)²", c),
+            ("times (t·n)²", n),
         ]);
         plants.push(Planted::Hit(HitFault::NormalLength(
-            [a, b, c].map(|n| n as f32),
+            [a, b, n].map(|n| n as f32),
         )));
     }
     Some((plants, (faults, numbers)))
@@ -368,8 +491,9 @@ mod tests {
 
     #[test]
     fn numbers_land_on_names() {
-        let named = |at, absolute| {
-            name(at, absolute, 2)
+        let named = |at: [f64; 5], absolute| {
+            let at = [at[0], at[1], at[2], at[3], at[4], 1.0, 0.0, 0.0];
+            name(at, absolute, 2, [1.0, 0.0, 0.0])
                 .map(|(_, (faults, _))| faults.iter().map(|f| f.name).collect::<Vec<_>>())
         };
         assert_eq!(
