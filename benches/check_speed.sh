@@ -105,6 +105,8 @@ for suite in "$here/../shared/conformance" "$here/../shared/later-assignments"; 
         own["$name/$fault"]=$alone
         cold=$(check_time "$suite" "$r" "$work/cache-$name-${fault//,/+}")
         rm -rf "$work/kept"
+        # (A suite whose references are all the staff's keeps none.)
+        mkdir -p "$work/references-$name"
         cp -r "$work/references-$name" "$work/kept"
         kept=$(check_time "$suite" "$r" "$work/kept")
         failing=$(grep -c '^FAIL' "$work/out.txt" || true)
