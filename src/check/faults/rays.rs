@@ -143,17 +143,24 @@ fn only(fault: RayFault) -> Vec<Candidate> {
 /// Whether any material of the line's scene reflects (or, with `transparent`, refracts) with a
 /// colour other than white: there a colour left out changes the picture.
 fn has_tinted_material(line: &LineScene, transparent: bool) -> bool {
-    line.description.materials.iter().any(|m| match m {
-        crate::parse::description::MaterialSpec::Phong(p) => {
-            let colour = if transparent {
+    material_colours(line, transparent).any(|colour| colour != glam::Vec3::ONE)
+}
+
+/// The reflective (or, with `transparent`, transparent) colours of the line's Phong materials
+/// that reflect (or refract).
+fn material_colours(line: &LineScene, transparent: bool) -> impl Iterator<Item = glam::Vec3> + '_ {
+    line.description
+        .materials
+        .iter()
+        .filter_map(move |m| match m {
+            crate::parse::description::MaterialSpec::Phong(p) => Some(if transparent {
                 p.transparent
             } else {
                 p.reflective
-            };
-            colour != glam::Vec3::ZERO && colour != glam::Vec3::ONE
-        }
-        crate::parse::description::MaterialSpec::Texture(_) => false,
-    })
+            }),
+            crate::parse::description::MaterialSpec::Texture(_) => None,
+        })
+        .filter(|&colour| colour != glam::Vec3::ZERO)
 }
 
 /// The index of refraction of the line's glass, where it shows glass and all of it has one.
@@ -175,17 +182,7 @@ pub(crate) fn bounces(line: &LineScene) -> bool {
 
 /// Whether any material of the line's scene reflects, or (with `transparent`) refracts.
 fn has_material(line: &LineScene, transparent: bool) -> bool {
-    line.description.materials.iter().any(|m| match m {
-        crate::parse::description::MaterialSpec::Phong(p) => {
-            let colour = if transparent {
-                p.transparent
-            } else {
-                p.reflective
-            };
-            colour != glam::Vec3::ZERO
-        }
-        crate::parse::description::MaterialSpec::Texture(_) => false,
-    })
+    material_colours(line, transparent).next().is_some()
 }
 
 pub(super) const SHADOW_ACNE: Fault = Fault {
