@@ -138,6 +138,22 @@ impl Spread {
         })
     }
 
+    /// Whether pixel `i` of two pictures of the line, each drawn by chance, differs by more than
+    /// `tolerance` and chance allow: one pixel of [`Spread::compare_draws`].
+    pub fn draws_differ(&self, i: usize, actual: [u8; 3], other: [u8; 3], tolerance: u8) -> bool {
+        i < self.deviation.len()
+            && (0..3).any(|c| {
+                let off = (f32::from(actual[c]) - f32::from(other[c])).abs();
+                off > self.allowed(i, c, tolerance, std::f32::consts::SQRT_2)
+            })
+    }
+
+    /// How far channel `c` of pixel `i` may be from its centre: `tolerance`, and [`Z`]
+    /// deviations widened by `widen`.
+    fn allowed(&self, i: usize, c: usize, tolerance: u8, widen: f32) -> f32 {
+        f32::from(tolerance) + Z * widen * self.deviation[i][c]
+    }
+
     fn compare_by(
         &self,
         actual: &Image,
@@ -159,7 +175,7 @@ impl Spread {
                 let mut differs = false;
                 for (c, &level) in p.iter().enumerate() {
                     let off = (f32::from(level) - centre(i, c)).abs();
-                    let allowed = f32::from(tolerance) + Z * widen * self.deviation[i][c];
+                    let allowed = self.allowed(i, c, tolerance, widen);
                     differs |= off > allowed;
                     worst = worst.max(off.round().min(255.0) as u8);
                 }

@@ -4,6 +4,7 @@
 //! spared. Only ever a fault that cannot match is ruled out: the rows' count of differing
 //! pixels is a part of the whole picture's, so where it is too many, the whole is too.
 
+use super::chance::Spread;
 use super::rule::{Rule, channel_difference};
 use crate::shade::Image;
 
@@ -30,6 +31,18 @@ pub struct Failing<'a> {
     /// Whether the render makes the picture row for row (the shaded, normals and depth
     /// pictures; the samples picture is zoomed, the filter's is not traced).
     pub traced: bool,
+    /// Where the picture is drawn by chance, the spread of raycast's seeded renders: a pixel
+    /// then differs as two draws do (the reference being one).
+    pub spread: Option<&'a Spread>,
+}
+
+/// Whether pixel `i` of `got` and `want` differ, by the rule's tolerance or, for pictures
+/// drawn by chance, as two draws of `spread`.
+fn differs(spread: Option<&Spread>, tolerance: u8, i: usize, got: [u8; 3], want: [u8; 3]) -> bool {
+    match spread {
+        Some(spread) => spread.draws_differ(i, got, want, tolerance),
+        None => channel_difference(got, want) > tolerance,
+    }
 }
 
 impl Screen {
@@ -61,7 +74,10 @@ impl Screen {
                 total[row] = got
                     .iter()
                     .zip(want)
-                    .filter(|&(&a, &b)| channel_difference(a, b) > rule.tolerance)
+                    .enumerate()
+                    .filter(|&(x, (&a, &b))| {
+                        differs(picture.spread, rule.tolerance, row * width + x, a, b)
+                    })
                     .count();
                 by_row[row] += total[row];
             }
@@ -130,35 +146,50 @@ impl Screen {
 
     /// Whether a render of the wanted rows (the pictures in the order of the failing ones, each
     /// `None` where the render has no such picture) matches none of the `actual` pictures: in
-    /// those rows alone, each differs in more pixels than the rule allows the whole picture.
-    pub fn rules_out(&self, rendered: &[Option<&Image>], actual: &[&Image]) -> bool {
-        rendered.iter().zip(actual).all(|(rendered, actual)| {
-            let Some(rendered) = rendered else {
-                return true;
-            };
-            if (rendered.width, rendered.height) != (actual.width, actual.height)
-                || rendered.pixels.len() != actual.pixels.len()
-            {
-                return true;
-            }
-            let width = actual.width.max(1) as usize;
-            let differing: usize = rendered
-                .pixels
-                .chunks(width)
-                .zip(actual.pixels.chunks(width))
-                .zip(&self.wanted)
-                .filter(|(_, wanted)| **wanted)
-                .map(|((got, want), _)| {
-                    got.iter()
-                        .zip(want)
-                        .filter(|&(&a, &b)| channel_difference(a, b) > self.rule.tolerance)
-                        .count()
-                })
-                .sum();
-            let pixels = actual.pixels.len();
-            // The whole picture's rule, as `compare` and `Rule::passes` work it out.
-            pixels > 0 && differing as f64 / pixels as f64 > self.rule.max_bad
-        })
+    /// those rows alone, each differs in more pixels than the rule allows the whole picture
+    /// (pixels of a picture drawn by chance differing as two draws of its `spreads`' do).
+    pub fn rules_out(
+        &self,
+        rendered: &[Option<&Image>],
+        actual: &[&Image],
+        spreads: &[Option<&Spread>],
+    ) -> bool {
+        let spread = |k: usize| spreads.get(k).copied().flatten();
+        rendered
+            .iter()
+            .zip(actual)
+            .enumerate()
+            .all(|(k, (rendered, actual))| {
+                let Some(rendered) = rendered else {
+                    return true;
+                };
+                if (rendered.width, rendered.height) != (actual.width, actual.height)
+                    || rendered.pixels.len() != actual.pixels.len()
+                {
+                    return true;
+                }
+                let width = actual.width.max(1) as usize;
+                let differing: usize = rendered
+                    .pixels
+                    .chunks(width)
+                    .zip(actual.pixels.chunks(width))
+                    .zip(&self.wanted)
+                    .enumerate()
+                    .filter(|(_, (_, wanted))| **wanted)
+                    .map(|(row, ((got, want), _))| {
+                        got.iter()
+                            .zip(want)
+                            .enumerate()
+                            .filter(|&(x, (&a, &b))| {
+                                differs(spread(k), self.rule.tolerance, row * width + x, a, b)
+                            })
+                            .count()
+                    })
+                    .sum();
+                let pixels = actual.pixels.len();
+                // The whole picture's rule, as `compare` and `Rule::passes` work it out.
+                pixels > 0 && differing as f64 / pixels as f64 > self.rule.max_bad
+            })
     }
 }
 
@@ -191,14 +222,15 @@ mod tests {
             actual: &actual,
             reference: Some(&reference),
             traced: true,
+            spread: None,
         }];
         let screen = Screen::of(&failing, Rule::COURSE).unwrap();
         let wanted: Vec<usize> = (0..600).filter(|&r| screen.wanted()[r]).collect();
         assert_eq!(wanted, [7, 20, 40]);
         // The reference itself differs from the student's picture in 21 pixels of those rows:
         // more than 0.1% of 6,000.
-        assert!(screen.rules_out(&[Some(&reference)], &[&actual]));
-        assert!(!screen.rules_out(&[Some(&actual)], &[&actual]));
+        assert!(screen.rules_out(&[Some(&reference)], &[&actual], &[]));
+        assert!(!screen.rules_out(&[Some(&actual)], &[&actual], &[]));
         // A render that differs only outside the rows is not ruled out, whatever it does there.
         let elsewhere = image(10, 600, |x, y| match y {
             7 | 40 => [200; 3],
@@ -206,7 +238,7 @@ mod tests {
             500 => [90; 3],
             _ => [0; 3],
         });
-        assert!(!screen.rules_out(&[Some(&elsewhere)], &[&actual]));
+        assert!(!screen.rules_out(&[Some(&elsewhere)], &[&actual], &[]));
     }
 
     #[test]
@@ -217,12 +249,14 @@ mod tests {
             actual: &actual,
             reference: None,
             traced: true,
+            spread: None,
         };
         assert_eq!(Screen::of(&[without], Rule::COURSE), None);
         let zoomed = Failing {
             actual: &actual,
             reference: Some(&reference),
             traced: false,
+            spread: None,
         };
         assert_eq!(Screen::of(&[zoomed], Rule::COURSE), None);
     }
@@ -236,16 +270,18 @@ mod tests {
                 actual: &actual,
                 reference: Some(&reference),
                 traced: true,
+                spread: None,
             },
             Failing {
                 actual: &actual,
                 reference: Some(&reference),
                 traced: true,
+                spread: None,
             },
         ];
         let screen = Screen::of(&failing, Rule::COURSE).unwrap();
-        assert!(!screen.rules_out(&[Some(&reference), Some(&actual)], &[&actual, &actual]));
-        assert!(screen.rules_out(&[Some(&reference), None], &[&actual, &actual]));
+        assert!(!screen.rules_out(&[Some(&reference), Some(&actual)], &[&actual, &actual], &[]));
+        assert!(screen.rules_out(&[Some(&reference), None], &[&actual, &actual], &[]));
     }
 }
 
@@ -290,14 +326,68 @@ mod never_rules_out_a_match {
             for (at, value) in changed {
                 rendered.pixels[at % pixels] = [value; 3];
             }
-            let failing = [Failing { actual: &actual, reference: Some(&reference), traced: true }];
+            let failing = [Failing { actual: &actual, reference: Some(&reference), traced: true, spread: None }];
             if let Some(screen) = Screen::of(&failing, rule) {
                 let passes = compare(&rendered, &actual, tolerance)
                     .is_some_and(|c| rule.passes(&c));
                 if passes {
-                    prop_assert!(!screen.rules_out(&[Some(&rendered)], &[&actual]));
+                    prop_assert!(!screen.rules_out(&[Some(&rendered)], &[&actual], &[]));
                 }
-                prop_assert!(!screen.rules_out(&[Some(&actual)], &[&actual]));
+                prop_assert!(!screen.rules_out(&[Some(&actual)], &[&actual], &[]));
+            }
+        }
+
+        /// The same for pictures drawn by chance: a render that passes as a draw of the line's
+        /// spread (seeded renders a little apart) is never ruled out by its rows.
+        #[test]
+        fn a_draw_that_passes_whole_is_never_ruled_out(
+            (width, height) in (1_u32..16, 1_u32..16),
+            base in proptest::collection::vec(any::<u8>(), 1..32),
+            noise in proptest::collection::vec(proptest::collection::vec(0_u8..6, 1..32), 2..5),
+            wrong in proptest::collection::vec((0_usize..256, any::<u8>()), 1..40),
+            changed in proptest::collection::vec((0_usize..256, any::<u8>()), 0..12),
+            tolerance in 0_u8..8,
+            max_bad in 0.0_f64..0.1,
+        ) {
+            let rule = Rule { tolerance, max_bad };
+            let base = picture(width, height, &base);
+            let pixels = base.pixels.len();
+            let seeded: Vec<Image> = noise
+                .iter()
+                .map(|noise| {
+                    let mut seed = base.clone();
+                    for (i, p) in seed.pixels.iter_mut().enumerate() {
+                        *p = p.map(|c| c.saturating_add(noise[i % noise.len()]));
+                    }
+                    seed
+                })
+                .collect();
+            let spread = Spread::of(&seeded.iter().collect::<Vec<_>>()).unwrap();
+            // The student's draw, wrong in some pixels; a render, one seed with a few changed.
+            let mut actual = seeded[1].clone();
+            for (at, value) in wrong {
+                actual.pixels[at % pixels] = [value; 3];
+            }
+            let mut rendered = seeded[0].clone();
+            for (at, value) in changed {
+                rendered.pixels[at % pixels] = [value; 3];
+            }
+            let failing = [Failing {
+                actual: &actual,
+                reference: Some(&seeded[1]),
+                traced: true,
+                spread: Some(&spread),
+            }];
+            if let Some(screen) = Screen::of(&failing, rule) {
+                let passes = spread
+                    .compare_draws(&actual, &rendered, tolerance)
+                    .is_some_and(|c| rule.passes(&c));
+                if passes {
+                    prop_assert!(
+                        !screen.rules_out(&[Some(&rendered)], &[&actual], &[Some(&spread)])
+                    );
+                }
+                prop_assert!(!screen.rules_out(&[Some(&actual)], &[&actual], &[Some(&spread)]));
             }
         }
     }

@@ -5,6 +5,7 @@
 //! the differing pixels, it is tried in pairs.
 
 use std::path::Path;
+use std::sync::OnceLock;
 
 use super::cache;
 use super::chance::{ByChance, SEEDS, Spread, depends_on_chance};
@@ -101,6 +102,17 @@ pub fn accepted(
     rule: Rule,
     stop: &'static StopFlag,
 ) -> Result<Vec<Option<Acceptance>>, Unfinished> {
+    on_every_core(|| accepted_here(line, scenes, pinned, failing, rule, stop))
+}
+
+fn accepted_here(
+    line: &Line,
+    scenes: &Path,
+    pinned: &[Pin],
+    failing: &[(usize, bool, &Image, Option<&Image>)],
+    rule: Rule,
+    stop: &'static StopFlag,
+) -> Result<Vec<Option<Acceptance>>, Unfinished> {
     let prepared = prepare(line, scenes).map_err(Unfinished::Failed)?;
     let mut accepted: Vec<Option<Acceptance>> = vec![None; failing.len()];
     let informational = choices::informational(&prepared.line);
@@ -172,41 +184,45 @@ impl<'a> Renders<'a> {
         rule: Rule,
         stop: &'static StopFlag,
     ) -> Result<Renders<'a>, Unfinished> {
-        let screened: Vec<Failing> = failing
-            .iter()
-            .map(|&(image, actual, reference)| Failing {
-                actual,
-                reference,
-                traced: prepared.slots[image] < prepared.traced,
-            })
-            .collect();
         let chance = depends_on_chance(&prepared.line.options);
-        let mut renders = Renders {
-            prepared,
-            kept: cache::LineRenders::of(line, scenes),
-            // Rows of a picture drawn by chance differ from another draw's everywhere a little:
-            // a few rows cannot rule a render out by the course's tolerance.
-            screen: Screen::of(&screened, rule).filter(|_| !chance),
-            failing: failing
-                .iter()
-                .map(|&(image, actual, _)| (image, actual))
-                .collect(),
-            spreads: vec![None; failing.len()],
-            rule,
-            stop,
-        };
-        if chance {
-            let spreads = seeded_spreads(&renders.kept, prepared, stop)?;
-            // A fault's samples picture is compared dot for dot: only raycast's own generator
-            // draws the same dots.
-            renders.spreads = failing
+        let kept = cache::LineRenders::of(line, scenes);
+        // A fault's samples picture is compared dot for dot: only raycast's own generator draws
+        // the same dots.
+        let spreads: Vec<Option<Spread>> = if chance {
+            let spreads = seeded_spreads(&kept, prepared, stop)?;
+            failing
                 .iter()
                 .map(|&(image, _, _)| match spreads.get(image) {
                     Some(Some(ByChance::Spread(spread))) => Some(spread.clone()),
                     _ => None,
                 })
-                .collect();
-        }
+                .collect()
+        } else {
+            vec![None; failing.len()]
+        };
+        let screened: Vec<Failing> = failing
+            .iter()
+            .zip(&spreads)
+            .map(|(&(image, actual, reference), spread)| Failing {
+                actual,
+                reference,
+                traced: prepared.slots[image] < prepared.traced,
+                spread: spread.as_ref(),
+            })
+            .collect();
+        let screen = Screen::of(&screened, rule);
+        let renders = Renders {
+            prepared,
+            kept,
+            screen,
+            failing: failing
+                .iter()
+                .map(|&(image, actual, _)| (image, actual))
+                .collect(),
+            spreads,
+            rule,
+            stop,
+        };
         Ok(renders)
     }
 
@@ -241,10 +257,12 @@ impl<'a> Renders<'a> {
         let failing: Vec<Failing> = self
             .failing
             .iter()
-            .map(|&(image, actual)| Failing {
+            .zip(&self.spreads)
+            .map(|(&(image, actual), spread)| Failing {
                 actual,
                 reference: pictures.get(image),
                 traced: self.prepared.slots[image] < self.prepared.traced,
+                spread: spread.as_ref(),
             })
             .collect();
         Screen::of(&failing, self.rule)
@@ -255,7 +273,9 @@ impl<'a> Renders<'a> {
     /// less to read than the rows to render).
     fn ruled_out(&self, plant: Plant) -> Result<bool, Unfinished> {
         Ok(match (&self.screen, self.rows(plant)?) {
-            (Some(screen), Some(rows)) => screen.rules_out(&self.in_order(&rows), &self.actuals()),
+            (Some(screen), Some(rows)) => {
+                screen.rules_out(&self.in_order(&rows), &self.actuals(), &self.spread_refs())
+            }
             _ => false,
         })
     }
@@ -293,6 +313,11 @@ impl<'a> Renders<'a> {
             .iter()
             .map(|&(image, _)| pictures.get(image))
             .collect()
+    }
+
+    /// The failing pictures' spreads, where they are drawn by chance.
+    fn spread_refs(&self) -> Vec<Option<&Spread>> {
+        self.spreads.iter().map(Option::as_ref).collect()
     }
 
     fn actuals(&self) -> Vec<&'a Image> {
@@ -429,6 +454,14 @@ pub fn spreads(
     scenes: &Path,
     stop: &'static StopFlag,
 ) -> Result<Option<Vec<Option<ByChance>>>, String> {
+    on_every_core(|| spreads_here(line, scenes, stop))
+}
+
+fn spreads_here(
+    line: &Line,
+    scenes: &Path,
+    stop: &'static StopFlag,
+) -> Result<Option<Vec<Option<ByChance>>>, String> {
     if stop.is_set() {
         return Err(STOPPED.to_string());
     }
@@ -446,6 +479,23 @@ pub fn spreads(
         Ok(spreads) => Ok(Some(spreads)),
         Err(Unfinished::Stopped) => Err(STOPPED.to_string()),
         Err(Unfinished::Failed(why)) => Err(why),
+    }
+}
+
+/// Runs `work` (raycast's renders of a line) on a pool of every core: `--jobs` says how many
+/// lines run at once, and a line's renders, like the student's renderer, use the whole machine
+/// (the same pictures on any number of threads).
+fn on_every_core<T: Send>(work: impl FnOnce() -> T + Send) -> T {
+    static EVERY_CORE: OnceLock<Option<rayon::ThreadPool>> = OnceLock::new();
+    let pool = EVERY_CORE.get_or_init(|| {
+        rayon::ThreadPoolBuilder::new()
+            .thread_name(|k| format!("raycast-render-{k}"))
+            .build()
+            .ok()
+    });
+    match pool {
+        Some(pool) => pool.install(work),
+        None => work(),
     }
 }
 
@@ -561,6 +611,15 @@ pub const STOPPED: &str = "check was interrupted before raycast finished renderi
 /// Where the suite pins an open question to another answer than raycast's, the reference is
 /// that answer's render (of the first two pinned answers that change the line).
 pub fn course_pictures(
+    line: &Line,
+    scenes: &Path,
+    pinned: &[Pin],
+    stop: &'static StopFlag,
+) -> Result<Vec<Image>, String> {
+    on_every_core(|| course_pictures_here(line, scenes, pinned, stop))
+}
+
+fn course_pictures_here(
     line: &Line,
     scenes: &Path,
     pinned: &[Pin],
@@ -691,6 +750,16 @@ pub fn simulate(
     rule: Rule,
     stop: &'static StopFlag,
 ) -> Result<Vec<Simulated>, Unfinished> {
+    on_every_core(|| simulate_here(line, scenes, failing, rule, stop))
+}
+
+fn simulate_here(
+    line: &Line,
+    scenes: &Path,
+    failing: &[(usize, &Image, Option<&Image>)],
+    rule: Rule,
+    stop: &'static StopFlag,
+) -> Result<Vec<Simulated>, Unfinished> {
     let prepared = prepare(line, scenes).map_err(Unfinished::Failed)?;
     // Each failing picture, and each undone by a fault that only moves its pixels (a flip, the
     // channels swapped): a render that matches one of those is that fault with another.
@@ -749,7 +818,7 @@ pub fn simulate(
         };
         if let (Some(screen), Some(seen)) = (screen, &rows) {
             let rendered = renders.in_order(seen);
-            if screen.rules_out(&rendered, &renders.actuals()) {
+            if screen.rules_out(&rendered, &renders.actuals(), &renders.spread_refs()) {
                 for (picture, &(_, actual, _)) in rendered.into_iter().zip(failing) {
                     tried.bad.push(1.0);
                     tried.error.push(renders.difference(picture, actual));
@@ -894,7 +963,11 @@ pub fn simulate(
             let rendered = renders.in_order(rows);
             let might = unexplained.iter().any(|&k| {
                 undone[k].iter().any(|(_, undone_picture)| {
-                    !screen.rules_out(&rendered[k..=k], &[undone_picture])
+                    !screen.rules_out(
+                        &rendered[k..=k],
+                        &[undone_picture],
+                        &[renders.spreads[k].as_ref()],
+                    )
                 })
             });
             if might {
