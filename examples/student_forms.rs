@@ -61,6 +61,9 @@ enum Form {
     /// A point light dimmed as light falls off in the world, `colour / (d * d)`, whatever the
     /// file's attenuation says.
     InverseSquareLight,
+    /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
+    /// out in double precision (`Vec3d`), each then rounded to float.
+    DoublePrecision,
 }
 
 impl Form {
@@ -78,6 +81,7 @@ impl Form {
             "filter_half_pixel_wider" => Form::FilterHalfPixelWider,
             "marble_in_turns" => Form::MarbleInTurns,
             "inverse_square_light" => Form::InverseSquareLight,
+            "double_precision" => Form::DoublePrecision,
             _ => return None,
         })
     }
@@ -113,6 +117,14 @@ impl CameraSeam for Form {
         let (x, y) = (u - 0.5, v - 0.5);
         let (direction, horizontal, up) = self.frame(camera);
         match (camera.projection(), self) {
+            (Projection::Perspective { angle }, Form::DoublePrecision) => {
+                let (x, y) = (f64::from(u) - 0.5, f64::from(v) - 0.5);
+                let screen = 2.0 * (f64::from(angle).to_radians() / 2.0).tan();
+                let through = direction.as_dvec3()
+                    + (x * screen) * horizontal.as_dvec3()
+                    + (y * screen) * up.as_dvec3();
+                Ray::new(camera.center(), Vec3A::from(through.normalize().as_vec3()))
+            }
             (Projection::Perspective { angle }, Form::TangentPerAxis) => {
                 let angle = angle.to_radians();
                 let through = direction + (x * angle).tan() * horizontal + (y * angle).tan() * up;
@@ -179,6 +191,27 @@ impl TraceSeam for Form {
             }
             _ => shaded,
         }
+    }
+
+    fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Vec3A {
+        let Form::DoublePrecision = self else {
+            return raycast::trace::reflect(direction, normal);
+        };
+        let (d, n) = (direction.as_dvec3(), normal.as_dvec3());
+        Vec3A::from((d - 2.0 * d.dot(n) * n).as_vec3())
+    }
+
+    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+        let Form::DoublePrecision = self else {
+            return raycast::trace::refract(direction, normal, ratio);
+        };
+        let (incoming, n, ratio) = (-direction.as_dvec3(), normal.as_dvec3(), f64::from(ratio));
+        let cos_in = n.dot(incoming);
+        let k = 1.0 - ratio * ratio * (1.0 - cos_in * cos_in);
+        (k >= 0.0).then(|| {
+            let t = (ratio * cos_in - k.sqrt()) * n - ratio * incoming;
+            Vec3A::from(t.normalize().as_vec3())
+        })
     }
 
     fn found(&self, scene: &Scene, ray: &Ray, t_min: f32, hit: Option<Hit>) -> Option<Hit> {

@@ -12,7 +12,8 @@
 //! never counted as failing, with the reason.
 
 use super::faults::{
-    Candidate, LineScene, Planted, RayFault, SampleFault, TextureFault, gaussian_radius,
+    CameraFault, Candidate, LineScene, Mapping, Planted, RayFault, RayForm, SampleFault,
+    TextureFault, gaussian_radius,
 };
 
 /// The fixed epsilons of shadow and secondary rays the course allows: those whose pictures of
@@ -51,6 +52,10 @@ pub enum Accepted {
     },
     /// No line of the course's suites depends on it (said with what was tried).
     NoLineDepends(&'static str),
+    /// Any picture between raycast's render and this answer's renders, pixel by pixel (each
+    /// channel between the lowest and highest of theirs, within the tolerance): answers that
+    /// cannot be listed one by one, only bounded.
+    Between(&'static Answer),
 }
 
 /// An answer the course allows besides raycast's.
@@ -85,6 +90,35 @@ fn when(applies: bool, planted: Planted) -> Vec<Candidate> {
     } else {
         Vec::new()
     }
+}
+
+/// How far a film point is nudged to show which pixels turn on a ray's last digits, in
+/// pixels: at the course's sizes (100 to 400 pixels across a view of 30° to 60°) it turns a
+/// camera ray by about 1e-7 to 5e-7 radians, a few ulps of its direction, which is where a
+/// float tracer's rounding leaves it (a double tracer's is nearer the exact ray). Measured on
+/// the glass over a checkerboard: in docs/decisions.md.
+const NUDGE: f32 = 1e-4;
+
+/// The line's renders with every film point nudged by [`NUDGE`] pixels each way along each
+/// axis.
+fn nudged(line: &LineScene) -> Vec<Candidate> {
+    if !line.has_image() {
+        return Vec::new();
+    }
+    [[NUDGE, 0.0], [-NUDGE, 0.0], [0.0, NUDGE], [0.0, -NUDGE]]
+        .into_iter()
+        .map(|offset| {
+            let mapping = Mapping {
+                offset,
+                ..Mapping::course(RayForm::Plane)
+            };
+            Candidate::plain(Planted::Camera(CameraFault::Mapped(
+                line.scene.camera,
+                0.0,
+                mapping,
+            )))
+        })
+        .collect()
 }
 
 /// Every open question, in STAFF_NOTES.md's order, then the handouts' "may"s.
@@ -309,6 +343,18 @@ pub static CHOICES: &[Choice] = &[
         ),
     },
     Choice {
+        name: "arithmetic",
+        question: "Is the tracer's arithmetic float or double, and in which order?",
+        raycast: "float (the course's Vec3f), in the handouts' order",
+        accepted: Accepted::Between(&Answer {
+            name: "last_digits",
+            said: "your picture differs from raycast's only where a ray's colour turns on the \
+                   last digits of its arithmetic (double against float, another order of \
+                   operations)",
+            candidates: nudged,
+        }),
+    },
+    Choice {
         name: "default_filter",
         question: "Which filter is used when samples are given without one?",
         raycast: "a box of radius 0.5 (each pixel its own samples)",
@@ -395,6 +441,15 @@ pub fn answer(name: &str) -> Option<(&'static Choice, &'static Answer)> {
             .iter()
             .find(|a| a.name == name)
             .map(|answer| (choice, answer)),
+        Accepted::Between(answer) if answer.name == name => Some((choice, *answer)),
+        _ => None,
+    })
+}
+
+/// Every question whose answers are bounded, not listed, with its answer's renders.
+pub fn bounded() -> impl Iterator<Item = (&'static Choice, &'static Answer)> {
+    CHOICES.iter().filter_map(|choice| match &choice.accepted {
+        Accepted::Between(answer) => Some((choice, *answer)),
         _ => None,
     })
 }

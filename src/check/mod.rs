@@ -9,6 +9,7 @@ pub mod choices;
 pub mod class;
 pub mod diagnose;
 mod diagnosis;
+mod envelope;
 mod failure;
 pub mod faults;
 mod finding;

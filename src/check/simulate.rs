@@ -10,6 +10,7 @@ use std::sync::OnceLock;
 use super::cache;
 use super::chance::{ByChance, SEEDS, Spread, depends_on_chance};
 use super::choices::{self, Acceptance};
+use super::envelope::Envelope;
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
 use super::fit::{Named, Picture, Trial, fit_line};
 use super::rule::{Rule, compare};
@@ -148,6 +149,26 @@ fn accepted_here(
             }
         }
     }
+    // A picture that differs from raycast's only where a ray's colour turns on its last
+    // digits (a picture drawn by chance has its spread, which holds those too).
+    if !renders.by_chance() {
+        for (choice, answer) in choices::bounded() {
+            let waiting: Vec<usize> = (0..failing.len())
+                .filter(|&k| accepted[k].is_none())
+                .collect();
+            let plants: Vec<Plant> = (answer.candidates)(&prepared.line)
+                .into_iter()
+                .map(|candidate| Plant::one(candidate.planted))
+                .collect();
+            if waiting.is_empty() || plants.is_empty() {
+                continue;
+            }
+            let references: Vec<Option<&Image>> = failing.iter().map(|f| f.3).collect();
+            for k in renders.between(&plants, &waiting, &references)? {
+                accepted[k] = Some(Acceptance::Answer(choice, answer));
+            }
+        }
+    }
     if let Some(why) = informational {
         for (k, &(_, shaded, _, _)) in failing.iter().enumerate() {
             if shaded && accepted[k].is_none() {
@@ -238,6 +259,64 @@ impl<'a> Renders<'a> {
             None => compare(picture, actual, self.rule.tolerance),
         };
         comparison.map_or(1.0, |c| c.bad_fraction)
+    }
+
+    /// Of the failing pictures `waiting`, those that lie between their `references` and the
+    /// renders under `plants`, pixel by pixel ([`Envelope`]). Each plant's screened rows first,
+    /// where the line is screened: a picture already too far outside their envelope there is
+    /// outside the whole one, and where that holds for every picture nothing is rendered whole.
+    fn between(
+        &self,
+        plants: &[Plant],
+        waiting: &[usize],
+        references: &[Option<&Image>],
+    ) -> Result<Vec<usize>, Unfinished> {
+        let outside = |k: usize, renders: &[Option<&Image>], rows: Option<&[bool]>| {
+            let actual = self.failing[k].1;
+            let mut pictures: Vec<&Image> = renders.iter().filter_map(|r| *r).collect();
+            pictures.extend(references[k]);
+            let Some(envelope) = Envelope::of(&pictures) else {
+                return true;
+            };
+            let differing = match rows {
+                Some(rows) => envelope.differing_in(actual, self.rule.tolerance, rows),
+                None => envelope
+                    .compare(actual, self.rule.tolerance)
+                    .map(|c| c.differing),
+            };
+            let pixels = actual.pixels.len().max(1);
+            differing.is_none_or(|d| d as f64 / pixels as f64 > self.rule.max_bad)
+        };
+        if let Some(screen) = &self.screen {
+            let mut rows = Vec::new();
+            for &plant in plants {
+                rows.push(self.rows_for(plant, screen)?);
+            }
+            if rows.iter().all(Option::is_some) {
+                let rows: Vec<Vec<Image>> = rows.into_iter().flatten().collect();
+                let ruled_out = waiting.iter().all(|&k| {
+                    let image = self.failing[k].0;
+                    let renders: Vec<Option<&Image>> = rows.iter().map(|r| r.get(image)).collect();
+                    outside(k, &renders, Some(screen.wanted()))
+                });
+                if ruled_out {
+                    return Ok(Vec::new());
+                }
+            }
+        }
+        let mut wholes = Vec::new();
+        for &plant in plants {
+            wholes.push(self.whole(plant)?);
+        }
+        Ok(waiting
+            .iter()
+            .copied()
+            .filter(|&k| {
+                let image = self.failing[k].0;
+                let renders: Vec<Option<&Image>> = wholes.iter().map(|w| w.get(image)).collect();
+                !outside(k, &renders, None)
+            })
+            .collect())
     }
 
     /// Whether a render's picture `image` matches failing picture `k`.
