@@ -52,9 +52,9 @@ pub enum Accepted {
     },
     /// No line of the course's suites depends on it (said with what was tried).
     NoLineDepends(&'static str),
-    /// Any picture between raycast's render and this answer's renders, pixel by pixel (each
-    /// channel between the lowest and highest of theirs, within the tolerance): answers that
-    /// cannot be listed one by one, only bounded.
+    /// Any picture as near its reference, pixel by pixel, as this answer's renders lie to one
+    /// another (and the tolerance beyond): answers that cannot be listed one by one, only
+    /// bounded.
     Between(&'static Answer),
 }
 

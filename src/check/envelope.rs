@@ -1,16 +1,16 @@
-//! Pictures between renders: where a ray's colour turns on the last digits of its arithmetic
-//! (a refracted ray landing on a checkerboard's edge, a grazing shadow), a correct tracer in
-//! double precision, or in float with its operations in another order, draws another colour
-//! than raycast does. Renders of the line with each pixel's film point nudged by a few ulps
-//! of a camera ray show which pixels those are: a pixel passes when each channel lies, within
-//! the tolerance, between the lowest and highest of the renders'. A pixel no nudge moves
-//! allows what the rule allows, so a fault that changes pixels a tracer's arithmetic does not
-//! is still seen.
+//! Pictures that turn on the last digits: where a ray's colour turns on the last digits of its
+//! arithmetic (a refracted ray landing on a checkerboard's edge, a grazing shadow), a correct
+//! tracer in double precision, or in float with its operations in another order, draws another
+//! colour than raycast does. raycast's renders of the line with each pixel's film point nudged
+//! by a few ulps of a camera ray show which pixels those are and how far they swing: a
+//! picture's pixel may then lie as far from its reference as the nudged renders lie from one
+//! another there, and the tolerance beyond. A pixel no nudge moves allows what the rule allows,
+//! so a fault that changes pixels a tracer's arithmetic does not is still seen.
 
 use super::rule::Comparison;
 use crate::shade::Image;
 
-/// Per pixel and channel, the lowest and highest level of a picture's renders.
+/// Per pixel and channel, the lowest and highest level a picture may have.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Envelope {
     width: u32,
@@ -20,26 +20,26 @@ pub struct Envelope {
 }
 
 impl Envelope {
-    /// The envelope of `renders` (of one picture, of one size); `None` for none, or for
-    /// renders of different sizes.
-    pub fn of(renders: &[&Image]) -> Option<Envelope> {
-        let first = renders.first()?;
-        let (width, height) = (first.width, first.height);
+    /// `reference` widened, pixel by pixel and channel by channel, by how far `renders` (of
+    /// the same picture, nudged) lie from one another; `None` for renders of another size.
+    pub fn around(reference: &Image, renders: &[&Image]) -> Option<Envelope> {
+        let (width, height) = (reference.width, reference.height);
         let count = width as usize * height as usize;
-        if renders
-            .iter()
-            .any(|r| (r.width, r.height, r.pixels.len()) != (width, height, count))
+        if reference.pixels.len() != count
+            || renders
+                .iter()
+                .any(|r| (r.width, r.height, r.pixels.len()) != (width, height, count))
         {
             return None;
         }
-        let mut low = first.pixels.clone();
-        let mut high = first.pixels.clone();
-        for render in &renders[1..] {
-            for ((l, h), p) in low.iter_mut().zip(&mut high).zip(&render.pixels) {
-                for c in 0..3 {
-                    l[c] = l[c].min(p[c]);
-                    h[c] = h[c].max(p[c]);
-                }
+        let mut low = reference.pixels.clone();
+        let mut high = reference.pixels.clone();
+        for (i, (l, h)) in low.iter_mut().zip(&mut high).enumerate() {
+            for c in 0..3 {
+                let levels = renders.iter().map(|r| r.pixels[i][c]);
+                let swing = levels.clone().max().unwrap_or(0) - levels.min().unwrap_or(0);
+                l[c] = l[c].saturating_sub(swing);
+                h[c] = h[c].saturating_add(swing);
             }
         }
         Some(Envelope {
@@ -131,9 +131,11 @@ mod tests {
     }
 
     #[test]
-    fn a_pixel_between_the_renders_passes_and_one_outside_by_more_than_the_tolerance_does_not() {
-        // Pixel 1 turns on the last digits: 0 in one render, 200 in another.
-        let envelope = Envelope::of(&[&row(&[10, 0, 50]), &row(&[10, 200, 50])]).unwrap();
+    fn a_pixel_may_swing_from_its_reference_as_far_as_the_nudged_renders_do() {
+        // Pixel 1 turns on the last digits: 0 in one nudged render, 200 in another.
+        let reference = row(&[10, 0, 50]);
+        let nudged = [row(&[10, 0, 50]), row(&[10, 200, 50])];
+        let envelope = Envelope::around(&reference, &[&nudged[0], &nudged[1]]).unwrap();
         let compared = envelope.compare(&row(&[12, 120, 50]), 2).unwrap();
         assert_eq!(compared.differing, 0);
         assert_eq!(compared.worst, 2);
@@ -149,13 +151,16 @@ mod tests {
             envelope.differing_in(&row(&[13, 120, 110]), 2, &[false]),
             Some(0)
         );
+        // Renders that agree with one another widen nothing, whatever the reference.
+        let black = row(&[0, 0, 0]);
+        let envelope = Envelope::around(&black, &[&reference, &reference]).unwrap();
+        assert_eq!(envelope.compare(&reference, 2).unwrap().differing, 2);
     }
 
     #[test]
     fn renders_or_pictures_of_other_sizes_have_no_envelope() {
-        assert_eq!(Envelope::of(&[]), None);
-        assert_eq!(Envelope::of(&[&row(&[1, 2]), &row(&[1])]), None);
-        let envelope = Envelope::of(&[&row(&[1, 2])]).unwrap();
+        assert_eq!(Envelope::around(&row(&[1, 2]), &[&row(&[1])]), None);
+        let envelope = Envelope::around(&row(&[1, 2]), &[]).unwrap();
         assert_eq!(envelope.compare(&row(&[1]), 2), None);
         assert_eq!(envelope.differing_in(&row(&[1]), 2, &[true]), None);
     }

@@ -261,8 +261,8 @@ impl<'a> Renders<'a> {
         comparison.map_or(1.0, |c| c.bad_fraction)
     }
 
-    /// Of the failing pictures `waiting`, those that lie between their `references` and the
-    /// renders under `plants`, pixel by pixel ([`Envelope`]). Each plant's screened rows first,
+    /// Of the failing pictures `waiting`, those that lie as near their `references` as the
+    /// renders under `plants` lie to one another, pixel by pixel ([`Envelope`]). Each plant's screened rows first,
     /// where the line is screened: a picture already too far outside their envelope there is
     /// outside the whole one, and where that holds for every picture nothing is rendered whole.
     fn between(
@@ -273,9 +273,8 @@ impl<'a> Renders<'a> {
     ) -> Result<Vec<usize>, Unfinished> {
         let outside = |k: usize, renders: &[Option<&Image>], rows: Option<&[bool]>| {
             let actual = self.failing[k].1;
-            let mut pictures: Vec<&Image> = renders.iter().filter_map(|r| *r).collect();
-            pictures.extend(references[k]);
-            let Some(envelope) = Envelope::of(&pictures) else {
+            let nudged: Vec<&Image> = renders.iter().filter_map(|r| *r).collect();
+            let Some(envelope) = references[k].and_then(|r| Envelope::around(r, &nudged)) else {
                 return true;
             };
             let differing = match rows {
