@@ -12,8 +12,8 @@
 //! never counted as failing, with the reason.
 
 use super::faults::{
-    CameraFault, Candidate, LineScene, Mapping, Planted, RayFault, RayForm, SampleFault,
-    TextureFault, gaussian_radius,
+    CameraFault, Candidate, LineScene, Planted, RayFault, SampleFault, TextureFault,
+    gaussian_radius,
 };
 
 /// The fixed epsilons of shadow and secondary rays the course allows: those whose pictures of
@@ -92,30 +92,29 @@ fn when(applies: bool, planted: Planted) -> Vec<Candidate> {
     }
 }
 
-/// How far a film point is nudged to show which pixels turn on a ray's last digits, in
+/// How far the point of the view a ray goes through is nudged to show which pixels turn on a ray's last digits, in
 /// pixels: at the course's sizes (100 to 400 pixels across a view of 30° to 60°) it turns a
 /// camera ray by about 1e-7 to 5e-7 radians, a few ulps of its direction, which is where a
 /// float tracer's rounding leaves it (a double tracer's is nearer the exact ray). Measured on
 /// the glass over a checkerboard: in docs/decisions.md.
 const NUDGE: f32 = 1e-4;
 
-/// The line's renders with every film point nudged by [`NUDGE`] pixels each way along each
-/// axis.
+/// The line's renders with every ray (a pixel's centre's, or a sample's) through a point of
+/// the view nudged by [`NUDGE`] pixels each way along each axis.
 fn nudged(line: &LineScene) -> Vec<Candidate> {
     if !line.has_image() {
         return Vec::new();
     }
-    [[NUDGE, 0.0], [-NUDGE, 0.0], [0.0, NUDGE], [0.0, -NUDGE]]
+    let (du, dv) = (
+        NUDGE / line.options.width.max(1) as f32,
+        NUDGE / line.options.height.max(1) as f32,
+    );
+    [[du, 0.0], [-du, 0.0], [0.0, dv], [0.0, -dv]]
         .into_iter()
-        .map(|offset| {
-            let mapping = Mapping {
-                offset,
-                ..Mapping::course(RayForm::Plane)
-            };
-            Candidate::plain(Planted::Camera(CameraFault::Mapped(
+        .map(|nudge| {
+            Candidate::plain(Planted::Camera(CameraFault::Nudged(
                 line.scene.camera,
-                0.0,
-                mapping,
+                nudge,
             )))
         })
         .collect()

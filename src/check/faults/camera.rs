@@ -26,6 +26,10 @@ pub enum CameraFault {
     /// The camera a fit found for a student's pictures: the scene's camera, the full angle of
     /// its view in radians (0 for an orthographic one), and how pixels map onto rays.
     Mapped(Camera, f32, Mapping),
+    /// The scene's camera with every ray, of a pixel's centre or of a sample, through the point
+    /// of the view this far from the course's (in shares of the view's width and height): not
+    /// a fault, an allowed answer's render (a ray's last digits).
+    Nudged(Camera, [f32; 2]),
 }
 
 /// How a student's camera maps pixels onto rays, as a fit finds it: each pixel's film point
@@ -103,6 +107,7 @@ impl CameraFault {
     pub(super) fn ray(&self, u: f32, v: f32) -> Option<Ray> {
         match *self {
             CameraFault::Other(camera) => Some(camera.ray(u, v)),
+            CameraFault::Nudged(camera, [du, dv]) => Some(camera.ray(u + du, v + dv)),
             CameraFault::EqualAngles(camera, angle) => {
                 let (direction, horizontal, up) = camera.frame();
                 let (a, b) = ((u - 0.5) * angle, (v - 0.5) * angle);
