@@ -654,6 +654,9 @@ fn render_film<V: Variant>(
     let rays = film
         .entries
         .par_chunks_mut(row_len)
+        // Row by row among the threads: a render of a few rows (check's screen) would otherwise
+        // leave them all in one thread's share.
+        .with_max_len(1)
         .enumerate()
         .map(|(j, row)| {
             let mut scratch = Scratch::default();
