@@ -92,11 +92,12 @@ fn when(applies: bool, planted: Planted) -> Vec<Candidate> {
     }
 }
 
-/// How far the point of the view a ray goes through is nudged to show which pixels turn on a ray's last digits, in
-/// pixels: at the course's sizes (100 to 400 pixels across a view of 30° to 60°) it turns a
-/// camera ray by about 1e-7 to 5e-7 radians, a few ulps of its direction, which is where a
-/// float tracer's rounding leaves it (a double tracer's is nearer the exact ray). Measured on
-/// the glass over a checkerboard: in docs/decisions.md.
+/// How far the point of the view a ray goes through is nudged to show which pixels turn on a
+/// ray's last digits, in pixels: at the course's sizes (100 to 400 pixels across a view of 30°
+/// to 60°) it turns a camera ray by about 1e-7 to 1e-6 radians, a few ulps of its direction,
+/// which is where a float tracer's rounding leaves it (a double tracer's is nearer the exact
+/// ray). Measured on the checkerboards seen through glass and by uniform samples: in
+/// docs/decisions.md.
 const NUDGE: f32 = 1e-4;
 
 /// The line's renders with every ray (a pixel's centre's, or a sample's) through a point of

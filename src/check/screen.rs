@@ -9,10 +9,10 @@ use super::rule::{Rule, channel_difference};
 use crate::shade::Image;
 
 /// Rows are added, most differing first, until each picture's chosen rows hold this many times
-/// the differing pixels its rule allows (twice: a fault that draws as much as half of them as
-/// the student did is rendered whole; four times cost a glass line of 16 samples a pixel more
-/// in rows than it spared, 9.5 s against 7.1 s over the library's 68 renders)...
-const ENOUGH: usize = 2;
+/// the differing pixels its rule allows (twice was cheaper, but the rows a pair is screened by
+/// then left out `pixel_corner` with `ambient_missing` on a sphere of triangles: the zoo's pairs
+/// test)...
+const ENOUGH: usize = 4;
 /// ...or until they are this share of the picture's rows (1 in N).
 const MOST_ROWS: usize = 6;
 
@@ -213,7 +213,7 @@ mod tests {
     #[test]
     fn the_rows_where_the_pictures_differ_most_are_screened() {
         // 6,000 pixels: the rule allows 6 to differ; rows are chosen until they hold more
-        // than 12.
+        // than 24.
         let reference = image(10, 600, |_, _| [0; 3]);
         // Rows 7 and 40 differ entirely, row 20 in one pixel.
         let actual = image(10, 600, |x, y| match y {
@@ -229,8 +229,8 @@ mod tests {
         }];
         let screen = Screen::of(&failing, Rule::COURSE).unwrap();
         let wanted: Vec<usize> = (0..600).filter(|&r| screen.wanted()[r]).collect();
-        assert_eq!(wanted, [7, 40]);
-        // The reference itself differs from the student's picture in 20 pixels of those rows:
+        assert_eq!(wanted, [7, 20, 40]);
+        // The reference itself differs from the student's picture in 21 pixels of those rows:
         // more than 0.1% of 6,000.
         assert!(screen.rules_out(&[Some(&reference)], &[&actual], &[]));
         assert!(!screen.rules_out(&[Some(&actual)], &[&actual], &[]));

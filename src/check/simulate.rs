@@ -262,9 +262,10 @@ impl<'a> Renders<'a> {
     }
 
     /// Of the failing pictures `waiting`, those that lie as near their `references` as the
-    /// renders under `plants` lie to one another, pixel by pixel ([`Envelope`]). Each plant's screened rows first,
-    /// where the line is screened: a picture already too far outside their envelope there is
-    /// outside the whole one, and where that holds for every picture nothing is rendered whole.
+    /// renders under `plants` lie to one another, pixel by pixel ([`Envelope`]). Each plant's
+    /// screened rows first, where the line is screened: a picture already too far outside their
+    /// envelope there is outside the whole one, and where that holds for every picture nothing
+    /// is rendered whole.
     fn between(
         &self,
         plants: &[Plant],
