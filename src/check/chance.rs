@@ -182,19 +182,7 @@ impl Spread {
                 differs
             })
             .collect();
-        let differing = mask.iter().filter(|&&d| d).count();
-        Some(Comparison {
-            width: self.width,
-            height: self.height,
-            differing,
-            bad_fraction: if mask.is_empty() {
-                0.0
-            } else {
-                differing as f64 / mask.len() as f64
-            },
-            worst,
-            mask,
-        })
+        Some(Comparison::of_mask(self.width, self.height, mask, worst))
     }
 }
 

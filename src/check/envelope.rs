@@ -80,19 +80,7 @@ impl Envelope {
                 off > tolerance
             })
             .collect();
-        let differing = mask.iter().filter(|&&d| d).count();
-        Some(Comparison {
-            width: self.width,
-            height: self.height,
-            differing,
-            bad_fraction: if mask.is_empty() {
-                0.0
-            } else {
-                differing as f64 / mask.len() as f64
-            },
-            worst,
-            mask,
-        })
+        Some(Comparison::of_mask(self.width, self.height, mask, worst))
     }
 
     /// How many pixels of the rows `wanted` (counted from the top) of `actual` lie outside the

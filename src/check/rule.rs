@@ -49,6 +49,27 @@ pub struct Comparison {
     pub mask: Vec<bool>,
 }
 
+impl Comparison {
+    /// The comparison a per-pixel `mask` of differing pixels makes (rows top first), with the
+    /// largest difference seen.
+    pub fn of_mask(width: u32, height: u32, mask: Vec<bool>, worst: u8) -> Comparison {
+        let differing = mask.iter().filter(|&&differs| differs).count();
+        let bad_fraction = if mask.is_empty() {
+            0.0
+        } else {
+            differing as f64 / mask.len() as f64
+        };
+        Comparison {
+            width,
+            height,
+            differing,
+            bad_fraction,
+            worst,
+            mask,
+        }
+    }
+}
+
 /// Compares `actual` with `reference` pixel by pixel: a pixel differs when any channel is off by
 /// more than `tolerance` levels. `None` when the sizes differ (or a picture's pixels do not fill
 /// its size).
@@ -67,20 +88,12 @@ pub fn compare(actual: &Image, reference: &Image, tolerance: u8) -> Option<Compa
             difference > tolerance
         })
         .collect();
-    let differing = mask.iter().filter(|&&differs| differs).count();
-    let bad_fraction = if mask.is_empty() {
-        0.0
-    } else {
-        differing as f64 / mask.len() as f64
-    };
-    Some(Comparison {
-        width: reference.width,
-        height: reference.height,
-        differing,
-        bad_fraction,
-        worst,
+    Some(Comparison::of_mask(
+        reference.width,
+        reference.height,
         mask,
-    })
+        worst,
+    ))
 }
 
 /// The largest difference of any channel.
