@@ -310,6 +310,71 @@ fn a_class_is_graded_in_one_command_with_its_table_and_formats() {
 }
 
 #[test]
+fn with_vary_each_student_is_graded_on_scenes_of_their_own_that_a_teacher_can_make_again() {
+    let Some(conformance) = conformance_dir() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &conformance, 3);
+    let roster = roster(
+        dir.path(),
+        &[
+            ("alice", "correct"),
+            ("bob", "correct"),
+            ("carol", "ambient_missing"),
+        ],
+    );
+    let report = dir.path().join("report");
+    let output = grade_class(&suite, &roster, &report, &["--vary", "11"]);
+    let out = text(&output);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    for row in [
+        "alice          4/4",
+        "bob            4/4",
+        "carol          2/4",
+    ] {
+        assert!(out.contains(row), "no '{row}' in:\n{out}");
+    }
+    assert!(out.contains("ambient_missing"), "{out}");
+    let summary = |student: &str| -> serde_json::Value {
+        serde_json::from_str(
+            &std::fs::read_to_string(report.join(student).join("summary.json")).unwrap(),
+        )
+        .unwrap()
+    };
+    let scenes = |folder: &Path| -> Vec<(std::ffi::OsString, Vec<u8>)> {
+        let mut found: Vec<_> = std::fs::read_dir(folder)
+            .unwrap()
+            .flatten()
+            .map(|e| (e.file_name(), std::fs::read(e.path()).unwrap()))
+            .collect();
+        found.sort();
+        found
+    };
+    // Each student's seed comes from the class's and their name, and the scenes with it.
+    let seed = |student: &str| summary(student)["varied"]["seed"].as_u64().unwrap();
+    for student in ["alice", "bob", "carol"] {
+        assert_eq!(seed(student), raycast::check::student_seed(11, student));
+    }
+    let alice = scenes(&report.join("alice/varied"));
+    assert!(!alice.is_empty());
+    assert_ne!(alice, scenes(&report.join("bob/varied")));
+    // The teacher makes alice's scenes again with her seed, for one renderer.
+    let again = dir.path().join("again");
+    let output = check(&[
+        suite.to_str().unwrap(),
+        "--renderer",
+        common::open_raycast(),
+        "--vary",
+        &seed("alice").to_string(),
+        "--report",
+        again.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", text(&output));
+    assert_eq!(scenes(&again.join("varied")), alice);
+}
+
+#[test]
 fn a_budget_leaves_a_slow_student_partial_results() {
     let Some(conformance) = conformance_dir() else {
         return;

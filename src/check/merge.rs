@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::vary::{VARIED_FOLDER, Variation};
 use serde_json::Value;
 
 use super::{
@@ -80,6 +81,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
     let (mut partial, mut confinement, mut cage_note) = (false, None, None);
     let mut seconds = 0.0;
     let mut no_cage = false;
+    let mut variation: Option<Option<Variation>> = None;
     for shard in shards {
         let summary: Value = std::fs::read_to_string(shard.join("summary.json"))
             .ok()
@@ -96,6 +98,22 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
             ));
         }
         rule = Some(shard_rule);
+        let shard_variation = Variation::from_json(&summary["varied"]);
+        match &variation {
+            None => {
+                if let Some(varied) = &shard_variation {
+                    varied.copy_scenes(&shard.join(VARIED_FOLDER), staging.path())?;
+                }
+                variation = Some(shard_variation);
+            }
+            Some(first) if first.as_ref().map(|v| v.seed) != shard_variation.map(|v| v.seed) => {
+                return Err(format!(
+                    "{}: graded on other scenes (--vary) than the shards before it",
+                    shard.display()
+                ));
+            }
+            Some(_) => {}
+        }
         partial |= summary["partial"] == true;
         no_cage |= summary["cage"]["no_cage"] == true;
         // Shards ran one after another or on other machines: their times add up.
@@ -141,6 +159,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
         staging: Some(staging),
         build: None,
         seconds,
+        variation: variation.flatten(),
     };
     Ok((checked, groups, rule.unwrap_or(Rule::COURSE)))
 }

@@ -33,6 +33,7 @@ mod screen;
 mod simulate;
 mod suite;
 pub(crate) mod untrusted;
+mod vary;
 mod verdict;
 
 use failure::{OWN_MESSAGE_ADVICE, how_it_ended};
@@ -56,6 +57,7 @@ pub use scratch::{Scratch, remove_all_now as remove_scratch_now};
 pub use simulate::FaultMatch;
 pub use suite::{Line, PictureKind, Suite};
 pub use untrusted::visible;
+pub use vary::{Variation, VariedSuite, student_seed};
 pub use verdict::{
     Group, entries as verdict_entries, lines as verdict_lines, verdict as renderer_verdict,
 };
@@ -100,6 +102,13 @@ pub struct CheckOptions {
     /// Whether the programs graded are other people's (a class): where the cage cannot keep a
     /// renderer's reads and writes (Windows), they are graded only with `--no-cage`.
     pub others: bool,
+    /// `--vary SEED`: every line's scene varied within bounds that keep what it tests, and
+    /// graded against raycast's render of the varied scene (in a class, each student's own
+    /// variation, from the seed and their name).
+    pub vary: Option<u64>,
+    /// While check grades a varied copy (`suite`): the variation, and the suite it was made
+    /// from (hidden from renderers as the copy is, and the folder whose wall must hold).
+    pub varied: Option<Variation>,
 }
 
 impl CheckOptions {
@@ -120,6 +129,8 @@ impl CheckOptions {
             deadline: None,
             no_cage: false,
             others: false,
+            vary: None,
+            varied: None,
         }
     }
 }
@@ -343,6 +354,18 @@ pub struct Checked {
     /// How long its lines took by the clock, from the first's start to the last's end (they
     /// run side by side: not the sum of their times).
     pub seconds: f64,
+    /// The variation of the scenes it was graded on (`--vary`), if any.
+    pub variation: Option<Variation>,
+}
+
+impl Checked {
+    /// Adds what of check's scratch could not be removed to what the run warns of.
+    pub fn left_behind(&mut self, left: String) {
+        self.cleanup = Some(match self.cleanup.take() {
+            Some(earlier) => format!("{earlier}; {left}"),
+            None => left,
+        });
+    }
 }
 
 /// A suite made ready to grade renderers against, once for all of them: read, fingerprinted,
@@ -369,7 +392,8 @@ pub fn prepare(options: &CheckOptions, stop: &'static StopFlag) -> Result<Prepar
     // Before any renderer's code runs: a wall must hold, or the user said --no-cage.
     let root = cage::is_root();
     if !options.no_cage {
-        cage::Wall::find(&options.suite, root).holds(options.others)?;
+        let original = options.varied.as_ref().map_or(&options.suite, |v| &v.from);
+        cage::Wall::find(original, root).holds(options.others)?;
     }
     if let Some((k, n)) = options.shard {
         suite.lines = std::mem::take(&mut suite.lines)
@@ -492,6 +516,12 @@ pub fn check(
     };
     // Made before the lines run: a report folder that cannot be one is an error at once.
     let staging = options.report.as_deref().map(Staging::new).transpose()?;
+    let varied = options
+        .vary
+        .map(|seed| VariedSuite::make(&options.suite, seed))
+        .transpose()?;
+    let varied_options = varied.as_ref().map(|varied| varied.options(options));
+    let options = varied_options.as_ref().unwrap_or(options);
     let prepared = prepare(options, stop)?;
     let renderer = Renderer {
         command: &command,
@@ -500,6 +530,9 @@ pub fn check(
     };
     let mut checked = grade_renderer(&prepared, options, &renderer, staging, progress, stop)?;
     checked.cage_note = copied;
+    if let Some(Err(left)) = varied.map(VariedSuite::remove) {
+        checked.left_behind(left);
+    }
     Ok(checked)
 }
 
@@ -514,6 +547,9 @@ pub fn grade_renderer(
     stop: &'static StopFlag,
 ) -> Result<Checked, String> {
     let suite = &prepared.suite;
+    if let (Some(variation), Some(staging)) = (&options.varied, &staging) {
+        variation.copy_scenes(&options.suite.join("scenes"), staging.path())?;
+    }
     // A renderer never runs as root (check() runs it from open copies where it must).
     let (user, cage_note) = match cage::unprivileged_user(renderer.readable) {
         None => (None, None),
@@ -621,6 +657,7 @@ pub fn grade_renderer(
         staging,
         build: None,
         seconds: started.elapsed().as_secs_f64(),
+        variation: options.varied.clone(),
     })
 }
 
@@ -687,6 +724,7 @@ pub fn not_built(prepared: &Prepared, why: &str, staging: Option<Staging>) -> Ch
         staging,
         build: None,
         seconds: 0.0,
+        variation: None,
     }
 }
 
@@ -857,7 +895,10 @@ fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> Referen
 
 /// The folders no renderer may see, even inside a folder it may read: the suite's.
 pub(crate) fn hidden_from_renderers(options: &CheckOptions) -> Vec<PathBuf> {
-    std::fs::canonicalize(&options.suite).into_iter().collect()
+    std::iter::once(&options.suite)
+        .chain(options.varied.as_ref().map(|v| &v.from))
+        .filter_map(|suite| std::fs::canonicalize(suite).ok())
+        .collect()
 }
 
 /// Runs one line in its cage and grades its images, each against its reference (read before
@@ -1073,6 +1114,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
         "seconds": checked.seconds,
         "cage": cage,
         "build": checked.build,
+        "varied": checked.variation.as_ref().map(Variation::json),
         "passed": passed,
         "failed": graded.len() - passed,
         "verdict": verdict::json(groups),

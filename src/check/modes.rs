@@ -63,3 +63,25 @@ pub fn copy_link(link: &Path, beside: &Path, target: &Path) -> std::io::Result<(
         std::fs::copy(beside, target).map(|_| ())
     }
 }
+
+/// Copies the folder `from` to `to`: files, folders and links as they are (a link is read by
+/// no one but the caged renderer, which Landlock keeps inside).
+pub fn copy_tree(from: &Path, to: &Path) -> Result<(), String> {
+    let failed = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
+    std::fs::create_dir_all(to).map_err(|e| failed(to, e))?;
+    for entry in std::fs::read_dir(from).map_err(|e| failed(from, e))? {
+        let entry = entry.map_err(|e| failed(from, e))?;
+        let path = entry.path();
+        let kind = entry.file_type().map_err(|e| failed(&path, e))?;
+        let target = to.join(entry.file_name());
+        if kind.is_dir() {
+            copy_tree(&path, &target)?;
+        } else if kind.is_symlink() {
+            let link = std::fs::read_link(&path).map_err(|e| failed(&path, e))?;
+            copy_link(&link, &path, &target).map_err(|e| failed(&target, e))?;
+        } else if kind.is_file() {
+            std::fs::copy(&path, &target).map_err(|e| failed(&path, e))?;
+        }
+    }
+    Ok(())
+}

@@ -189,7 +189,7 @@ fn write_into(dir: &Path, checked: &Checked, groups: &[Group], rule: Rule) -> Re
         )
         .replace(
             "{{VERDICT}}",
-            &(build_html(checked) + &verdict_html(groups)),
+            &(build_html(checked) + &variation_html(checked) + &verdict_html(groups)),
         )
         .replace("{{BLOCKS}}", &blocks);
     std::fs::write(dir.join("index.html"), page).map_err(fail)
@@ -218,6 +218,37 @@ fn build_html(checked: &Checked) -> String {
         ),
         None => String::new(),
     }
+}
+
+/// The scenes' variation (`--vary`), above the verdict: its seed and a link to each varied
+/// scene, so that a teacher can read and render what the student was graded on.
+fn variation_html(checked: &Checked) -> String {
+    let Some(variation) = &checked.variation else {
+        return String::new();
+    };
+    let scenes: String = variation
+        .scenes
+        .iter()
+        .map(|scene| {
+            let path = format!("{}/{}", super::vary::VARIED_FOLDER, scene.display());
+            format!(
+                "<li><a href=\"{}\">{}</a></li>",
+                escape(&path),
+                escape(&scene.display().to_string())
+            )
+        })
+        .collect();
+    format!(
+        "<section class=\"varied\"><p>{}.</p><ul>{scenes}</ul></section>",
+        escape(&upper_first(&variation.sentence()))
+    )
+}
+
+fn upper_first(text: &str) -> String {
+    let mut chars = text.chars();
+    chars
+        .next()
+        .map_or_else(String::new, |c| c.to_uppercase().chain(chars).collect())
 }
 
 /// The renderer's verdict, at the top of the page: one line a group of failing pictures.

@@ -15,7 +15,7 @@ pub const CHECK_USAGE: &str = "\
 usage: raycast check SUITE --renderer CMD [--report DIR] [--tolerance LEVELS]
                      [--max-bad FRACTION] [--jobs N] [--timeout SECONDS] [--budget SECONDS]
                      [--deadline SECONDS] [--shard K/N] [--memory SIZE] [--disk SIZE]
-                     [--allow-read PATH]...
+                     [--allow-read PATH]... [--vary SEED]
                      [--keep-preview-options] [--no-cage]
        raycast check SUITE --class ROSTER --renderer CMD [--build CMD] [--build-timeout S]
                      [the options above]
@@ -50,6 +50,13 @@ start in the suite's order, those left when it is spent are not run, and every l
 before any is diagnosed. --deadline bounds the whole run,
 diagnoses included (a platform's hard limit): check stops its work 5% before it (at least 1 s)
 and writes its report with what it graded, as when Ctrl-C stops it, but exits 1, not 130.
+--vary SEED grades on scenes nobody has seen: every line's scene is changed within bounds that
+keep what the line tests (the camera orbits its subject by 1 to 3 degrees, directional lights
+turn by 2 to 5, the colours of lights, background and materials are scaled by 0.8 to 1 a
+channel), and each picture is compared with raycast's render of its varied scene; the report
+keeps the varied scenes (DIR/varied/), and the same SEED makes them again. A renderer that prints
+pictures it has memorised fails. In a class, each student gets a variation of their own, from
+SEED and their name (their report gives it as the SEED that makes it again).
 --class grades each folder of ROSTER as one student's submission: copied, built with --build
 in its folder (caged, --build-timeout seconds, default 120), its renderer (CMD's first word
 taken inside the submission) graded; the class's table on the terminal and in DIR/class.csv
@@ -188,6 +195,14 @@ fn parse_check_args(
                 options.timeout = Duration::from_secs_f64(s);
             }
             "--keep-preview-options" => options.keep_preview_options = true,
+            "--vary" => {
+                let v = value(&mut args, "--vary", "a seed")?;
+                options.vary = Some(number(
+                    &v,
+                    "--vary",
+                    "a seed, a whole number from 0 to 18446744073709551615",
+                )?);
+            }
             "--no-cage" => options.no_cage = true,
             "--class" => roster = Some(PathBuf::from(value(&mut args, "--class", "a folder")?)),
             "--build" => {
@@ -377,6 +392,9 @@ pub fn run_check(args: Vec<OsString>) -> ExitCode {
     let groups = check::renderer_verdict(&mut checked.graded);
     let graded = &checked.graded;
     let mut out = std::io::stdout().lock();
+    if let Some(variation) = &checked.variation {
+        let _ = writeln!(out, "{}", variation.sentence());
+    }
     let failed = super::grades::print_grades(&mut out, &groups, graded);
     if let Some(dir) = &options.report {
         if let Err(message) = check::write_report(&mut checked, &groups, options.rule) {

@@ -84,7 +84,7 @@ pub fn run_merge(args: &[String]) -> ExitCode {
                 rows.push(table::Row::of_class_summary(student));
                 continue;
             };
-            if let Err(e) = class::copy_tree(&shard.join(folder), &target) {
+            if let Err(e) = check::modes::copy_tree(&shard.join(folder), &target) {
                 return fail(&e);
             }
             rows.push(table::Row::of(name, folder, &own));
@@ -139,9 +139,18 @@ pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
     // Heard from the start: a stop while the references render ends those too.
     let stop = super::grades::stop_on_signals();
     super::grades::stop_at_deadline(stop, options.deadline);
-    let prepared = match check::prepare(&options, stop) {
-        Ok(prepared) => prepared,
+    let suite = match check::Suite::read(&options.suite) {
+        Ok(suite) => suite,
         Err(message) => return fail(&message),
+    };
+    // Prepared once for the class; with --vary each student has scenes, and so references,
+    // of their own.
+    let shared = match options.vary {
+        Some(_) => None,
+        None => match check::prepare(&options, stop) {
+            Ok(prepared) => Some(prepared),
+            Err(message) => return fail(&message),
+        },
     };
     let scratch = match check::Scratch::new() {
         Ok(scratch) => scratch,
@@ -154,8 +163,8 @@ pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
             return fail(&format!("cannot open the scratch folder: {e}"));
         }
     }
-    let lines = prepared.suite().lines.len();
-    let (pictures, max_points) = prepared.suite().pictures_and_points();
+    let lines = suite.lines.len();
+    let (pictures, max_points) = suite.pictures_and_points();
     let progress = std::sync::Arc::new(check::Progress::new(lines * students.len()));
     let watcher = super::progress::Watcher::start(progress.clone());
     let mut rows = Vec::new();
@@ -167,7 +176,7 @@ pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
         let folder = class::report_folder(&student.0);
         let report = staging.as_ref().map(|s| s.path().join(&folder));
         let graded = class::grade_student(
-            &prepared,
+            shared.as_ref(),
             &options,
             &class,
             student,

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use super::cage::{self, Ending, Ran, Request};
+use super::vary::{VariedSuite, student_seed};
 use super::{CheckOptions, Checked, Prepared, Renderer, Staging, grade_renderer};
 
 /// How a class is graded, beside the check's own options.
@@ -150,9 +151,11 @@ pub struct Graded {
 /// Grades one student: copies the submission into `scratch`, builds it, grades its renderer
 /// (`renderer`, its first word relative to the submission when it holds a `/`), and writes
 /// their report into `report` (a folder of the class's report being built) when there is one.
+/// The suite is the class's, `shared`; where there is none (`--vary`), the student's own: the
+/// suite varied by the seed and their name, prepared for them.
 #[allow(clippy::too_many_arguments)]
 pub fn grade_student(
-    prepared: &Prepared,
+    shared: Option<&Prepared>,
     options: &CheckOptions,
     class: &ClassOptions,
     (name, folder): &(String, PathBuf),
@@ -174,8 +177,22 @@ pub fn grade_student(
         Ok(_) => return Err("not a folder: a submission is a folder of the roster".to_string()),
         Err(e) => return Err(format!("cannot read it: {e}")),
     }
+    let varied = match (shared, options.vary) {
+        (None, Some(seed)) => Some(VariedSuite::make(&options.suite, student_seed(seed, name))?),
+        _ => None,
+    };
+    let varied_options = varied.as_ref().map(|varied| varied.options(options));
+    let options = varied_options.as_ref().unwrap_or(options);
+    let own;
+    let prepared = match shared {
+        Some(prepared) => prepared,
+        None => {
+            own = super::prepare(options, stop)?;
+            &own
+        }
+    };
     let copy = scratch.join(report_folder(name));
-    copy_tree(folder, &copy).map_err(|e| format!("cannot copy it: {e}"))?;
+    super::modes::copy_tree(folder, &copy).map_err(|e| format!("cannot copy it: {e}"))?;
     for private in [".home", ".tmp"] {
         std::fs::create_dir_all(copy.join(private)).map_err(|e| e.to_string())?;
     }
@@ -240,6 +257,9 @@ pub fn grade_student(
         None => grade_renderer(prepared, options, &renderer, staging, progress, stop)?,
     };
     checked.build = built.as_ref().map(Built::json);
+    if let Some(Err(left)) = varied.map(VariedSuite::remove) {
+        checked.left_behind(left);
+    }
     let groups = super::renderer_verdict(&mut checked.graded);
     let summary = super::summary_json(&checked, &groups, options.rule);
     if checked.staging.is_some() {
@@ -264,28 +284,6 @@ fn in_submission(word: &str, submission: &Path) -> String {
     } else {
         word.to_string()
     }
-}
-
-/// Copies the folder `from` to `to`: files, folders and links as they are (a link is read by
-/// no one but the caged renderer, which Landlock keeps inside).
-pub fn copy_tree(from: &Path, to: &Path) -> Result<(), String> {
-    let failed = |path: &Path, e: std::io::Error| format!("{}: {e}", path.display());
-    std::fs::create_dir_all(to).map_err(|e| failed(to, e))?;
-    for entry in std::fs::read_dir(from).map_err(|e| failed(from, e))? {
-        let entry = entry.map_err(|e| failed(from, e))?;
-        let path = entry.path();
-        let kind = entry.file_type().map_err(|e| failed(&path, e))?;
-        let target = to.join(entry.file_name());
-        if kind.is_dir() {
-            copy_tree(&path, &target)?;
-        } else if kind.is_symlink() {
-            let link = std::fs::read_link(&path).map_err(|e| failed(&path, e))?;
-            super::modes::copy_link(&link, &path, &target).map_err(|e| failed(&target, e))?;
-        } else if kind.is_file() {
-            std::fs::copy(&path, &target).map_err(|e| failed(&path, e))?;
-        }
-    }
-    Ok(())
 }
 
 /// Gives the folder `root` and everything in it to `user`.
