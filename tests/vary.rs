@@ -182,6 +182,11 @@ fn graded_on_varied_scenes(data: &Path, scenes: &[&str]) {
         let shown = image["accepted"]["informational"].is_string();
         let expected = if scene_free || shown { "pass" } else { "fail" };
         assert_eq!(image["status"], expected, "{image}");
+        if expected == "fail" {
+            // Named for what it is: the original scene's picture.
+            assert_eq!(image["diagnoses"][0]["code"], "unvaried", "{image}");
+            assert_eq!(image["diagnoses"].as_array().unwrap().len(), 1, "{image}");
+        }
     }
 }
 

@@ -90,7 +90,7 @@ impl Diagnosis {
 // Decided by the caller (a run that failed, an image that is missing) or by no cause fitting.
 impl Diagnosis {
     /// The facts of a run, as opposed to guesses from its pixels.
-    const FACTS: [Diagnosis; 14] = [
+    const FACTS: [Diagnosis; 15] = [
         Diagnosis::CRASH,
         Diagnosis::CAGE_REFUSED,
         Diagnosis::TIMED_OUT,
@@ -105,6 +105,7 @@ impl Diagnosis {
         Diagnosis::WRONG_FORMAT,
         Diagnosis::SIZE,
         Diagnosis::SUITE_TAMPERED,
+        Diagnosis::UNVARIED,
     ];
 
     /// The renderer crashed, or exited with an error.
@@ -214,6 +215,15 @@ impl Diagnosis {
         8,
         "The suite's files changed while the renderer ran, so no grade of this run counts \
         (a renderer must only read the scenes and write its pictures).",
+    );
+
+    /// Graded on varied scenes (`--vary`), the picture is the original scene's.
+    pub const UNVARIED: Diagnosis = Diagnosis::new(
+        "unvaried",
+        8,
+        "The picture is the original scene's, not that of the varied scene the renderer was \
+        given (--vary): it did not render the scene file named after -input (a scene path \
+        written into the program, a scene read from elsewhere, or pictures kept and printed).",
     );
 
     /// The picture's width or height differs from the reference's.
@@ -369,7 +379,7 @@ mod tests {
     #[test]
     fn codes_are_distinct_snake_case_with_explanations() {
         let codes: Vec<&str> = Diagnosis::all().map(|d| d.code()).collect();
-        assert_eq!(codes.len(), 30);
+        assert_eq!(codes.len(), 31);
         for (i, code) in codes.iter().enumerate() {
             assert!(
                 code.chars().all(|c| c.is_ascii_lowercase() || c == '_'),
