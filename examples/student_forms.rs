@@ -61,6 +61,13 @@ enum Form {
     /// A point light dimmed as light falls off in the world, `colour / (d * d)`, whatever the
     /// file's attenuation says.
     InverseSquareLight,
+    /// Snell's law in Heckbert's form, `c1 = -n.d`, `c2 = sqrt(1 - eta^2 (1 - c1^2))`,
+    /// `t = eta d + (eta c1 - c2) n`, with n the surface's outward normal on both sides: never
+    /// turned when the ray leaves the glass.
+    HeckbertOutwardNormal,
+    /// The same form with the normal turned to the ray, but `c1 = n.d`: the cosine's minus
+    /// forgotten.
+    HeckbertCosineSign,
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
     /// out in double precision (`Vec3d`), each then rounded to float.
     DoublePrecision,
@@ -82,6 +89,8 @@ impl Form {
             "marble_in_turns" => Form::MarbleInTurns,
             "inverse_square_light" => Form::InverseSquareLight,
             "double_precision" => Form::DoublePrecision,
+            "heckbert_outward_normal" => Form::HeckbertOutwardNormal,
+            "heckbert_cosine_sign" => Form::HeckbertCosineSign,
             _ => return None,
         })
     }
@@ -201,7 +210,19 @@ impl TraceSeam for Form {
         Vec3A::from((d - 2.0 * d.dot(n) * n).as_vec3())
     }
 
-    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32, inside: bool) -> Option<Vec3A> {
+        let heckbert = |n: Vec3A, c1: f32| {
+            let c2 = 1.0 - ratio * ratio * (1.0 - c1 * c1);
+            (c2 >= 0.0).then(|| (ratio * direction + (ratio * c1 - c2.sqrt()) * n).normalize())
+        };
+        match self {
+            Form::HeckbertOutwardNormal => {
+                let outward = if inside { -normal } else { normal };
+                return heckbert(outward, -outward.dot(direction));
+            }
+            Form::HeckbertCosineSign => return heckbert(normal, normal.dot(direction)),
+            _ => {}
+        }
         let Form::DoublePrecision = self else {
             return raycast::trace::refract(direction, normal, ratio);
         };

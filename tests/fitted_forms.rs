@@ -389,3 +389,27 @@ fn a_correct_tracer_in_double_precision_passes_the_checkerboards_edges() {
     }
     assert!(out.contains("3 passed, 0 failed"), "{out}");
 }
+
+#[test]
+fn snells_law_in_heckberts_form_with_a_sign_or_a_side_wrong_is_the_refraction_formula() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    // The outward normal changes only the rays leaving the glass; the cosine's sign every one.
+    for (form, number) in [("heckbert_outward_normal", 0), ("heckbert_cosine_sign", 2)] {
+        let failing = failing_in(
+            &later,
+            form,
+            &["output4_08.tga", "output4_14c.tga", "output6_14.tga"],
+        );
+        let failing = named_in(&failing, form, "refraction_formula");
+        assert_eq!(failing.len(), 3, "{}", failing.join("\n"));
+        assert!(
+            failing
+                .iter()
+                .all(|l| l.contains(&format!("form {number})"))),
+            "{form}: {}",
+            failing.join("\n")
+        );
+    }
+}

@@ -129,9 +129,11 @@ pub trait TraceSeam: Copy + Send + Sync {
     }
 
     /// The refracted direction of unit `direction` through unit `normal` (facing against it)
-    /// with `ratio` = η_i / η_t; `None` on total internal reflection.
+    /// with `ratio` = η_i / η_t, the ray `inside` the object (leaving it) or not; `None` on
+    /// total internal reflection.
     #[inline(always)]
-    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32, inside: bool) -> Option<Vec3A> {
+        let _ = inside;
         refract(direction, normal, ratio)
     }
 }
@@ -562,7 +564,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 // Outside is air (index 1); which side the ray is on says which way it crosses.
                 let index = surface.index_of_refraction();
                 let ratio = self.variant.crossing_ratio(index, inside);
-                if let Some(refracted) = self.variant.refract(unit, normal, ratio) {
+                if let Some(refracted) = self.variant.refract(unit, normal, ratio, inside) {
                     spawn(transparent, true, refracted);
                 }
             }

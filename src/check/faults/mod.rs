@@ -171,6 +171,7 @@ pub static FAULTS: &[Fault] = &[
     rays::REFLECTION_DIRECTION,
     rays::REFRACTION_INDEX,
     rays::TOTAL_INTERNAL_REFLECTION,
+    rays::REFRACTION_FORMULA,
     rays::BOUNCES_OFF_BY_ONE,
     rays::WEIGHT_CUTOFF,
     rays::SECONDARY_COLOUR,
@@ -443,9 +444,9 @@ impl TraceSeam for Plant {
             .unwrap_or_else(|| crate::trace::crossing_ratio(index, inside))
     }
 
-    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32, inside: bool) -> Option<Vec3A> {
         self.rays()
-            .find_map(|r| r.refract(direction, normal, ratio))
+            .find_map(|r| r.refract(direction, normal, ratio, inside))
             .or_else(|| crate::trace::refract(direction, normal, ratio))
     }
 }

@@ -43,7 +43,24 @@ pub enum RayFault {
         /// Glass rays', not mirror rays'.
         transparent: bool,
     },
+    /// Snell's formula written otherwise than the course's, in the way of this form.
+    Snell(SnellForm),
 }
+
+/// How a student's Snell's formula differs from the course's,
+/// T = [η (N·I) − √(1 − η² (1 − (N·I)²))] N − η I with I = −d and N facing the ray; written
+/// with c = −N·d, T = η d + (η c − √k) N.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SnellForm {
+    /// Leaving the object, N is the surface's outward normal, not turned to face the ray.
+    OutwardNormal,
+    /// The signs of T = η d + (η c − √k) N's three terms, each bit one flipped: 1 the η d
+    /// term's, 2 the η c term's, 4 the root's (3 is the course's formula with I = d, not −d).
+    Signs(u8),
+}
+
+/// Every sign of Snell's formula's terms that a student's may have wrong, one pattern a form.
+const SNELL_SIGNS: [u8; 7] = [1, 2, 3, 4, 5, 6, 7];
 
 /// What a student's refraction does where the square root's argument is negative.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -111,7 +128,31 @@ impl RayFault {
         }
     }
 
-    pub(super) fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32) -> Option<Vec3A> {
+    pub(super) fn refract(
+        &self,
+        direction: Vec3A,
+        normal: Vec3A,
+        ratio: f32,
+        inside: bool,
+    ) -> Option<Vec3A> {
+        // Either form leaves the radicand, so total internal reflection, as it was.
+        match *self {
+            RayFault::Snell(SnellForm::OutwardNormal) if inside => {
+                return crate::trace::refract(direction, -normal, ratio);
+            }
+            RayFault::Snell(SnellForm::Signs(flipped)) => {
+                let k = crate::trace::refraction_radicand(direction, normal, ratio);
+                if k < 0.0 {
+                    return None;
+                }
+                let sign = |bit: u8| if flipped & bit == 0 { 1.0 } else { -1.0 };
+                let c = -normal.dot(direction);
+                let t = sign(1) * ratio * direction
+                    + (sign(2) * ratio * c - sign(4) * k.sqrt()) * normal;
+                return t.try_normalize();
+            }
+            _ => {}
+        }
         let RayFault::PastCriticalAngle(way) = *self else {
             return None;
         };
@@ -279,6 +320,29 @@ pub(super) const TOTAL_INTERNAL_REFLECTION: Fault = Fault {
     },
 };
 
+pub(super) const REFRACTION_FORMULA: Fault = Fault {
+    name: "refraction_formula",
+    assignment: 4,
+    sentence: "My Snell's formula is not T = η d + (η c − √k) N with c = −N·d (form 0: \
+               leaving the glass, N is the surface's outward normal, not turned to face the \
+               ray; forms 1 to 7: a sign of its terms flipped, 1 the η d term's, 2 the η c \
+               term's, 4 the root's, and their sums, 3 being the course's formula with I = d \
+               where I = −d is meant).",
+    look_for: "The refraction: T = [η (N·I) − √(1 − η² (1 − (N·I)²))] N − η I, with I = −d \
+               pointing back along the incoming ray and N the normal on the ray's side (turn it \
+               when the ray leaves the object: d·N > 0).",
+    candidates: |line: &LineScene| {
+        if !(bounces(line) && has_material(line, true)) {
+            return Vec::new();
+        }
+        Candidate::forms(
+            std::iter::once(SnellForm::OutwardNormal)
+                .chain(SNELL_SIGNS.map(SnellForm::Signs))
+                .map(|form| Planted::Ray(RayFault::Snell(form))),
+        )
+    },
+};
+
 pub(super) const BOUNCES_OFF_BY_ONE: Fault = Fault {
     name: "bounces_off_by_one",
     assignment: 4,
@@ -360,7 +424,7 @@ mod tests {
         // Inside glass of index 1.5 at 45°, past the critical angle of 41.8°: the course
         // traces nothing; k = 1 − 2.25 (1 − 0.5) = −0.125.
         let d = Vec3A::new(1.0, 1.0, 0.0).normalize();
-        let refract = |way| RayFault::PastCriticalAngle(way).refract(d, -Vec3A::Y, 1.5);
+        let refract = |way| RayFault::PastCriticalAngle(way).refract(d, -Vec3A::Y, 1.5, true);
         assert_eq!(crate::trace::refract(d, -Vec3A::Y, 1.5), None);
         // √0: 1.5 cos 45° (−Y) + 1.5 d = (1.0607, 0, 0), along the surface.
         assert!(close(refract(CriticalAngle::Grazing).unwrap(), Vec3A::X));
@@ -373,6 +437,41 @@ mod tests {
         assert_eq!(refract(CriticalAngle::Straight), Some(d));
         // Short of the critical angle each leaves the course's ray alone.
         let head_on = RayFault::PastCriticalAngle(CriticalAngle::Straight);
-        assert_eq!(head_on.refract(Vec3A::Y, -Vec3A::Y, 1.5), None);
+        assert_eq!(head_on.refract(Vec3A::Y, -Vec3A::Y, 1.5, true), None);
+    }
+
+    #[test]
+    fn snells_formula_in_the_forms_students_write_by_hand() {
+        let outward = RayFault::Snell(SnellForm::OutwardNormal);
+        let unnegated = RayFault::Snell(SnellForm::Signs(3));
+        // Into glass of index 1.5 at 45°: sin 45° / 1.5 = 0.4714 across, cos 0.8819 down.
+        let d = Vec3A::new(1.0, -1.0, 0.0).normalize();
+        let (ratio, normal) = (1.0 / 1.5, Vec3A::Y);
+        let right = Vec3A::new(0.471_405, -0.881_917, 0.0);
+        assert!(close(
+            crate::trace::refract(d, normal, ratio).unwrap(),
+            right
+        ));
+        // Entering, the outward normal is the one facing the ray: no change.
+        assert_eq!(outward.refract(d, normal, ratio, false), None);
+        // I = d bends the ray the other way across.
+        let across = unnegated.refract(d, normal, ratio, false).unwrap();
+        assert!(
+            close(across, Vec3A::new(-0.471_405, -0.881_917, 0.0)),
+            "{across}"
+        );
+        // Out of it at 30° (the normal as the tracer turns it, −Y): out at sin 0.75 above;
+        // with the outward normal (+Y), the ray turns back down into the glass.
+        let d = Vec3A::new(0.5, 0.75f32.sqrt(), 0.0);
+        let right = Vec3A::new(0.75, 0.4375f32.sqrt(), 0.0);
+        assert!(close(
+            crate::trace::refract(d, -Vec3A::Y, 1.5).unwrap(),
+            right
+        ));
+        let back = outward.refract(d, -Vec3A::Y, 1.5, true).unwrap();
+        assert!(
+            close(back, Vec3A::new(0.75, -(0.4375f32.sqrt()), 0.0)),
+            "{back}"
+        );
     }
 }
