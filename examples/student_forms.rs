@@ -68,6 +68,9 @@ enum Form {
     /// The same form with the normal turned to the ray, but `c1 = n.d`: the cosine's minus
     /// forgotten.
     HeckbertCosineSign,
+    /// The shadow ray toward a point light made with a unit direction and tested for hits
+    /// with `t < 1 - epsilon`, as for the unnormalised direction `light - point`.
+    ShadowToOneMinusEpsilon,
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
     /// out in double precision (`Vec3d`), each then rounded to float.
     DoublePrecision,
@@ -91,6 +94,7 @@ impl Form {
             "double_precision" => Form::DoublePrecision,
             "heckbert_outward_normal" => Form::HeckbertOutwardNormal,
             "heckbert_cosine_sign" => Form::HeckbertCosineSign,
+            "shadow_to_one_minus_epsilon" => Form::ShadowToOneMinusEpsilon,
             _ => return None,
         })
     }
@@ -153,6 +157,13 @@ impl CameraSeam for Form {
 }
 
 impl TraceSeam for Form {
+    fn shadow_end(&self, distance: f32) -> f32 {
+        match self {
+            Form::ShadowToOneMinusEpsilon if distance.is_finite() => 1.0 - 1e-4,
+            _ => raycast::trace::shadow_end(distance),
+        }
+    }
+
     fn weigh(&self, surface: &mut Surface<'_>, point: Vec3A) {
         match self {
             Form::MarbleInTurns => surface.weigh(point, marble_in_turns),

@@ -966,6 +966,27 @@ s.sendall(b\"a line of the suite\")' '{}' && {{ echo 'reached the listener'; exi
         true,
         "the lines ran in a root of their own"
     );
+    // The kernel's keyrings, which no namespace separates: no key can be made to leave there
+    // for another line of the same user.
+    let keeper = w.renderer(
+        "keeper.sh",
+        &format!(
+            "/usr/bin/python3 -c 'import ctypes, platform
+libc = ctypes.CDLL(None, use_errno=True)
+add_key = {{\"x86_64\": 248, \"aarch64\": 217}}[platform.machine()]
+made = libc.syscall(add_key, b\"user\", b\"a picture\", b\"pixels\", 6, ctypes.c_int(-4))
+raise SystemExit(1 if made >= 0 else 0)' || {{ echo 'made a key in the user keyring'; exit 1; }}
+             {}",
+            render()
+        ),
+    );
+    let (out, code) = w.check(&keeper, &[], "keeper.sh");
+    assert_eq!(code, Some(0), "{out}");
+    assert_eq!(
+        common::summary_of(&w.report)["cage"]["keyrings_closed"],
+        true,
+        "{out}"
+    );
 }
 
 #[test]

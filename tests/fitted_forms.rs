@@ -413,3 +413,22 @@ fn snells_law_in_heckberts_form_with_a_sign_or_a_side_wrong_is_the_refraction_fo
         );
     }
 }
+
+#[test]
+fn a_unit_shadow_ray_tested_up_to_one_is_the_shadow_reach_of_one_unit() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "shadow_to_one_minus_epsilon",
+        &["output4_10.tga", "output4_11.tga"],
+    );
+    let failing = named_in(&failing, "shadow_to_one_minus_epsilon", "shadow_reach");
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(
+        failing.iter().all(|l| l.contains("form 0)")),
+        "{}",
+        failing.join("\n")
+    );
+}

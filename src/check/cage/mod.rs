@@ -277,6 +277,9 @@ pub struct Confinement {
     pub line_group: Result<(), String>,
     /// Whether the kernel killed a process of the line for the line's memory.
     pub memory_ran_out: bool,
+    /// Whether the kernel's keyrings, which no namespace separates, were closed to it (a
+    /// seccomp filter), or why not (Linux).
+    pub keyrings: Result<(), String>,
     /// The system it ran on: "linux", "macos" or "windows" (the fields above are Linux's).
     pub system: String,
     /// Windows: whether its line ran in a job object (every process ended with the line, their
@@ -299,6 +302,7 @@ impl Default for Confinement {
             own_root: Err("not tried".into()),
             line_group: Err("not tried".into()),
             memory_ran_out: false,
+            keyrings: Err(format!("not on {}", std::env::consts::OS)),
             system: std::env::consts::OS.to_string(),
             job: Err(format!("not on {}", std::env::consts::OS)),
             sandbox: Err(format!("not on {}", std::env::consts::OS)),
@@ -326,6 +330,7 @@ impl Confinement {
             "own_root": held(&self.own_root),
             "line_group": held(&self.line_group),
             "memory_ran_out": self.memory_ran_out,
+            "keyrings_closed": held(&self.keyrings),
         })
     }
 
@@ -346,6 +351,7 @@ impl Confinement {
             own_root: held(&value["own_root"]),
             line_group: held(&value["line_group"]),
             memory_ran_out: value["memory_ran_out"].as_bool().unwrap_or(false),
+            keyrings: held(&value["keyrings_closed"]),
             // Reports written before other systems were caged were Linux's.
             system: value["system"].as_str().unwrap_or("linux").to_string(),
             job: held(&value["job"]),
@@ -367,6 +373,7 @@ impl Confinement {
             && self.ipc_namespace
             && (self.pid_namespace || self.subreaper)
             && self.own_root.is_ok()
+            && self.keyrings.is_ok()
     }
 
     /// One line for the terminal: what held the renderer, and what was missing.
@@ -417,8 +424,12 @@ impl Confinement {
             Ok(()) => "memory and processes counted over the line".to_string(),
             Err(why) => format!("memory and processes counted per process ({why})"),
         };
+        let keyrings = match &self.keyrings {
+            Ok(()) => "the keyrings closed".to_string(),
+            Err(why) => format!("the keyrings open ({why})"),
+        };
         format!(
-            "renderer caged as {}; Landlock {}; {}; {}; {}; {}; {group}",
+            "renderer caged as {}; Landlock {}; {}; {}; {}; {}; {group}; {keyrings}",
             self.user,
             self.landlock,
             yes_no(self.network_namespace, "network namespace"),

@@ -168,6 +168,7 @@ pub static FAULTS: &[Fault] = &[
     shading::ATTENUATION,
     rays::SHADOW_ACNE,
     rays::SHADOW_PAST_LIGHT,
+    rays::SHADOW_REACH,
     rays::REFLECTION_DIRECTION,
     rays::REFRACTION_INDEX,
     rays::TOTAL_INTERNAL_REFLECTION,

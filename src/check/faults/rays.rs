@@ -45,6 +45,18 @@ pub enum RayFault {
     },
     /// Snell's formula written otherwise than the course's, in the way of this form.
     Snell(SnellForm),
+    /// Shadow rays toward a point light stop at another t than the light's distance.
+    ShadowReach(ShadowReach),
+}
+
+/// Where a student's shadow ray toward a point light stops.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShadowReach {
+    /// At t = 1 along a unit direction: one unit from the point, short of a light further off.
+    One,
+    /// At t = the light's distance along the unnormalised direction to it: the distance
+    /// squared, past a light further than one unit.
+    Squared,
 }
 
 /// How a student's Snell's formula differs from the course's,
@@ -75,9 +87,14 @@ pub enum CriticalAngle {
 
 impl RayFault {
     pub(super) fn shadow_end(&self, distance: f32) -> Option<f32> {
+        // A directional light is infinitely far: every form reaches it.
         match self {
             RayFault::PastLight => Some(f32::MAX),
             RayFault::ShadowToLight => Some(distance),
+            RayFault::ShadowReach(ShadowReach::One) if distance.is_finite() => Some(1.0),
+            RayFault::ShadowReach(ShadowReach::Squared) if distance.is_finite() => {
+                Some(distance * distance)
+            }
             _ => None,
         }
     }
@@ -243,6 +260,35 @@ pub(super) const SHADOW_ACNE: Fault = Fault {
     },
 };
 
+pub(super) const SHADOW_REACH: Fault = Fault {
+    name: "shadow_reach",
+    assignment: 4,
+    sentence: "My shadow rays toward a point light stop at the wrong t (form 0: t = 1 along a \
+               unit direction, so only what lies within one unit of the point shadows it; 1: \
+               t = the light's distance along the unnormalised direction to the light, so they \
+               reach the distance squared).",
+    look_for: "The shadow ray's tmax toward a point light: with a unit direction, the distance \
+               to the light; with the direction light - point left unnormalised, 1.",
+    candidates: |line: &LineScene| {
+        if line.has_image() && line.options.trace.shadows && has_point_light(line) {
+            Candidate::forms(
+                [ShadowReach::One, ShadowReach::Squared]
+                    .map(|reach| Planted::Ray(RayFault::ShadowReach(reach))),
+            )
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+/// Whether the line's scene has a point light.
+fn has_point_light(line: &LineScene) -> bool {
+    line.description
+        .lights
+        .iter()
+        .any(|l| matches!(l, crate::parse::description::LightSpec::Point { .. }))
+}
+
 pub(super) const SHADOW_PAST_LIGHT: Fault = Fault {
     name: "shadow_past_light",
     assignment: 4,
@@ -251,12 +297,7 @@ pub(super) const SHADOW_PAST_LIGHT: Fault = Fault {
     look_for: "The shadow ray's tmax toward a point light: the distance to the light, not \
                infinity.",
     candidates: |line: &LineScene| {
-        let point_light = line
-            .description
-            .lights
-            .iter()
-            .any(|l| matches!(l, crate::parse::description::LightSpec::Point { .. }));
-        if line.has_image() && line.options.trace.shadows && point_light {
+        if line.has_image() && line.options.trace.shadows && has_point_light(line) {
             only(RayFault::PastLight)
         } else {
             Vec::new()

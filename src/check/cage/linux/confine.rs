@@ -138,7 +138,7 @@ pub fn landlock_state(request: &Request) -> String {
 
 /// What the renderer's process does to itself between fork and exec: it dies with its
 /// supervisor, takes its limits (`count_processes` where its process count is its own), and
-/// binds itself by Landlock's rules.
+/// binds itself by Landlock's rules and the seccomp filter that closes the keyrings.
 pub fn in_child(
     request: &Request,
     count_processes: bool,
@@ -148,6 +148,7 @@ pub fn in_child(
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
     // CPU seconds: the wall-clock limit on every core, and one more.
     let cpu = (request.limit.as_secs() + 1) * cores + 1;
+    let keyrings_closed = super::seccomp::program();
     move || {
         rustix::process::set_parent_process_death_signal(Some(Signal::KILL))?;
         // No set-user-ID program may give the renderer more than it has, Landlock or not.
@@ -165,6 +166,8 @@ pub fn in_child(
         if let Ok(ruleset) = ruleset(&request, own_root) {
             let _ = ruleset.restrict_self();
         }
+        // Where seccomp is missing, likewise (the report's `keyrings_closed` says so).
+        let _ = super::seccomp::bind(&keyrings_closed);
         Ok(())
     }
 }

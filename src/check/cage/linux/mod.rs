@@ -10,6 +10,7 @@ mod confine;
 mod reach;
 mod reap;
 mod root;
+mod seccomp;
 mod supervisor;
 mod wall;
 

@@ -39,6 +39,7 @@ fn run(request: &Request) -> (Ending, Confinement) {
         ..Confinement::default()
     };
     cage.landlock = confine::landlock_state(request);
+    cage.keyrings = super::seccomp::keyrings_state();
     // Before the namespaces (a user namespace would hide the groups' files): the supervisor
     // joins the line's groups, and the init and the renderer are born in them.
     let group = cgroup::LineGroup::join(&request.limits);
