@@ -15,7 +15,8 @@ use std::process::{Command, Output};
 use raycast::check::choices::{Acceptance, answers};
 
 /// The later assignments' lines that the open questions reach, at sizes that render in
-/// moments: Gaussian and box filters, a checkerboard filtered with a box, Noise and Marble.
+/// moments: Gaussian and box filters, a checkerboard filtered with a box, Noise and Marble, a
+/// glass sphere's shadow.
 const LINES: &[&str] = &[
     "raytracer -input scene7_01_sphere_triangle.txt -size 9 9 -render_filter filter7_01c.tga 20 -gaussian_filter 0.5",
     "raytracer -input scene7_01_sphere_triangle.txt -size 9 9 -render_filter filter7_01a.tga 20 -box_filter 0.5",
@@ -23,6 +24,7 @@ const LINES: &[&str] = &[
     "raytracer -input scene7_02_checkerboard.txt -size 45 45 -output output7_02c.tga -uniform_samples 9 -gaussian_filter 0.6",
     "raytracer -input scene6_15_marble_cubes.txt -size 60 60 -output output6_15.tga",
     "raytracer -input scene6_17_marble_vase.txt -size 60 60 -output output6_17a.tga -grid 15 30 15 -bounces 1 -shadows",
+    "raytracer -input scene4_08_transparent_sphere_1.1.txt -size 50 50 -output output4_08.tga -shadows -bounces 5 -weight 0.01 -shade_back",
 ];
 
 fn suite(dir: &Path, later: &Path, lines: &[&str]) -> PathBuf {
@@ -100,7 +102,10 @@ fn every_allowed_answer_passes_the_lines_it_changes_and_says_so() {
             "checker_swapped",
             "noise_clamped",
             "marble_clamped",
-            "marble_absolute"
+            "marble_absolute",
+            "shadows_through_each_surface",
+            "shadows_through_each_object",
+            "shadows_through_by_distance"
         ]
     );
 }

@@ -24,6 +24,7 @@ use super::faults::{
 const EPSILONS: [f32; 2] = [1e-4, 1e-3];
 use crate::parse::description::{MaterialSpec, Pattern};
 use crate::sample::Filter;
+use crate::trace::ThroughGlass;
 
 /// One question the course leaves open.
 #[derive(Debug)]
@@ -300,6 +301,35 @@ pub static CHOICES: &[Choice] = &[
         }]),
     },
     Choice {
+        name: "transparent_shadows",
+        question: "Does glass let light through to what it shadows (the handout's optional \
+                   transparent shadows, extra credit)?",
+        raycast: "no: glass casts opaque shadows, as the required images show",
+        accepted: Accepted::Answers(&[
+            Answer {
+                name: "shadows_through_each_surface",
+                said: "your glass lets light through to its shadows, times its transparent \
+                       colour at each surface crossed (the handout's optional transparent \
+                       shadows)",
+                candidates: |line| through_glass(line, ThroughGlass::EachSurface),
+            },
+            Answer {
+                name: "shadows_through_each_object",
+                said: "your glass lets light through to its shadows, times its transparent \
+                       colour once for each glass object crossed (the handout's optional \
+                       transparent shadows)",
+                candidates: |line| through_glass(line, ThroughGlass::EachObject),
+            },
+            Answer {
+                name: "shadows_through_by_distance",
+                said: "your glass lets light through to its shadows, its transparent colour \
+                       raised to the distance travelled inside (the handout's optional \
+                       transparent shadows)",
+                candidates: |line| through_glass(line, ThroughGlass::ByDistance),
+            },
+        ]),
+    },
+    Choice {
         name: "shadow_rays_facing_away",
         question: "Is a shadow ray sent where N·L ≤ 0?",
         raycast: "no: a light that adds nothing to a point gets no shadow ray",
@@ -427,6 +457,19 @@ impl Acceptance {
             _ => None,
         })
     }
+}
+
+/// Transparent shadows of `through`'s way, where the line's shaded picture has shadows and its
+/// scene glass.
+fn through_glass(line: &LineScene, through: ThroughGlass) -> Vec<Candidate> {
+    let glass = line.description.materials.iter().any(|m| match m {
+        MaterialSpec::Phong(p) => p.transparent != glam::Vec3::ZERO,
+        MaterialSpec::Texture(_) => false,
+    });
+    when(
+        line.has_image() && line.options.trace.shadows && glass,
+        Planted::Ray(RayFault::ThroughGlass(through)),
+    )
 }
 
 /// Whether the line's shaded picture sends shadow, mirror or glass rays.

@@ -413,6 +413,10 @@ impl TraceSeam for Plant {
             .unwrap_or_else(|| crate::trace::shadow_end(distance))
     }
 
+    fn shadow_through_glass(&self) -> Option<crate::trace::ThroughGlass> {
+        self.rays().find_map(|r| r.through_glass())
+    }
+
     fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
         self.rays()
             .find_map(|r| r.start_t(direction, normal))

@@ -47,6 +47,9 @@ pub enum RayFault {
     Snell(SnellForm),
     /// Shadow rays toward a point light stop at another t than the light's distance.
     ShadowReach(ShadowReach),
+    /// An allowed answer: glass lets light through to what it shadows, in this way (the
+    /// handout's optional transparent shadows).
+    ThroughGlass(crate::trace::ThroughGlass),
 }
 
 /// Where a student's shadow ray toward a point light stops.
@@ -108,6 +111,13 @@ impl RayFault {
             RayFault::NormalOffset(offset) => {
                 Some(crate::trace::start_t(offset, direction, normal))
             }
+            _ => None,
+        }
+    }
+
+    pub(super) fn through_glass(&self) -> Option<crate::trace::ThroughGlass> {
+        match *self {
+            RayFault::ThroughGlass(through) => Some(through),
             _ => None,
         }
     }
