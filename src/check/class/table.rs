@@ -38,6 +38,9 @@ pub struct Row {
     /// The last lines a build that failed printed ("" for one that built): the reason the
     /// student's pictures are all missing, shown beside the row.
     pub build_output: String,
+    /// The answers to the course's open questions the student's pictures took, where not
+    /// raycast's (`gaussian_uncut`, ...), each once, in the order first met.
+    pub answers: Vec<String>,
 }
 
 impl Row {
@@ -56,6 +59,7 @@ impl Row {
             seconds: 0.0,
             build: why.to_string(),
             build_output: String::new(),
+            answers: Vec::new(),
         }
     }
 
@@ -79,7 +83,13 @@ impl Row {
         let build_seconds = summary["build"]["seconds"].as_f64().unwrap_or(0.0);
         let mut lines_seconds = 0.0;
         let (mut points, mut max_points, mut passed) = (0.0, 0.0, 0);
+        let mut answers: Vec<String> = Vec::new();
         for image in &images {
+            if let Some(answer) = image["accepted"]["answer"].as_str()
+                && !answers.iter().any(|a| a == answer)
+            {
+                answers.push(answer.to_string());
+            }
             let pass = image["status"] == "pass";
             let worth = image["points"].as_f64().unwrap_or(1.0);
             max_points += worth;
@@ -126,6 +136,7 @@ impl Row {
             } else {
                 String::new()
             },
+            answers,
         }
     }
 
@@ -158,8 +169,13 @@ pub fn terminal(rows: &[Row]) -> String {
             ("", _) => "all pass".to_string(),
             (v, _) => v.to_string(),
         };
+        let answers = if r.answers.is_empty() {
+            String::new()
+        } else {
+            format!(" / allowed: {}", r.answers.join(", "))
+        };
         text.push_str(&format!(
-            "{:width$}  {:>9}  {:>11}  {:>8.1}  {verdict} / {}\n",
+            "{:width$}  {:>9}  {:>11}  {:>8.1}  {verdict} / {}{answers}\n",
             name,
             format!("{}/{}", r.passed, r.total),
             format!("{}/{}", r.points, r.max_points),
@@ -178,7 +194,7 @@ pub fn csv(rows: &[Row]) -> String {
     for label in &labels {
         text.push_str(&format!(",{label} passed,{label} pictures"));
     }
-    text.push_str(",verdict,seconds,build,report\r\n");
+    text.push_str(",verdict,answers,seconds,build,report\r\n");
     for r in rows {
         let mut line = format!(
             "{},{},{},{},{}",
@@ -197,8 +213,9 @@ pub fn csv(rows: &[Row]) -> String {
             line.push_str(&format!(",{p},{t}"));
         }
         line.push_str(&format!(
-            ",{},{:.3},{},{}\r\n",
+            ",{},{},{:.3},{},{}\r\n",
             field(&r.verdict),
+            field(&r.answers.join(" ")),
             r.seconds,
             field(&r.build),
             field(&report_path(&r.folder))
@@ -236,7 +253,7 @@ pub fn html(rows: &[Row], partial: bool) -> String {
             })
             .collect();
         body.push_str(&format!(
-            "<tr class=\"{}\"><td>{}</td><td>{}/{}</td><td>{}/{}</td>{cells}<td>{}</td><td class=\"seconds\">{:.1}</td><td>{}</td></tr>\n",
+            "<tr class=\"{}\"><td>{}</td><td>{}/{}</td><td>{}/{}</td>{cells}<td>{}</td><td>{}</td><td class=\"seconds\">{:.1}</td><td>{}</td></tr>\n",
             if r.passed == r.total { "pass" } else { "fail" },
             name_cell(r),
             r.passed,
@@ -244,6 +261,7 @@ pub fn html(rows: &[Row], partial: bool) -> String {
             r.points,
             r.max_points,
             escape(&r.verdict),
+            escape(&r.answers.join(", ")),
             r.seconds,
             if r.build_output.is_empty() {
                 escape(&r.build)
@@ -265,7 +283,7 @@ pub fn html(rows: &[Row], partial: bool) -> String {
          <style>body{{font:14px system-ui,sans-serif;margin:2em}}table{{border-collapse:collapse}}\
          td,th{{padding:.3em .7em;border-bottom:1px solid #ddd;text-align:left}}tr.pass td:nth-child(2){{color:#060}}\
          tr.fail td:nth-child(2){{color:#a00}}</style></head><body><h1>The class</h1>{}\
-         <table><thead><tr><th>student</th><th>pictures</th><th>points</th>{heads}<th>verdict</th><th>seconds</th><th>build</th></tr></thead>\
+         <table><thead><tr><th>student</th><th>pictures</th><th>points</th>{heads}<th>verdict</th><th>allowed answers</th><th>seconds</th><th>build</th></tr></thead>\
          <tbody>\n{body}</tbody></table></body></html>\n",
         if partial {
             "<p><strong>The check was interrupted: the table is partial.</strong></p>"
@@ -344,6 +362,7 @@ pub fn json(rows: &[Row], partial: bool) -> Value {
                 "assignment": a, "passed": p, "pictures": t,
             })).collect::<Vec<_>>(),
             "verdict": r.verdict,
+            "answers": r.answers,
             "seconds": r.seconds,
             "build": r.build,
         })).collect::<Vec<_>>(),
@@ -389,6 +408,36 @@ mod tests {
     }
 
     #[test]
+    fn the_answers_a_student_took_to_open_questions_are_in_every_table() {
+        let summary = serde_json::json!({
+            "images": [
+                {"name": "filter7_01c", "status": "pass", "command": "a",
+                 "accepted": {"choice": "gaussian_cut", "answer": "gaussian_uncut"}},
+                {"name": "output7_02c", "status": "pass", "command": "b",
+                 "accepted": {"choice": "gaussian_cut", "answer": "gaussian_uncut"}},
+                {"name": "output7_02d", "status": "pass", "command": "c",
+                 "accepted": {"choice": "box_edge", "answer": "box_closed"}},
+                {"name": "output7_02e", "status": "pass", "command": "d", "accepted": null},
+            ],
+            "verdict": [],
+        });
+        let row = Row::of("ada", "ada", &summary);
+        assert_eq!(row.answers, ["gaussian_uncut", "box_closed"]);
+        assert!(
+            terminal(std::slice::from_ref(&row))
+                .contains("all pass / A7 4/4 / allowed: gaussian_uncut, box_closed")
+        );
+        assert!(csv(std::slice::from_ref(&row)).contains(",,gaussian_uncut box_closed,"));
+        assert!(
+            html(std::slice::from_ref(&row), false).contains("<td>gaussian_uncut, box_closed</td>")
+        );
+        assert_eq!(
+            json(&[row], false)["students"][0]["answers"],
+            serde_json::json!(["gaussian_uncut", "box_closed"])
+        );
+    }
+
+    #[test]
     fn csv_quotes_what_needs_quoting() {
         let row = Row {
             folder: "a, \"b\"".into(),
@@ -402,11 +451,12 @@ mod tests {
             seconds: 1.5,
             build: String::new(),
             build_output: String::new(),
+            answers: vec!["gaussian_uncut".into(), "box_closed".into()],
         };
         assert_eq!(
             csv(&[row]),
-            "student,passed,pictures,points,max_points,A1 passed,A1 pictures,verdict,seconds,build,report\r\n\
-             \"a, \"\"b\"\"\",1,2,1,2,1,2,pixel_corner,1.500,,\"a, \"\"b\"\"/index.html\"\r\n"
+            "student,passed,pictures,points,max_points,A1 passed,A1 pictures,verdict,answers,seconds,build,report\r\n\
+             \"a, \"\"b\"\"\",1,2,1,2,1,2,pixel_corner,gaussian_uncut box_closed,1.500,,\"a, \"\"b\"\"/index.html\"\r\n"
         );
     }
 
