@@ -23,6 +23,7 @@ pub use super::unix::is_root;
 pub(super) use super::unix::{ask_to_stop, detach};
 pub use confine::SYSTEM;
 pub use reach::stage;
+pub use seccomp::keyrings_state;
 pub use supervisor::supervise;
 pub use wall::Wall;
 

@@ -136,9 +136,14 @@ pub fn bind(filter: &[sock_filter]) -> std::io::Result<()> {
     }
 }
 
-/// Whether the filter holds here, for the report: tried on a thread that ends at once (a
-/// filter binds the thread that sets it).
+/// Whether the filter holds here, for the report: tried once a run, on a thread that ends at
+/// once (a filter binds the thread that sets it), in check's own process.
 pub fn keyrings_state() -> Result<(), String> {
+    static STATE: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    STATE.get_or_init(probe).clone()
+}
+
+fn probe() -> Result<(), String> {
     let tried = std::thread::Builder::new().spawn(|| {
         rustix::thread::set_no_new_privs(true).map_err(std::io::Error::from)?;
         bind(&program())?;

@@ -39,11 +39,11 @@ fn run(request: &Request) -> (Ending, Confinement) {
         ..Confinement::default()
     };
     cage.landlock = confine::landlock_state(request);
-    cage.keyrings = super::seccomp::keyrings_state();
     // Before the namespaces (a user namespace would hide the groups' files): the supervisor
     // joins the line's groups, and the init and the renderer are born in them.
     let group = cgroup::LineGroup::join(&request.limits);
     cage.line_group = group.as_ref().map(|_| ()).map_err(Clone::clone);
+    until_single_threaded();
     let namespaces = confine::enter_namespaces();
     cage.network_namespace = namespaces.network;
     cage.ipc_namespace = namespaces.ipc;
@@ -138,6 +138,21 @@ fn run(request: &Request) -> (Ending, Confinement) {
             Ending::NotStarted("its init ended without a word (killed by the renderer?)".into()),
             cage,
         ),
+    }
+}
+
+/// Waits, at most 100 ms, until this process is single-threaded again: a joined thread (the
+/// Landlock probe's) may still be leaving the kernel's thread group, and the kernel refuses a
+/// user namespace to a process of more than one thread (seen once in CI: the line then ran
+/// without its own root).
+fn until_single_threaded() {
+    let deadline = Instant::now() + Duration::from_millis(100);
+    while Instant::now() < deadline {
+        let threads = std::fs::read_dir("/proc/self/task").map_or(1, |tasks| tasks.count());
+        if threads <= 1 {
+            return;
+        }
+        std::thread::sleep(Duration::from_micros(200));
     }
 }
 
