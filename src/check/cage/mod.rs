@@ -545,17 +545,25 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
         ending,
         stderr,
         seconds,
-        confinement: Confinement::from_json(&report["cage"]).map(|mut cage| {
-            // Probed here, in check, not in the supervisor: a probe's thread still ending when
-            // the supervisor asked for a user namespace made the kernel refuse it (one needs a
-            // single-threaded caller).
-            #[cfg(target_os = "linux")]
-            {
-                cage.keyrings = linux::keyrings_state();
-            }
-            cage
-        }),
+        confinement: Confinement::from_json(&report["cage"]).map(with_keyrings),
     }
+}
+
+/// The supervisor's account of the cage, with the keyrings' state: probed here, in check, not
+/// in the supervisor, where a probe's thread still ending when it asked for a user namespace
+/// made the kernel refuse it (one needs a single-threaded caller).
+#[cfg(target_os = "linux")]
+fn with_keyrings(cage: Confinement) -> Confinement {
+    Confinement {
+        keyrings: linux::keyrings_state(),
+        ..cage
+    }
+}
+
+/// Elsewhere the supervisor's account stands.
+#[cfg(not(target_os = "linux"))]
+fn with_keyrings(cage: Confinement) -> Confinement {
+    cage
 }
 
 impl Ending {
