@@ -103,17 +103,21 @@ fn graded_on_varied_scenes(data: &Path, scenes: &[&str]) {
     let suite = suite.to_str().unwrap();
     let raycast = common::open_raycast();
     let report = |name: &str| dir.path().join(name);
+    // The suite graded with `renderer` on the scenes of `seed`, its report in `name`.
+    let graded = |renderer: &str, seed: &str, name: &str| {
+        check(&[
+            suite,
+            "--renderer",
+            renderer,
+            "--vary",
+            seed,
+            "--report",
+            report(name).to_str().unwrap(),
+        ])
+    };
 
     // raycast passes its own varied scenes; the report keeps them and says how they were made.
-    let once = check(&[
-        suite,
-        "--renderer",
-        raycast,
-        "--vary",
-        "7",
-        "--report",
-        report("once").to_str().unwrap(),
-    ]);
+    let once = graded(raycast, "7", "once");
     assert!(once.status.success(), "{}", text(&once));
     assert!(
         text(&once).contains("graded on varied scenes (--vary 7): "),
@@ -138,26 +142,10 @@ fn graded_on_varied_scenes(data: &Path, scenes: &[&str]) {
     assert!(page.contains(&format!("href=\"varied/{}\"", kept[0].0.display())));
 
     // The same seed, the same scenes; another seed, others.
-    let again = check(&[
-        suite,
-        "--renderer",
-        raycast,
-        "--vary",
-        "7",
-        "--report",
-        report("again").to_str().unwrap(),
-    ]);
+    let again = graded(raycast, "7", "again");
     assert!(again.status.success(), "{}", text(&again));
     assert_eq!(files(&report("again").join("varied")), kept);
-    let other = check(&[
-        suite,
-        "--renderer",
-        raycast,
-        "--vary",
-        "8",
-        "--report",
-        report("other").to_str().unwrap(),
-    ]);
+    let other = graded(raycast, "8", "other");
     assert!(other.status.success(), "{}", text(&other));
     assert_ne!(files(&report("other").join("varied")), kept);
 
@@ -167,15 +155,7 @@ fn graded_on_varied_scenes(data: &Path, scenes: &[&str]) {
     let memoriser = memoriser(dir.path(), data);
     let course = check(&[suite, "--renderer", &memoriser]);
     assert!(course.status.success(), "{}", text(&course));
-    let caught = check(&[
-        suite,
-        "--renderer",
-        &memoriser,
-        "--vary",
-        "7",
-        "--report",
-        report("caught").to_str().unwrap(),
-    ]);
+    let caught = graded(&memoriser, "7", "caught");
     assert_eq!(caught.status.code(), Some(1), "{}", text(&caught));
     for image in summary(&report("caught"))["images"].as_array().unwrap() {
         let scene_free = image["picture"] == "-render_filter";

@@ -13,7 +13,7 @@
 
 use super::faults::{
     CameraFault, Candidate, LineScene, Planted, RayFault, SampleFault, TextureFault,
-    gaussian_radius,
+    gaussian_radius, has_material,
 };
 
 /// The fixed epsilons of shadow and secondary rays the course allows: those whose pictures of
@@ -462,12 +462,8 @@ impl Acceptance {
 /// Transparent shadows of `through`'s way, where the line's shaded picture has shadows and its
 /// scene glass.
 fn through_glass(line: &LineScene, through: ThroughGlass) -> Vec<Candidate> {
-    let glass = line.description.materials.iter().any(|m| match m {
-        MaterialSpec::Phong(p) => p.transparent != glam::Vec3::ZERO,
-        MaterialSpec::Texture(_) => false,
-    });
     when(
-        line.has_image() && line.options.trace.shadows && glass,
+        line.has_image() && line.options.trace.shadows && has_material(line, true),
         Planted::Ray(RayFault::ThroughGlass(through)),
     )
 }

@@ -88,18 +88,7 @@ fn find_original_pictures(
         let reference = match original.reference(&super::suite::image_name(file)) {
             Some(path) => super::read_image(&path).ok(),
             None => renders
-                .get_or_init(|| {
-                    super::cache::LineRenders::of(line, &original.scenes)
-                        .course(&original.pinned, || {
-                            simulate::course_pictures(
-                                line,
-                                &original.scenes,
-                                &original.pinned,
-                                stop,
-                            )
-                        })
-                        .ok()
-                })
+                .get_or_init(|| super::raycasts_pictures(&original, line, stop).ok())
                 .as_ref()
                 .and_then(|pictures| pictures.get(output).cloned()),
         };

@@ -81,8 +81,8 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
     let (mut partial, mut confinement, mut cage_note) = (false, None, None);
     let mut seconds = 0.0;
     let mut no_cage = false;
-    let mut variation: Option<Option<Variation>> = None;
-    for shard in shards {
+    let mut variation: Option<Variation> = None;
+    for (k, shard) in shards.iter().enumerate() {
         let summary: Value = std::fs::read_to_string(shard.join("summary.json"))
             .ok()
             .and_then(|text| serde_json::from_str(&text).ok())
@@ -99,20 +99,16 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
         }
         rule = Some(shard_rule);
         let shard_variation = Variation::from_json(&summary["varied"]);
-        match &variation {
-            None => {
-                if let Some(varied) = &shard_variation {
-                    varied.copy_scenes(&shard.join(VARIED_FOLDER), staging.path())?;
-                }
-                variation = Some(shard_variation);
+        if k == 0 {
+            if let Some(varied) = &shard_variation {
+                varied.copy_scenes(&shard.join(VARIED_FOLDER), staging.path())?;
             }
-            Some(first) if first.as_ref().map(|v| v.seed) != shard_variation.map(|v| v.seed) => {
-                return Err(format!(
-                    "{}: graded on other scenes (--vary) than the shards before it",
-                    shard.display()
-                ));
-            }
-            Some(_) => {}
+            variation = shard_variation;
+        } else if variation.as_ref().map(|v| v.seed) != shard_variation.map(|v| v.seed) {
+            return Err(format!(
+                "{}: graded on other scenes (--vary) than the shards before it",
+                shard.display()
+            ));
         }
         partial |= summary["partial"] == true;
         no_cage |= summary["cage"]["no_cage"] == true;
@@ -159,7 +155,7 @@ pub fn merge(staging: Staging, shards: &[PathBuf]) -> Result<(Checked, Vec<Group
         staging: Some(staging),
         build: None,
         seconds,
-        variation: variation.flatten(),
+        variation,
     };
     Ok((checked, groups, rule.unwrap_or(Rule::COURSE)))
 }

@@ -864,11 +864,7 @@ fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> Referen
             |(k, (_, name))| match suite.reference(&suite::image_name(name)) {
                 Some(path) => (read_image(&path), false, None),
                 None => {
-                    let pictures = own.get_or_init(|| {
-                        cache::LineRenders::of(line, &suite.scenes).course(&suite.pinned, || {
-                            simulate::course_pictures(line, &suite.scenes, &suite.pinned, stop)
-                        })
-                    });
+                    let pictures = own.get_or_init(|| raycasts_pictures(suite, line, stop));
                     let picture = match pictures {
                         Ok(pictures) => pictures
                             .get(k)
@@ -891,6 +887,18 @@ fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> Referen
             },
         )
         .collect()
+}
+
+/// raycast's own pictures of `line` in `suite` (its scenes, its pinned answers): kept in the
+/// cache, or rendered and kept.
+fn raycasts_pictures(
+    suite: &Suite,
+    line: &Line,
+    stop: &'static StopFlag,
+) -> Result<Vec<Image>, String> {
+    cache::LineRenders::of(line, &suite.scenes).course(&suite.pinned, || {
+        simulate::course_pictures(line, &suite.scenes, &suite.pinned, stop)
+    })
 }
 
 /// The folders no renderer may see, even inside a folder it may read: the suite's.

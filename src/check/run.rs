@@ -51,7 +51,7 @@ pub fn line_files(line: &Line, scenes: &Path) -> Vec<PathBuf> {
 }
 
 /// Whether a relative `path` stays inside the folder it is relative to.
-fn inside(path: &Path) -> bool {
+pub(super) fn inside(path: &Path) -> bool {
     path.components().all(|c| {
         matches!(
             c,

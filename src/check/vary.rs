@@ -69,11 +69,7 @@ impl VariedSuite {
                 let at = line.args.iter().position(|a| a == "-input")?;
                 line.args.get(at + 1).map(PathBuf::from)
             })
-            .filter(|scene| {
-                scene
-                    .components()
-                    .all(|c| matches!(c, std::path::Component::Normal(_)))
-            })
+            .filter(|scene| super::run::inside(scene))
             .collect();
         scenes.sort();
         scenes.dedup();

@@ -32,7 +32,7 @@ pub use camera::{CameraFault, Mapping, RayForm};
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
 pub use pictures::PictureFault;
 pub use rays::{CriticalAngle, RayFault};
-pub(crate) use rays::{bounces, glass_index};
+pub(crate) use rays::{bounces, glass_index, has_material};
 pub use samples::{SampleFault, gaussian_radius};
 pub use shading::{Attenuation, ShadingFault};
 pub use textures::TextureFault;

@@ -249,7 +249,7 @@ pub(crate) fn bounces(line: &LineScene) -> bool {
 }
 
 /// Whether any material of the line's scene reflects, or (with `transparent`) refracts.
-fn has_material(line: &LineScene, transparent: bool) -> bool {
+pub(crate) fn has_material(line: &LineScene, transparent: bool) -> bool {
     material_colours(line, transparent).next().is_some()
 }
 
