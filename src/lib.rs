@@ -38,8 +38,8 @@
 //! ([`inspect`]) → files ([`image_io`]); the grader ([`check`]), the browser preview
 //! ([`preview`]) and the command line ([`cli`]) on top.
 
-// `unsafe` only in `simd` and in the cage of `check` (system calls around a fork), which
-// allow it and say why each use is sound.
+// `unsafe` only in `simd`, in the cage of `check` (system calls around a fork) and in the
+// console handler of `cli` on Windows, which allow it and say why each use is sound.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 

@@ -80,6 +80,56 @@ fn another_random_generator_passes_every_picture_drawn_by_chance() {
     }
 }
 
+/// The files of check's cache in `dir`.
+fn kept(dir: &Path) -> usize {
+    fn count(path: &Path) -> usize {
+        std::fs::read_dir(path).map_or(0, |entries| {
+            entries
+                .flatten()
+                .map(|e| {
+                    if e.path().is_dir() {
+                        count(&e.path())
+                    } else {
+                        1
+                    }
+                })
+                .sum()
+        })
+    }
+    count(&dir.join("cache"))
+}
+
+#[test]
+fn raycasts_own_pictures_pass_without_the_other_seeds_being_rendered() {
+    let Some(later) = common::later_dir("the pictures drawn by chance") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let table = check(dir.path(), &later, "");
+    assert!(
+        table.len() == LINES.len() && table.iter().all(|l| l.starts_with("pass")),
+        "{}",
+        table.join("\n")
+    );
+    // raycast's own render of each line, one file a picture, and nothing else: a picture that
+    // passes against a draw of the spread is within the spread.
+    let own = kept(dir.path());
+    assert!(
+        (LINES.len()..=2 * LINES.len()).contains(&own),
+        "{own} files kept"
+    );
+    // Another generator's traced pictures are graded against the spread: its seven other draws
+    // (the samples pictures against their structure).
+    let table = check(dir.path(), &later, "-seed 1");
+    assert!(
+        table.iter().all(|l| l.starts_with("pass")),
+        "{}",
+        table.join("\n")
+    );
+    let traced = LINES.iter().filter(|l| l.starts_with("output")).count();
+    assert_eq!(kept(dir.path()), own + 7 * traced);
+}
+
 #[test]
 fn sampling_and_filter_faults_still_fail_and_are_named() {
     let Some(later) = common::later_dir("the pictures drawn by chance") else {

@@ -64,6 +64,42 @@ fn faulty_renderer(dir: &Path, token: &str) -> PathBuf {
     script
 }
 
+/// Grades `suite` once with raycast with its colours' channels swapped as the renderer, so
+/// that check's cache keeps the renders with several seeds that its failing pictures drawn by
+/// chance are graded against (made while such a picture is graded, before any diagnosis): a
+/// stop after the renderer has run then falls in the diagnosis. (On the checkerboard the swap
+/// is the allowed answer of the cube's material: quick to grade.)
+fn keep_the_seeded_renders(suite: &Path) {
+    let cache = suite.with_file_name("cache");
+    let output = Command::new(RAYCAST)
+        .env("RAYCAST_CACHE_DIR", &cache)
+        .args(["check", suite.to_str().unwrap(), "--renderer"])
+        .arg(format!("{} -fault channel_swap", common::open_raycast()))
+        .args(["--allow-read", common::open_raycast_folder()])
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&output.stdout);
+    assert!(said.contains("big0"), "{said}");
+    let kept = walk_files(&cache);
+    assert!(kept >= 8, "{kept} renders kept: {said}");
+}
+
+/// How many files `dir` holds, in its folders too.
+fn walk_files(dir: &Path) -> usize {
+    std::fs::read_dir(dir).map_or(0, |entries| {
+        entries
+            .flatten()
+            .map(|e| {
+                if e.path().is_dir() {
+                    walk_files(&e.path())
+                } else {
+                    1
+                }
+            })
+            .sum()
+    })
+}
+
 fn start_check(suite: &Path, renderer: &Path, report: &Path) -> Child {
     start_check_in(suite, renderer, report, &std::env::temp_dir())
 }
@@ -162,6 +198,7 @@ fn a_stop_during_diagnosis_ends_check_at_once_with_a_whole_report() {
         let suite = suite(dir.path(), &later, 240, seed..seed + 1);
         let renderer = faulty_renderer(dir.path(), "diagnosed-token");
         let report = dir.path().join("report");
+        keep_the_seeded_renders(&suite);
         let mut check = start_check(&suite, &renderer, &report);
         wait_for_diagnosis(&mut check, "diagnosed-token");
         let (code, out, took) = stop(check, signal);
@@ -220,6 +257,7 @@ fn a_second_stop_ends_check_now_and_still_leaves_nothing_behind() {
     let suite = suite(dir.path(), &later, 240, 7..8);
     let renderer = faulty_renderer(dir.path(), "twice-token");
     let report = dir.path().join("report");
+    keep_the_seeded_renders(&suite);
     let mut check = start_check_in(&suite, &renderer, &report, &temporary);
     wait_for_diagnosis(&mut check, "twice-token");
     let pid = check.id().to_string();
@@ -344,4 +382,109 @@ fn every_line_is_graded_before_any_is_diagnosed() {
         out.contains("Diagnosis not finished: check was interrupted; from the pixels alone:"),
         "{out}"
     );
+}
+
+/// A class of three students, each submitting the renderer of `faulty_renderer`, their folders
+/// named with `token` (so their lines' supervisors can be found); open to every user, as the
+/// renderers of a class run as an unprivileged one under root.
+fn class_roster(dir: &Path, token: &str) -> (PathBuf, Vec<String>) {
+    use std::os::unix::fs::PermissionsExt;
+    let script = std::fs::read(faulty_renderer(dir, token)).unwrap();
+    let roster = dir.join("roster");
+    let names: Vec<String> = ["ann", "ben", "cat"]
+        .iter()
+        .map(|n| format!("{n}-{token}"))
+        .collect();
+    for name in &names {
+        let folder = roster.join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        std::fs::write(folder.join("raytracer"), &script).unwrap();
+        std::fs::set_permissions(
+            folder.join("raytracer"),
+            std::fs::Permissions::from_mode(0o755),
+        )
+        .unwrap();
+    }
+    for open in [dir.to_path_buf(), roster.clone()]
+        .into_iter()
+        .chain(names.iter().map(|n| roster.join(n)))
+    {
+        std::fs::set_permissions(&open, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    (roster, names)
+}
+
+#[test]
+fn a_stop_during_a_class_ends_it_at_once_with_every_student_in_its_table() {
+    let Some(later) = common::later_dir("the stopping tests") else {
+        return;
+    };
+    // The whole class, and the first of two shards (ann and cat).
+    for (k, shard) in [None, Some("1/2")].into_iter().enumerate() {
+        let dir = tempfile::tempdir().unwrap();
+        let token = format!("classtoken{k}");
+        let seed = 31 + k as u32;
+        let suite = suite(dir.path(), &later, 240, seed..seed + 1);
+        let (roster, names) = class_roster(dir.path(), &token);
+        let report = dir.path().join("report");
+        keep_the_seeded_renders(&suite);
+        let mut command = Command::new(RAYCAST);
+        command
+            .env("RAYCAST_CACHE_DIR", suite.with_file_name("cache"))
+            .args(["check", suite.to_str().unwrap(), "--class"])
+            .arg(&roster)
+            .args(["--renderer", "./raytracer", "--report"])
+            .arg(&report)
+            .args(["--jobs", "1", "--timeout", "120"])
+            .args(["--allow-read", common::open_raycast_folder()])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped());
+        if let Some(shard) = shard {
+            command.args(["--shard", shard]);
+        }
+        let mut check = command.spawn().unwrap();
+        // The first student's line has run: their picture is being diagnosed.
+        wait_for_diagnosis(&mut check, &token);
+        let (code, out, took) = stop(check, "TERM");
+        assert!(
+            took < STOPS_WITHIN,
+            "{shard:?}: took {took:?} to end: {out}"
+        );
+        assert_eq!(code, Some(130), "{shard:?}: {out}");
+        assert!(
+            out.contains("check was interrupted: the table is partial"),
+            "{shard:?}: {out}"
+        );
+        let summary = common::summary_of(&report);
+        assert_eq!(summary["partial"], true, "{shard:?}");
+        let students = summary["students"].as_array().unwrap();
+        let expected: Vec<&String> = match shard {
+            None => names.iter().collect(),
+            Some(_) => vec![&names[0], &names[2]],
+        };
+        let listed: Vec<&str> = students
+            .iter()
+            .map(|s| s["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(listed, expected, "every student of the run has a row");
+        // The first was graded, its diagnosis cut short; the rest were never reached.
+        assert_eq!(students[0]["build"], "", "{shard:?}: {out}");
+        assert_eq!(students[0]["pictures"], 1, "{shard:?}");
+        let first = report.join(students[0]["report"].as_str().unwrap());
+        assert!(
+            std::fs::read_to_string(first.join("summary.json"))
+                .unwrap()
+                .contains("Diagnosis not finished: check was interrupted"),
+            "{shard:?}"
+        );
+        for student in &students[1..] {
+            assert_eq!(
+                student["build"], "not graded: check was interrupted before this student's turn",
+                "{shard:?}"
+            );
+        }
+        assert!(report.join("class.html").is_file());
+        assert!(report.join("class.csv").is_file());
+        assert_eq!(common::left_running(&token).len(), 0, "{shard:?}");
+    }
 }

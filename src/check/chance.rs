@@ -18,6 +18,23 @@ pub const SEEDS: u64 = 8;
 /// How many standard deviations from the mean chance may put a pixel.
 const Z: f32 = 4.0;
 
+/// The seeds of a line's spread: the line's own first, so that raycast's render of the line
+/// (its reference) is one of the draws, then 1, 2, 3 ... passing over it.
+pub fn seeds(own: u64) -> impl Iterator<Item = u64> {
+    std::iter::once(own)
+        .chain((1..).filter(move |&seed| seed != own))
+        .take(SEEDS as usize)
+}
+
+/// How an image of a line drawn by chance is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Drawn {
+    /// Traced from its samples (the picture, its depth, its normals): graded by a [`Spread`].
+    Traced,
+    /// The samples picture: graded by its [`SamplesRule`].
+    Samples,
+}
+
 /// How a picture drawn by chance is graded.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ByChance {
@@ -216,6 +233,37 @@ mod tests {
             compare(&[103, 100, 150, 100, 90]),
             [true, false, true, false, true]
         );
+    }
+
+    #[test]
+    fn the_spread_begins_with_the_lines_own_seed_and_never_draws_a_seed_twice() {
+        assert_eq!(seeds(6837).collect::<Vec<_>>(), [6837, 1, 2, 3, 4, 5, 6, 7]);
+        assert_eq!(seeds(3).collect::<Vec<_>>(), [3, 1, 2, 4, 5, 6, 7, 8]);
+    }
+
+    proptest::proptest! {
+        /// What lets check skip a line's seeded renders for a picture that passes against
+        /// raycast's own render (references.rs): within the tolerance of one of the draws is
+        /// within the spread, however the draws fall.
+        #[test]
+        fn a_picture_within_the_tolerance_of_a_draw_lies_within_the_spread(
+            draws in proptest::collection::vec(
+                proptest::collection::vec(proptest::prelude::any::<u8>(), 6),
+                SEEDS as usize,
+            ),
+            nudges in proptest::collection::vec(-2_i16..=2, 6),
+            which in 0..SEEDS as usize,
+        ) {
+            let renders: Vec<Image> = draws.iter().map(|levels| picture(levels)).collect();
+            let spread = Spread::of(&renders.iter().collect::<Vec<_>>()).unwrap();
+            let near: Vec<u8> = draws[which]
+                .iter()
+                .zip(&nudges)
+                .map(|(&level, &nudge)| (i16::from(level) + nudge).clamp(0, 255) as u8)
+                .collect();
+            let compared = spread.compare(&picture(&near), 2).unwrap();
+            proptest::prop_assert_eq!(compared.differing, 0);
+        }
     }
 
     #[test]

@@ -88,7 +88,7 @@ fn find_original_pictures(
         let reference = match original.reference(&super::suite::image_name(file)) {
             Some(path) => super::read_image(&path).ok(),
             None => renders
-                .get_or_init(|| super::raycasts_pictures(&original, line, stop).ok())
+                .get_or_init(|| super::references::raycasts_pictures(&original, line, stop).ok())
                 .as_ref()
                 .and_then(|pictures| pictures.get(output).cloned()),
         };

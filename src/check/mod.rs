@@ -23,6 +23,7 @@ mod output;
 mod picture;
 mod progress;
 mod project;
+mod references;
 mod refused;
 mod report;
 mod rule;
@@ -37,6 +38,7 @@ mod vary;
 mod verdict;
 
 use failure::{OWN_MESSAGE_ADVICE, how_it_ended};
+use references::References;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
@@ -296,22 +298,41 @@ pub struct Judgement {
 /// Compares `actual` with `reference` by `rule`, and diagnoses a failure: the one decision of
 /// pass or fail, for `check` and `diff` alike.
 pub fn judge(actual: &Image, reference: &Image, rule: Rule) -> Judgement {
-    judge_by(actual, reference, None, rule)
+    let comparison = compare(actual, reference, rule.tolerance);
+    judged(actual, reference, comparison, rule)
 }
 
-/// [`judge`], where a picture drawn by chance is graded by its rule (`spread`: the spread of
+/// [`judge`], where a picture drawn by chance is graded by its rule (`chance`: the spread of
 /// raycast's seeded renders, or the samples picture's structure) instead of against the one
-/// `reference` (which its guesses from the pixels still use).
+/// `reference` (which its guesses from the pixels still use). `Err` where that rule could not
+/// be made (raycast could not render the line's draws, or check was stopped first).
 fn judge_by(
     actual: &Image,
     reference: &Image,
-    spread: Option<&chance::ByChance>,
+    chance: Option<&references::ChanceRule>,
+    rule: Rule,
+) -> Result<Judgement, String> {
+    let plain = || compare(actual, reference, rule.tolerance);
+    let comparison = match chance {
+        None => plain(),
+        Some(chance) => match plain().filter(|c| chance.plain_pass_suffices() && rule.passes(c)) {
+            Some(passed) => Some(passed),
+            None => match chance.rule()? {
+                Some(by_chance) => by_chance.compare(actual, rule.tolerance),
+                None => plain(),
+            },
+        },
+    };
+    Ok(judged(actual, reference, comparison, rule))
+}
+
+/// The judgement of `actual` by its `comparison` (`None`: another size than `reference`'s).
+fn judged(
+    actual: &Image,
+    reference: &Image,
+    comparison: Option<Comparison>,
     rule: Rule,
 ) -> Judgement {
-    let comparison = match spread {
-        Some(spread) => spread.compare(actual, rule.tolerance),
-        None => compare(actual, reference, rule.tolerance),
-    };
     let Some(comparison) = comparison else {
         return Judgement {
             pass: false,
@@ -413,7 +434,7 @@ pub fn prepare(options: &CheckOptions, stop: &'static StopFlag) -> Result<Prepar
             .lines
             .par_iter()
             .with_max_len(1)
-            .map(|line| references_of(&suite, line, stop))
+            .map(|line| references::of(&suite, line, stop))
             .collect()
     });
     Ok(Prepared {
@@ -845,60 +866,6 @@ fn unique_names(graded: &mut [Graded]) {
             None => seen.push((g.name.clone(), 1)),
         }
     }
-}
-
-/// A line's references, one for each image it writes: the suite's, or raycast's own render of
-/// the line (`true`) where the suite has none; with, for a picture drawn by chance, the spread
-/// of raycast's renders with several seeds, which grades it in the reference's stead.
-type References = Vec<(Result<Image, String>, bool, Option<chance::ByChance>)>;
-
-/// Reads the references of `line`'s images, rendering the line with raycast for those the suite
-/// lacks (once for all of them).
-fn references_of(suite: &Suite, line: &Line, stop: &'static StopFlag) -> References {
-    let own = std::sync::OnceLock::new();
-    let spreads = std::sync::OnceLock::new();
-    line.outputs
-        .iter()
-        .enumerate()
-        .map(
-            |(k, (_, name))| match suite.reference(&suite::image_name(name)) {
-                Some(path) => (read_image(&path), false, None),
-                None => {
-                    let pictures = own.get_or_init(|| raycasts_pictures(suite, line, stop));
-                    let picture = match pictures {
-                        Ok(pictures) => pictures
-                            .get(k)
-                            .cloned()
-                            .ok_or_else(|| "raycast made no such picture".to_string()),
-                        Err(why) => Err(format!("raycast itself could not render it: {why}")),
-                    };
-                    let spread = spreads.get_or_init(|| {
-                        simulate::spreads(line, &suite.scenes, stop)
-                            .map_err(|why| format!("raycast itself could not render it: {why}"))
-                    });
-                    match spread {
-                        Ok(spreads) => {
-                            let spread = spreads.as_ref().and_then(|s| s.get(k).cloned().flatten());
-                            (picture, true, spread)
-                        }
-                        Err(why) => (Err(why.clone()), true, None),
-                    }
-                }
-            },
-        )
-        .collect()
-}
-
-/// raycast's own pictures of `line` in `suite` (its scenes, its pinned answers): kept in the
-/// cache, or rendered and kept.
-fn raycasts_pictures(
-    suite: &Suite,
-    line: &Line,
-    stop: &'static StopFlag,
-) -> Result<Vec<Image>, String> {
-    cache::LineRenders::of(line, &suite.scenes).course(&suite.pinned, || {
-        simulate::course_pictures(line, &suite.scenes, &suite.pinned, stop)
-    })
 }
 
 /// The folders no renderer may see, even inside a folder it may read: the suite's.

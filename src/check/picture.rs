@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use super::chance::ByChance;
 use super::failure::{failed_run, how_it_ended, missing_output, said};
+use super::references::ChanceRule;
 use super::{
     CheckOptions, Diagnosis, Ending, Finding, Graded, Image, Line, Ran, Status, finding, judge_by,
     output,
@@ -22,7 +22,7 @@ pub(super) fn grade(
     name: &str,
     ran: &Ran,
     path: &Path,
-    (reference, spread): (Result<Image, String>, Option<&ByChance>),
+    (reference, chance): (Result<Image, String>, Option<&ChanceRule>),
 ) -> Graded {
     let graded = |status, findings: Vec<Finding>, explanation: String| Graded {
         status,
@@ -56,7 +56,13 @@ pub(super) fn grade(
             Some(Ok(actual))
                 if matches!(ran.ending, Ending::Failed { .. } | Ending::Signaled { .. }) =>
             {
-                let judgement = judge_by(&actual, &reference, spread, options.rule);
+                let judgement = match judge_by(&actual, &reference, chance, options.rule) {
+                    Ok(judgement) => judgement,
+                    Err(why) => {
+                        let blank = graded(Status::Error, vec![], String::new());
+                        return not_judged(blank, (actual, reference), chance, &why);
+                    }
+                };
                 let picture = if judgement.pass {
                     "Your picture matches the reference"
                 } else {
@@ -165,7 +171,13 @@ pub(super) fn grade(
             };
         }
     };
-    let judgement = judge_by(&actual, &reference, spread, options.rule);
+    let judgement = match judge_by(&actual, &reference, chance, options.rule) {
+        Ok(judgement) => judgement,
+        Err(why) => {
+            let blank = graded(Status::Error, vec![], String::new());
+            return not_judged(blank, (actual, reference), chance, &why);
+        }
+    };
     let findings: Vec<Finding> = judgement
         .diagnoses
         .into_iter()
@@ -193,4 +205,34 @@ fn lowercase_first(text: &str) -> String {
         .next()
         .map(|first| first.to_lowercase().chain(chars).collect())
         .unwrap_or_default()
+}
+
+/// A picture drawn by chance whose rule could not be made (`why`): an error, shown beside its
+/// reference; where check was stopped while it rendered the rule's draws, that is the cause.
+fn not_judged(
+    blank: Graded,
+    (actual, reference): (Image, Image),
+    chance: Option<&ChanceRule>,
+    why: &str,
+) -> Graded {
+    let drawn = "a picture drawn by chance is graded against raycast's renders of the line \
+                 with several seeds, and check stopped while it rendered them";
+    let (findings, explanation) = match chance.and_then(ChanceRule::stopped) {
+        Some(Ending::DeadlineCame) => (
+            vec![Finding::Diagnosis(Diagnosis::OVER_BUDGET)],
+            format!("check's --deadline came before this picture was graded: {drawn}."),
+        ),
+        Some(_) => (
+            vec![Finding::Diagnosis(Diagnosis::INTERRUPTED)],
+            format!("check was interrupted before this picture was graded: {drawn}."),
+        ),
+        None => (Vec::new(), format!("Not graded: {why}.")),
+    };
+    Graded {
+        findings,
+        explanation,
+        actual: Some(actual),
+        reference: Some(reference),
+        ..blank
+    }
 }

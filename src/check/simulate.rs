@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use super::cache;
-use super::chance::{ByChance, SEEDS, Spread, depends_on_chance};
+use super::chance::{self, ByChance, Drawn, Spread, depends_on_chance};
 use super::choices::{self, Acceptance};
 use super::envelope::Envelope;
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
@@ -17,7 +17,7 @@ use super::rule::{Rule, compare};
 use super::samples_picture::SamplesRule;
 use super::screen::{Failing, Screen};
 use super::suite::{Line, Pin};
-use crate::job::{Command, parse_args, render_pictures_until, render_rows_until};
+use crate::job::{Command, Options, parse_args, render_pictures_until, render_rows_until};
 use crate::parse::read_scene;
 use crate::render::StopFlag;
 use crate::scene::Scene;
@@ -210,7 +210,7 @@ impl<'a> Renders<'a> {
         // A fault's samples picture is compared dot for dot: only raycast's own generator draws
         // the same dots.
         let spreads: Vec<Option<Spread>> = if chance {
-            let spreads = seeded_spreads(&kept, prepared, stop)?;
+            let spreads = seeded_spreads(&kept, prepared, Drawn::Traced, stop)?;
             failing
                 .iter()
                 .map(|&(image, _, _)| match spreads.get(image) {
@@ -453,30 +453,39 @@ impl<'a> Renders<'a> {
     }
 }
 
-/// For each of the line's images, where the line depends on chance, how chance is allowed for:
-/// a picture traced from its samples by the spread of raycast's renders of it with [`SEEDS`]
-/// seeds (each kept in the cache as a fault's render is), the samples picture by its structure
-/// over raycast's render of the line at its zoom; `None` for the others.
+/// For each of the line's images drawn as `drawn` says, where the line depends on chance, how
+/// chance is allowed for: a picture traced from its samples by the spread of raycast's renders
+/// of it with [`chance::seeds`] (each kept in the cache as a fault's render is), the samples
+/// picture by its structure over raycast's render of the line at its zoom; `None` for the
+/// others.
 fn seeded_spreads(
     kept: &cache::LineRenders,
     prepared: &Prepared,
+    drawn: Drawn,
     stop: &'static StopFlag,
 ) -> Result<Vec<Option<ByChance>>, Unfinished> {
     let line = &prepared.line;
+    let own = line.options.sampling.seed;
     let mut seeded: Vec<Vec<Image>> = Vec::new();
-    for seed in 1..=SEEDS {
-        seeded.push(kept.fault(&format!("seed {seed}"), || {
+    for seed in chance::seeds(own).take_while(|_| drawn == Drawn::Traced) {
+        let render = || {
             let mut options = line.options.clone();
             options.sampling.seed = seed;
             let pictures = render_pictures_until(&options, &line.scene, crate::render::Exact, stop)
                 .ok_or(Unfinished::Stopped)?
                 .pictures;
             Ok(prepared.in_line_order(&pictures))
-        })?);
+        };
+        // The line's own seed draws raycast's own render of it: kept as the course's picture.
+        seeded.push(if seed == own {
+            kept.course(&[], render)?
+        } else {
+            kept.fault(&format!("seed {seed}"), render)?
+        });
     }
     let samples_rule = match line.options.render_samples {
-        Some((_, zoom)) => Some(samples_rule(line, zoom, stop)?),
-        None => None,
+        Some((_, zoom)) if drawn == Drawn::Samples => Some(samples_rule(line, zoom, stop)?),
+        _ => None,
     };
     Ok((0..prepared.slots.len())
         .map(|image| {
@@ -526,35 +535,32 @@ fn samples_rule(
     })
 }
 
-/// The spread of raycast's renders of `line` with several seeds, for each of its images: `None`
-/// for a line that does not depend on chance, and for its pictures not traced from samples.
+/// How the images of `line` drawn as `drawn` says are graded ([`seeded_spreads`]): `None` for a
+/// line that does not depend on chance; within it, `None` for its other images.
 pub fn spreads(
     line: &Line,
     scenes: &Path,
+    drawn: Drawn,
     stop: &'static StopFlag,
 ) -> Result<Option<Vec<Option<ByChance>>>, String> {
-    on_every_core(|| spreads_here(line, scenes, stop))
+    on_every_core(|| spreads_here(line, scenes, drawn, stop))
 }
 
 fn spreads_here(
     line: &Line,
     scenes: &Path,
+    drawn: Drawn,
     stop: &'static StopFlag,
 ) -> Result<Option<Vec<Option<ByChance>>>, String> {
     if stop.is_set() {
         return Err(STOPPED.to_string());
     }
-    // The command line alone says whether chance is in it: most lines' scenes are not built.
-    let by_chance = match parse_args(line.args.iter().map(Into::into).collect()) {
-        Ok(Command::Render(options)) => depends_on_chance(&options),
-        _ => false,
-    };
-    if !by_chance {
+    if drawn_by_chance(line).iter().all(Option::is_none) {
         return Ok(None);
     }
     let prepared = prepare(line, scenes)?;
     let kept = cache::LineRenders::of(line, scenes);
-    match seeded_spreads(&kept, &prepared, stop) {
+    match seeded_spreads(&kept, &prepared, drawn, stop) {
         Ok(spreads) => Ok(Some(spreads)),
         Err(Unfinished::Stopped) => Err(STOPPED.to_string()),
         Err(Unfinished::Failed(why)) => Err(why),
@@ -586,6 +592,7 @@ fn prepare(line: &Line, scenes: &Path) -> Result<Prepared, String> {
         Err(message) => return Err(format!("raycast cannot read the line: {message}")),
     };
     options.input = scenes.join(&options.input);
+    let (slots, traced) = slots_of(line, &options)?;
     let description = read_scene(&options.input).map_err(|e| e.to_string())?;
     let mut scene = Scene::from_description(&description).map_err(|e| e.to_string())?;
     if let Some([x, y, z]) = options.grid {
@@ -594,6 +601,20 @@ fn prepare(line: &Line, scenes: &Path) -> Result<Prepared, String> {
             .use_grid(glam::UVec3::new(x, y, z))
             .map_err(|e| e.to_string())?;
     }
+    Ok(Prepared {
+        traced,
+        line: LineScene {
+            options,
+            description,
+            scene,
+        },
+        slots,
+    })
+}
+
+/// For each of the line's images, its place among raycast's outputs; and how many of those
+/// are traced (the picture, normals and depth, before the samples and filter pictures).
+fn slots_of(line: &Line, options: &Options) -> Result<(Vec<usize>, usize), String> {
     let outputs: Vec<String> = options
         .outputs()
         .iter()
@@ -617,15 +638,33 @@ fn prepare(line: &Line, scenes: &Path) -> Result<Prepared, String> {
     .into_iter()
     .filter(|&traced| traced)
     .count();
-    Ok(Prepared {
-        traced,
-        line: LineScene {
-            options,
-            description,
-            scene,
-        },
-        slots,
-    })
+    Ok((slots, traced))
+}
+
+/// For each of the line's images, how it is drawn by chance, if it is: from the command line
+/// alone (no scene is built). Every image is `None` for a line that does not depend on chance
+/// or that raycast cannot read.
+pub fn drawn_by_chance(line: &Line) -> Vec<Option<Drawn>> {
+    let none = vec![None; line.outputs.len()];
+    let options = match parse_args(line.args.iter().map(Into::into).collect()) {
+        Ok(Command::Render(options)) if depends_on_chance(&options) => options,
+        _ => return none,
+    };
+    let Ok((slots, traced)) = slots_of(line, &options) else {
+        return none;
+    };
+    slots
+        .iter()
+        .map(|&slot| {
+            if slot < traced {
+                Some(Drawn::Traced)
+            } else if slot == traced && options.render_samples.is_some() {
+                Some(Drawn::Samples)
+            } else {
+                None
+            }
+        })
+        .collect()
 }
 
 /// Takes a fault that only moves pixels out of a picture.

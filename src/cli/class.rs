@@ -124,6 +124,15 @@ fn finish(staging: Staging, rows: &[table::Row], partial: bool) -> Result<(), St
     staging.place()
 }
 
+/// Why a student's row is empty when check stopped before their turn.
+fn not_reached(stop: &crate::render::StopFlag) -> &'static str {
+    if stop.is_out_of_time() {
+        "not graded: check's --deadline came before this student's turn"
+    } else {
+        "not graded: check was interrupted before this student's turn"
+    }
+}
+
 /// Grades every student of `class.roster`; exit status 0 once the class is graded (whatever
 /// the grades), 130 when interrupted, 2 for a usage or suite problem.
 pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
@@ -170,7 +179,14 @@ pub fn run_class(mut options: CheckOptions, class: ClassOptions) -> ExitCode {
     let mut rows = Vec::new();
     for student in &students {
         if stop.is_set() {
-            break;
+            // The table is the whole roster: a student check did not reach says why.
+            rows.push(table::Row::refused(
+                &student.0,
+                not_reached(stop),
+                pictures,
+                max_points,
+            ));
+            continue;
         }
         progress.grading(&student.0);
         let folder = class::report_folder(&student.0);

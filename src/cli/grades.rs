@@ -96,8 +96,10 @@ pub(super) fn stop_on_signals() -> &'static crate::render::StopFlag {
     }
     #[cfg(not(unix))]
     {
-        // With its "termination" feature, ctrlc hears the console's Ctrl-C, Ctrl-Break and close.
+        // ctrlc hears the console's Ctrl-C and Ctrl-Break; its closing is held until check ends.
         let _ = ctrlc::set_handler(on_signal);
+        #[cfg(windows)]
+        super::console_close::stop_on_close(stop);
     }
     stop
 }

@@ -5,6 +5,8 @@
 mod check;
 mod class;
 mod completions;
+#[cfg(windows)]
+mod console_close;
 mod grades;
 mod progress;
 mod words;
