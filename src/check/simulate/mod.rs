@@ -8,20 +8,22 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use super::cache;
-use super::chance::{self, ByChance, Drawn, Spread, depends_on_chance};
+mod draws;
+use super::chance::{ByChance, Drawn, Spread, depends_on_chance};
 use super::choices::{self, Acceptance};
 use super::envelope::Envelope;
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
 use super::fit::{Named, Picture, Trial, fit_line};
 use super::rule::{Rule, compare};
-use super::samples_picture::SamplesRule;
 use super::screen::{Failing, Screen};
 use super::suite::{Line, Pin};
-use crate::job::{Command, Options, parse_args, render_pictures_until, render_rows_until};
+use crate::job::{Command, parse_args, render_pictures_until, render_rows_until};
 use crate::parse::read_scene;
 use crate::render::StopFlag;
 use crate::scene::Scene;
 use crate::shade::Image;
+pub use draws::{drawn_by_chance, spreads};
+use draws::{seeded_spreads, slots_of};
 
 /// At most this many renders for one line, pairs included (a course picture renders in
 /// milliseconds)...
@@ -453,120 +455,6 @@ impl<'a> Renders<'a> {
     }
 }
 
-/// For each of the line's images drawn as `drawn` says, where the line depends on chance, how
-/// chance is allowed for: a picture traced from its samples by the spread of raycast's renders
-/// of it with [`chance::seeds`] (each kept in the cache as a fault's render is), the samples
-/// picture by its structure over raycast's render of the line at its zoom; `None` for the
-/// others.
-fn seeded_spreads(
-    kept: &cache::LineRenders,
-    prepared: &Prepared,
-    drawn: Drawn,
-    stop: &'static StopFlag,
-) -> Result<Vec<Option<ByChance>>, Unfinished> {
-    let line = &prepared.line;
-    let own = line.options.sampling.seed;
-    let mut seeded: Vec<Vec<Image>> = Vec::new();
-    for seed in chance::seeds(own).take_while(|_| drawn == Drawn::Traced) {
-        let render = || {
-            let mut options = line.options.clone();
-            options.sampling.seed = seed;
-            let pictures = render_pictures_until(&options, &line.scene, crate::render::Exact, stop)
-                .ok_or(Unfinished::Stopped)?
-                .pictures;
-            Ok(prepared.in_line_order(&pictures))
-        };
-        // The line's own seed draws raycast's own render of it: kept as the course's picture.
-        seeded.push(if seed == own {
-            kept.course(&[], render)?
-        } else {
-            kept.fault(&format!("seed {seed}"), render)?
-        });
-    }
-    let samples_rule = match line.options.render_samples {
-        Some((_, zoom)) if drawn == Drawn::Samples => Some(samples_rule(line, zoom, stop)?),
-        _ => None,
-    };
-    Ok((0..prepared.slots.len())
-        .map(|image| {
-            let slot = prepared.slots[image];
-            if slot < prepared.traced {
-                let renders: Vec<&Image> = seeded.iter().filter_map(|r| r.get(image)).collect();
-                Spread::of(&renders).map(ByChance::Spread)
-            } else if slot == prepared.traced {
-                samples_rule.clone().map(ByChance::Samples)
-            } else {
-                None
-            }
-        })
-        .collect())
-}
-
-/// The rule of the line's samples picture: raycast's render of the scene at `zoom` times the
-/// line's size, a ray through each picture pixel's centre, is the colour a dot there may have.
-fn samples_rule(
-    line: &LineScene,
-    zoom: u32,
-    stop: &'static StopFlag,
-) -> Result<SamplesRule, Unfinished> {
-    let mut options = line.options.clone();
-    options.width *= zoom;
-    options.height *= zoom;
-    options.sampling = crate::sample::Sampling::default();
-    options.render_samples = None;
-    options.render_filter = None;
-    options.normals = None;
-    options.depth = None;
-    options.output = Some(std::path::PathBuf::from("scene.tga"));
-    let scene = render_pictures_until(&options, &line.scene, crate::render::Exact, stop)
-        .ok_or(Unfinished::Stopped)?
-        .pictures
-        .into_iter()
-        .next()
-        .ok_or_else(|| Unfinished::Failed("raycast drew no scene for the samples".into()))?;
-    let sampler = line.options.sampling.sampler;
-    Ok(SamplesRule {
-        width: line.options.width,
-        height: line.options.height,
-        zoom,
-        samples: sampler.samples(),
-        jittered: matches!(sampler, crate::sample::Sampler::Jittered(_)),
-        scene,
-    })
-}
-
-/// How the images of `line` drawn as `drawn` says are graded ([`seeded_spreads`]): `None` for a
-/// line that does not depend on chance; within it, `None` for its other images.
-pub fn spreads(
-    line: &Line,
-    scenes: &Path,
-    drawn: Drawn,
-    stop: &'static StopFlag,
-) -> Result<Option<Vec<Option<ByChance>>>, String> {
-    on_every_core(|| spreads_here(line, scenes, drawn, stop))
-}
-
-fn spreads_here(
-    line: &Line,
-    scenes: &Path,
-    drawn: Drawn,
-    stop: &'static StopFlag,
-) -> Result<Option<Vec<Option<ByChance>>>, String> {
-    if stop.is_set() {
-        return Err(STOPPED.to_string());
-    }
-    if drawn_by_chance(line).iter().all(Option::is_none) {
-        return Ok(None);
-    }
-    let prepared = prepare(line, scenes)?;
-    let kept = cache::LineRenders::of(line, scenes);
-    match seeded_spreads(&kept, &prepared, drawn, stop) {
-        Ok(spreads) => Ok(Some(spreads)),
-        Err(Unfinished::Stopped) => Err(STOPPED.to_string()),
-        Err(Unfinished::Failed(why)) => Err(why),
-    }
-}
-
 /// Runs `work` (raycast's renders of a line) on a pool of every core: `--jobs` says how many
 /// lines run at once, and a line's renders, like the student's renderer, use the whole machine
 /// (the same pictures on any number of threads).
@@ -610,61 +498,6 @@ fn prepare(line: &Line, scenes: &Path) -> Result<Prepared, String> {
         },
         slots,
     })
-}
-
-/// For each of the line's images, its place among raycast's outputs; and how many of those
-/// are traced (the picture, normals and depth, before the samples and filter pictures).
-fn slots_of(line: &Line, options: &Options) -> Result<(Vec<usize>, usize), String> {
-    let outputs: Vec<String> = options
-        .outputs()
-        .iter()
-        .map(|(_, path)| path.to_string_lossy().into_owned())
-        .collect();
-    let slots = line
-        .outputs
-        .iter()
-        .map(|(_, name)| {
-            outputs
-                .iter()
-                .position(|o| o == name)
-                .ok_or_else(|| format!("the line's image {name} is not among its outputs"))
-        })
-        .collect::<Result<_, _>>()?;
-    let traced = [
-        options.output.is_some(),
-        options.normals.is_some(),
-        options.depth.is_some(),
-    ]
-    .into_iter()
-    .filter(|&traced| traced)
-    .count();
-    Ok((slots, traced))
-}
-
-/// For each of the line's images, how it is drawn by chance, if it is: from the command line
-/// alone (no scene is built). Every image is `None` for a line that does not depend on chance
-/// or that raycast cannot read.
-pub fn drawn_by_chance(line: &Line) -> Vec<Option<Drawn>> {
-    let none = vec![None; line.outputs.len()];
-    let options = match parse_args(line.args.iter().map(Into::into).collect()) {
-        Ok(Command::Render(options)) if depends_on_chance(&options) => options,
-        _ => return none,
-    };
-    let Ok((slots, traced)) = slots_of(line, &options) else {
-        return none;
-    };
-    slots
-        .iter()
-        .map(|&slot| {
-            if slot < traced {
-                Some(Drawn::Traced)
-            } else if slot == traced && options.render_samples.is_some() {
-                Some(Drawn::Samples)
-            } else {
-                None
-            }
-        })
-        .collect()
 }
 
 /// Takes a fault that only moves pixels out of a picture.
