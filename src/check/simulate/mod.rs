@@ -207,10 +207,13 @@ impl<'a> Renders<'a> {
         rule: Rule,
         stop: &'static StopFlag,
     ) -> Result<Renders<'a>, Unfinished> {
-        let chance = depends_on_chance(&prepared.line.options);
-        let kept = cache::LineRenders::of(line, scenes);
         // A fault's samples picture is compared dot for dot: only raycast's own generator draws
-        // the same dots.
+        // the same dots. The spread is for the traced pictures alone.
+        let chance = depends_on_chance(&prepared.line.options)
+            && failing
+                .iter()
+                .any(|&(image, _, _)| prepared.slots[image] < prepared.traced);
+        let kept = cache::LineRenders::of(line, scenes);
         let spreads: Vec<Option<Spread>> = if chance {
             let spreads = seeded_spreads(&kept, prepared, Drawn::Traced, stop)?;
             failing
