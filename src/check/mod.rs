@@ -102,7 +102,7 @@ pub struct CheckOptions {
     /// student's own renderer on their own machine, never strangers'. Every report says so.
     pub no_cage: bool,
     /// Whether the programs graded are other people's (a class): where the cage cannot keep a
-    /// renderer's reads and writes (Windows), they are graded only with `--no-cage`.
+    /// renderer's reads (Windows), they are graded only with `--no-cage`.
     pub others: bool,
     /// `--vary SEED`: every line's scene varied within bounds that keep what it tests, and
     /// graded against raycast's render of the varied scene (in a class, each student's own

@@ -288,6 +288,9 @@ pub struct Confinement {
     /// macOS: whether the system's sandbox (`sandbox-exec`) kept it from the network and its
     /// writes in its folders, the suite out of its reach; on Windows why nothing does.
     pub sandbox: Result<(), String>,
+    /// Windows: whether it ran at a low integrity level, its line's folders labelled low (its
+    /// writes kept to them), or why not.
+    pub low_integrity: Result<(), String>,
 }
 
 impl Default for Confinement {
@@ -306,6 +309,7 @@ impl Default for Confinement {
             system: std::env::consts::OS.to_string(),
             job: Err(format!("not on {}", std::env::consts::OS)),
             sandbox: Err(format!("not on {}", std::env::consts::OS)),
+            low_integrity: Err(format!("not on {}", std::env::consts::OS)),
         }
     }
 }
@@ -321,6 +325,7 @@ impl Confinement {
             "system": self.system,
             "job": held(&self.job),
             "sandbox": held(&self.sandbox),
+            "low_integrity": held(&self.low_integrity),
             "user": self.user,
             "landlock": self.landlock,
             "network_namespace": self.network_namespace,
@@ -356,6 +361,7 @@ impl Confinement {
             system: value["system"].as_str().unwrap_or("linux").to_string(),
             job: held(&value["job"]),
             sandbox: held(&value["sandbox"]),
+            low_integrity: held(&value["low_integrity"]),
         })
     }
 
@@ -386,9 +392,13 @@ impl Confinement {
             "windows" => {
                 return format!(
                     "renderer caged as {}; {} (every process ended with its line, memory and \
-                     processes bounded together, no UI); {}",
+                     processes bounded together, no UI); {}; {}",
                     self.user,
                     or_why(&self.job, "job object"),
+                    or_why(
+                        &self.low_integrity,
+                        "low integrity level (writes in its folders only)"
+                    ),
                     or_why(&self.sandbox, "sandbox"),
                 );
             }

@@ -11,16 +11,21 @@
 //! Every process is started without a console window of its own (no window flashes per line),
 //! with a private HOME, TEMP and TMP in its work folder.
 //!
-//! What it does not do: keep the renderer's reads and writes to its folders. That needs a
-//! restricted token or an AppContainer whose every readable folder is granted by access list,
-//! which changes the rights of the student's own files; a low integrity level would block its
-//! writes to the user's folders but not its reads of the references. The report says so
-//! (`sandbox: not confined`), the terminal says so in one line, and a class (other people's
-//! programs) is refused without `--no-cage`: a student grading their own renderer needs no
-//! more.
+//! Its writes are kept to its folders by a low integrity level (`integrity.rs`): the line's
+//! folders are labelled low and the supervisor lowers its own level before it starts the
+//! renderer, which inherits it; no administrator's rights are needed. Where Windows refuses
+//! either step, the renderer runs at the user's level and the report says why.
+//!
+//! What it does not do: keep the renderer's reads to its folders. That needs a restricted
+//! token or an AppContainer whose every readable folder is granted by access list, which
+//! changes the rights of the student's own files. The report says so (`sandbox: not
+//! confined`), the terminal says so in one line, and a class (other people's programs) is
+//! refused without `--no-cage`: a student grading their own renderer needs no more.
 
 // The job object's calls are the system's C interface.
 #![allow(unsafe_code)]
+
+mod integrity;
 
 use std::io::{Read, Write};
 use std::os::windows::io::{AsHandle, AsRawHandle, FromRawHandle, OwnedHandle};
@@ -99,10 +104,10 @@ impl Wall {
     }
 }
 
-const NOT_CONFINED_FOR_OTHERS: &str = "on Windows the cage ends every process of a line and \
-    bounds its memory and processes (a job object), but it does not keep a renderer from \
-    reading the suite's references or writing outside its folders: grade other people's \
-    programs on Linux, or give --no-cage to grade them here anyway";
+const NOT_CONFINED_FOR_OTHERS: &str = "on Windows the cage ends every process of a line, \
+    bounds its memory and processes (a job object) and keeps its writes to its folders (a low \
+    integrity level), but it does not keep a renderer from reading the suite's references: \
+    grade other people's programs on Linux, or give --no-cage to grade them here anyway";
 
 /// The supervisor's whole life: `request` is the JSON check passed. Its report goes to stdout
 /// once the renderer has ended; then the job ends whatever is left, the supervisor with it.
@@ -128,7 +133,8 @@ fn confinement() -> Confinement {
         landlock: "not on Windows".to_string(),
         own_root: Err("not on Windows".to_string()),
         system: "windows".to_string(),
-        sandbox: Err("reads and writes are not confined on Windows".to_string()),
+        sandbox: Err("reads are not confined on Windows".to_string()),
+        low_integrity: Err("not tried".to_string()),
         ..Confinement::default()
     }
 }
@@ -170,6 +176,11 @@ fn run(request: &Request) -> (Ending, Confinement, Option<OwnedHandle>) {
         Ok(handle) => Stdio::from(handle),
         Err(_) => Stdio::null(),
     };
+    // Its writes kept to its folders: they are labelled low, then this process (and so the
+    // renderer, which inherits its level) is lowered. Never lowered where the folders could
+    // not be labelled: the renderer could not write its picture.
+    cage.low_integrity = integrity::open_to_low(&[&request.work, &request.outputs])
+        .and_then(|()| integrity::lower_own_level());
     let mut command = Command::new(program);
     command
         .args(own)
