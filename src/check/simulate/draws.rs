@@ -112,9 +112,8 @@ fn spreads_here(
     drawn: Drawn,
     stop: &'static StopFlag,
 ) -> Result<Option<Vec<Option<ByChance>>>, String> {
-    if stop.is_set() {
-        return Err(STOPPED.to_string());
-    }
+    // Not refused once stopped: renders kept in the cache still grade a picture (a stop just
+    // after a line ran leaves it graded); a render that is not kept ends at the stop.
     if drawn_by_chance(line).iter().all(Option::is_none) {
         return Ok(None);
     }
