@@ -82,21 +82,7 @@ fn another_random_generator_passes_every_picture_drawn_by_chance() {
 
 /// The files of check's cache in `dir`.
 fn kept(dir: &Path) -> usize {
-    fn count(path: &Path) -> usize {
-        std::fs::read_dir(path).map_or(0, |entries| {
-            entries
-                .flatten()
-                .map(|e| {
-                    if e.path().is_dir() {
-                        count(&e.path())
-                    } else {
-                        1
-                    }
-                })
-                .sum()
-        })
-    }
-    count(&dir.join("cache"))
+    common::files_in(&dir.join("cache"))
 }
 
 #[test]

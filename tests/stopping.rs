@@ -80,24 +80,8 @@ fn keep_the_seeded_renders(suite: &Path) {
         .unwrap();
     let said = String::from_utf8_lossy(&output.stdout);
     assert!(said.contains("big0"), "{said}");
-    let kept = walk_files(&cache);
+    let kept = common::files_in(&cache);
     assert!(kept >= 8, "{kept} renders kept: {said}");
-}
-
-/// How many files `dir` holds, in its folders too.
-fn walk_files(dir: &Path) -> usize {
-    std::fs::read_dir(dir).map_or(0, |entries| {
-        entries
-            .flatten()
-            .map(|e| {
-                if e.path().is_dir() {
-                    walk_files(&e.path())
-                } else {
-                    1
-                }
-            })
-            .sum()
-    })
 }
 
 fn start_check(suite: &Path, renderer: &Path, report: &Path) -> Child {

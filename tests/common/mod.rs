@@ -210,3 +210,19 @@ pub fn line_groups_can_be_made() -> bool {
     let _ = std::fs::remove_dir(&probe);
     made
 }
+
+/// How many files `dir` holds, in its folders too (none where it does not exist).
+pub fn files_in(dir: &Path) -> usize {
+    std::fs::read_dir(dir).map_or(0, |entries| {
+        entries
+            .flatten()
+            .map(|e| {
+                if e.path().is_dir() {
+                    files_in(&e.path())
+                } else {
+                    1
+                }
+            })
+            .sum()
+    })
+}
