@@ -432,3 +432,375 @@ fn a_unit_shadow_ray_tested_up_to_one_is_the_shadow_reach_of_one_unit() {
         failing.join("\n")
     );
 }
+
+/// Each failing picture of `form` on the later assignments' lines that name any of `scenes`
+/// names `fault` first, alone, with `numbers` (a part of its line); returns how many failed.
+fn later_named(form: &str, scenes: &[&str], fault: &str, numbers: &str) -> usize {
+    let later =
+        common::later_dir("the fitted forms of assignments 4 to 7").expect("the later assignments");
+    let failing = failing_in(&later, form, scenes);
+    let failing = named_in(&failing, form, fault);
+    assert!(
+        failing.iter().all(|l| l.contains(numbers)),
+        "{form}: {}",
+        failing.join("\n")
+    );
+    failing.len()
+}
+
+#[test]
+fn mirror_directions_written_otherwise_are_the_reflection_direction() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    let lines = [
+        "scene4_03_mirrored_floor.txt",
+        "scene4_04_reflective_sphere.txt",
+    ];
+    // 2 (N·V) N − V with V the ray's own direction: the mirror direction reversed, which the
+    // pictures cannot tell from d + 2 (d·n) n.
+    assert_eq!(
+        later_named("reflect_view_vector", &lines, "reflection_direction", ""),
+        4
+    );
+    // d − (d·n) n: the factor fitted.
+    assert_eq!(
+        later_named(
+            "reflect_without_two",
+            &lines,
+            "reflection_direction",
+            "factor of (d·n) n -1)"
+        ),
+        4
+    );
+}
+
+#[test]
+fn a_mirror_colour_weighed_twice_is_the_secondary_colour_with_its_power() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "mirror_colour_twice",
+            &["scene4_03_mirrored_floor.txt", "output4_04b.tga"],
+            "secondary_colour",
+            "power of the reflective colour 2)"
+        ),
+        2
+    );
+}
+
+#[test]
+fn snells_ratio_the_same_on_both_sides_is_the_refraction_index() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    let lines = [
+        "scene4_05_transparent_bar.txt",
+        "output4_08.tga",
+        "output6_14.tga",
+    ];
+    for (form, number) in [("ratio_never_flipped", 1), ("ratio_index_both_ways", 2)] {
+        let named = later_named(form, &lines, "refraction_index", &format!("form {number})"));
+        assert_eq!(named, 3, "{form}");
+    }
+}
+
+#[test]
+fn a_refracted_ray_past_the_critical_angle_of_nans_or_mirrored_is_total_internal_reflection() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    let lines = ["output4_06e.tga", "output4_06f.tga", "output4_14c.tga"];
+    for (form, number) in [("total_internal_nan", 3), ("total_internal_mirror", 4)] {
+        let named = later_named(
+            form,
+            &lines,
+            "total_internal_reflection",
+            &format!("form {number})"),
+        );
+        assert_eq!(named, 3, "{form}");
+    }
+}
+
+#[test]
+fn a_checkerboard_wrong_for_negative_coordinates_is_the_checker_truncation() {
+    if common::later_dir("the fitted forms of assignment 6").is_none() {
+        return;
+    }
+    let lines = ["scene6_13_checkerboard.txt", "output6_14.tga"];
+    // fmod(x, 2) < 1: a form of the library's own; floor(|x|) draws as int(x) does.
+    assert_eq!(
+        later_named("checker_fmod", &lines, "checker_truncation", "form 1)"),
+        2
+    );
+    assert_eq!(
+        later_named("checker_absolute", &lines, "checker_truncation", "form 0)"),
+        2
+    );
+}
+
+#[test]
+fn uniform_samples_from_edge_to_edge_are_a_grid_spread_by_s_over_s_minus_one() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "uniform_edge_to_edge",
+            &["output7_01d_low_res.tga", "output7_01e_low_res.tga"],
+            "uniform_corners",
+            "spread 1.5)"
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "uniform_edge_to_edge",
+            &["output7_02d.tga"],
+            "uniform_corners",
+            "spread 1.3333)"
+        ),
+        1
+    );
+}
+
+#[test]
+fn an_attenuation_read_in_the_other_order_is_the_attenuation() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // scene4_12's 0 1 0 reads the same either way and passes.
+    assert_eq!(
+        later_named(
+            "attenuation_reversed",
+            &[
+                "scene4_12_point_light_circle_d_attenuation.txt",
+                "scene4_13_point_light_circle_d2_attenuation.txt",
+                "output4_14a.tga"
+            ],
+            "attenuation",
+            ""
+        ),
+        2
+    );
+}
+
+#[test]
+fn a_fixed_epsilon_along_the_ray_is_shadow_acne_with_its_least_t() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "absolute_epsilon_along_ray",
+            &[
+                "scene4_01_sphere_shadow.txt",
+                "scene4_03_mirrored_floor.txt"
+            ],
+            "shadow_acne",
+            "least t 1e-6)"
+        ),
+        2
+    );
+}
+
+#[test]
+fn a_gaussian_whose_sigma_is_taken_as_its_variance_is_the_filter_radius_with_its_scale() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 7") else {
+        return;
+    };
+    // σ' = √σ: √0.5 / 0.5, √1.7 / 1.7 and √2.3 / 2.3 times the reach; σ = 1 passes.
+    let failing = failing_in(
+        &later,
+        "gaussian_variance_as_sigma",
+        &[
+            "filter7_01c.tga",
+            "filter7_01f.tga",
+            "filter7_01i.tga",
+            "output7_01c_low_res.tga",
+        ],
+    );
+    let failing = named_in(&failing, "gaussian_variance_as_sigma", "filter_radius");
+    assert_eq!(failing.len(), 3, "{}", failing.join("\n"));
+    for (line, sigma) in failing.iter().zip([0.5f64, 1.7, 2.3]) {
+        let scale: f64 = line
+            .split("scale ")
+            .nth(1)
+            .and_then(|rest| rest.split(')').next())
+            .and_then(|number| number.parse().ok())
+            .unwrap_or_else(|| panic!("no scale: {line}"));
+        let expected = sigma.sqrt() / sigma;
+        assert!((scale / expected - 1.0).abs() < 0.01, "{line}");
+    }
+}
+
+/// Each failing picture of `form` on the conformance lines that name any of `scenes` names
+/// `fault` first (alone, or with those the line cannot tell from it), with `numbers` (a part
+/// of its line); returns how many failed.
+fn conformance_named(form: &str, scenes: &[&str], fault: &str, numbers: &str) -> usize {
+    let failing = named_in(&failing(form, scenes), form, fault);
+    assert!(
+        failing.iter().all(|l| l.contains(numbers)),
+        "{form}: {}",
+        failing.join("\n")
+    );
+    failing.len()
+}
+
+#[test]
+fn flips_written_in_the_frame_or_the_rows_with_bytes_rounded_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // Each student's bytes rounded to the nearest, not truncated: a level off in half the
+    // pixels, which the rule allows, beside the mistake.
+    let lines = ["scene1_03.txt", "scene2_04_perspective.txt"];
+    assert_eq!(
+        conformance_named("rows_from_the_top+rounded", &lines, "flip_vertical", ""),
+        4
+    );
+    assert_eq!(
+        conformance_named("horizontal_reversed+rounded", &lines, "flip_horizontal", ""),
+        4
+    );
+}
+
+#[test]
+fn columns_alone_spread_over_width_minus_one_are_the_pixel_span_with_its_axis() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // 200 / 199 across, 1 up.
+    assert_eq!(
+        conformance_named(
+            "columns_over_width_minus_one",
+            &["scene1_03.txt", "scene2_04_perspective.txt"],
+            "pixel_span_minus_one",
+            "scale_x 1.005"
+        ),
+        4
+    );
+}
+
+#[test]
+fn rays_through_the_far_corner_are_a_ray_through_a_pixel_corner() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "far_corner",
+            &["scene1_03.txt", "scene2_04_perspective.txt"],
+            "pixel_corner",
+            "corner 3"
+        ),
+        4
+    );
+}
+
+#[test]
+fn a_screen_as_wide_as_the_angle_is_the_field_of_view_with_the_angle_it_amounts_to() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // A screen π/6 wide at distance 1: 2 atan(π/12) = 29.34°.
+    assert_eq!(
+        conformance_named(
+            "screen_as_wide_as_the_angle",
+            &["scene2_04_perspective.txt", "scene2_08_cube.txt"],
+            "field_of_view",
+            "angle 29.33"
+        ),
+        3
+    );
+}
+
+#[test]
+fn a_depth_counted_to_the_farthest_hit_is_the_depth_range() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "depth_to_farthest",
+            &["scene1_02.txt", "scene2_06_plane.txt"],
+            "depth_range",
+            ""
+        ),
+        2
+    );
+}
+
+#[test]
+fn normals_stored_as_a_normal_map_are_the_signed_normals_with_their_mapping() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "normals_half_plus_half",
+            &["scene2_04_perspective.txt", "scene2_06_plane.txt"],
+            "normals_signed",
+            "mapping 1"
+        ),
+        2
+    );
+}
+
+#[test]
+fn a_light_dimmed_by_the_cosine_where_it_arrives_is_the_cosine_twice() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "light_scaled_by_cosine",
+            &[
+                "scene2_01_diffuse.txt",
+                "scene2_03_colored_lights.txt",
+                "scene2_04_perspective.txt"
+            ],
+            "cosine_twice",
+            ""
+        ),
+        3
+    );
+}
+
+#[test]
+fn a_recursion_counted_from_one_with_bytes_rounded_is_a_bounce_too_few() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "depth_counted_from_one+rounded",
+            &[
+                "scene4_03_mirrored_floor.txt",
+                "scene4_04_reflective_sphere.txt",
+                "output4_08.tga"
+            ],
+            "bounces_off_by_one",
+            "bounces -1)"
+        ),
+        5
+    );
+}
+
+#[test]
+fn octaves_summed_from_the_second_are_the_noise_constants_with_the_first_octaves_frequency() {
+    if common::later_dir("the fitted forms of assignment 6").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "noise_from_second_octave",
+            &["scene6_15_marble_cubes.txt", "output6_17a.tga"],
+            "noise_constants",
+            "first octave's frequency 2)"
+        ),
+        2
+    );
+}

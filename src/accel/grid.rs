@@ -228,6 +228,11 @@ impl Grid {
         t_max: f32,
         mut visit: impl FnMut(Cell<'a>) -> ControlFlow<()>,
     ) {
+        // A ray of no direction (a student's square root of a negative number, a zero vector)
+        // meets nothing, and would never step out of its first cell.
+        if !ray.direction.is_finite() || ray.direction == Vec3A::ZERO {
+            return;
+        }
         // Where the ray is inside the grid's box, and which face it came in by.
         let mut t_enter = t_min;
         let mut t_leave = t_max;
@@ -429,6 +434,35 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    #[test]
+    fn a_ray_of_no_direction_visits_nothing_and_ends() {
+        let grid = Grid::build(
+            Aabb {
+                min: Vec3A::ZERO,
+                max: Vec3A::splat(4.0),
+            },
+            UVec3::splat(4),
+            &[],
+        )
+        .unwrap();
+        // A refracted direction past the critical angle taken as the square root of a negative
+        // number (a student's tracer, which check renders), and a zero vector: before, the walk
+        // stepped by nothing, forever.
+        for direction in [Vec3A::NAN, Vec3A::ZERO] {
+            let ray = Ray::new(Vec3A::splat(1.5), direction);
+            let mut visits = 0;
+            grid.walk(&ray, 0.0, f32::INFINITY, |_| {
+                visits += 1;
+                if visits > 100 {
+                    ControlFlow::Break(())
+                } else {
+                    ControlFlow::Continue(())
+                }
+            });
+            assert_eq!(visits, 0, "{direction}");
         }
     }
 

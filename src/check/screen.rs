@@ -130,14 +130,24 @@ impl Screen {
             return f64::INFINITY;
         }
         let width = actual.width.max(1) as usize;
+        let height = actual.height.max(1) as usize;
+        // A zoomed picture (the samples' or the filter's) has `zoom` rows for each of the
+        // image's: row r shows the image's row r / zoom.
+        let wanted = |row: usize| {
+            self.wanted
+                .get(row * self.wanted.len() / height)
+                .is_some_and(|&wanted| wanted)
+        };
         let (mut sum, mut count) = (0_u64, 0_usize);
-        for ((got, want), _) in picture
+        for (row, (got, want)) in picture
             .pixels
             .chunks(width)
             .zip(actual.pixels.chunks(width))
-            .zip(&self.wanted)
-            .filter(|(_, wanted)| **wanted)
+            .enumerate()
         {
+            if !wanted(row) {
+                continue;
+            }
             for (a, b) in got.iter().zip(want) {
                 sum += (0..3).map(|c| u64::from(a[c].abs_diff(b[c]))).sum::<u64>();
             }

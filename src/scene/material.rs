@@ -121,6 +121,16 @@ impl Pattern {
     /// Where point `p` of texture space falls between the first material (0) and the second
     /// (1).
     pub fn weight(&self, p: glam::DVec3) -> f32 {
+        self.weight_with_noise(p, |q, octaves| octave_noise(q.x, q.y, q.z, octaves))
+    }
+
+    /// [`Pattern::weight`] with the sum of `octaves` octaves of noise at a point given by
+    /// `noise` (check's fault library sums it otherwise).
+    pub fn weight_with_noise(
+        &self,
+        p: glam::DVec3,
+        noise: impl Fn(glam::DVec3, u32) -> f64,
+    ) -> f32 {
         let weight = match *self {
             // Unit cubes alternate; the one at the origin (0 ≤ x, y, z < 1) is the first
             // material's.
@@ -133,13 +143,13 @@ impl Pattern {
                 }
             }
             // Noise of about -1…1 mapped onto 0…1.
-            Pattern::Noise { octaves } => 0.5 * (octave_noise(p.x, p.y, p.z, octaves) + 1.0),
+            Pattern::Noise { octaves } => 0.5 * (noise(p, octaves) + 1.0),
             Pattern::Marble {
                 octaves,
                 frequency,
                 amplitude,
             } => {
-                let n = octave_noise(p.x, p.y, p.z, octaves);
+                let n = noise(p, octaves);
                 0.5 * ((frequency * p.x + amplitude * n).sin() + 1.0)
             }
             // Rings about the y axis: sharp-edged bands of late wood, perturbed by the noise.
@@ -148,7 +158,7 @@ impl Pattern {
                 frequency,
                 amplitude,
             } => {
-                let n = octave_noise(p.x, p.y, p.z, octaves);
+                let n = noise(p, octaves);
                 let radius = (p.x * p.x + p.z * p.z).sqrt();
                 let ring = 0.5 * ((frequency * radius + amplitude * n).sin() + 1.0);
                 ring * ring * ring

@@ -32,7 +32,7 @@ pub use camera::{CameraFault, Mapping, RayForm};
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
 pub use pictures::PictureFault;
 pub use rays::{CriticalAngle, RayFault};
-pub(crate) use rays::{bounces, glass_index, has_material};
+pub(crate) use rays::{bounces, glass_index, has_material, has_tinted_material};
 pub use samples::{SampleFault, gaussian_radius};
 pub use shading::{Attenuation, ShadingFault};
 pub use textures::TextureFault;
@@ -433,7 +433,7 @@ impl TraceSeam for Plant {
 
     fn carried(&self, colour: Vec3A, transparent: bool) -> Vec3A {
         self.rays()
-            .find_map(|r| r.carried(transparent))
+            .find_map(|r| r.carried(colour, transparent))
             .unwrap_or(colour)
     }
 

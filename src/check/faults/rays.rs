@@ -16,6 +16,11 @@ pub enum RayFault {
     MirrorSign,
     /// η_t / η_i where η_i / η_t is meant (the ratio inverted).
     InvertedIndex,
+    /// The same ratio whichever way the ray crosses: 1 / index, or (`index_over_one`) index.
+    RatioUnturned {
+        /// index / 1, not 1 / index.
+        index_over_one: bool,
+    },
     /// One bounce more or fewer than `-bounces` (the signed difference).
     Bounces(i32),
     /// `-weight` ignored: every mirror and glass ray is traced.
@@ -45,6 +50,18 @@ pub enum RayFault {
     },
     /// Snell's formula written otherwise than the course's, in the way of this form.
     Snell(SnellForm),
+    /// The mirror direction as normalize(d + β (d·n) n), β being this (check's fit; the
+    /// course's is −2).
+    MirrorFactor(f32),
+    /// What a mirror ray (or, with `transparent`, a glass ray) brings back multiplied by the
+    /// material's colour for it raised to this power (check's fit; the course's is 1, and 0 is
+    /// the colour left out).
+    ColourPower {
+        /// Glass rays', not mirror rays'.
+        transparent: bool,
+        /// The power.
+        power: f32,
+    },
     /// Shadow rays toward a point light stop at another t than the light's distance.
     ShadowReach(ShadowReach),
     /// An allowed answer: glass lets light through to what it shadows, in this way (the
@@ -86,6 +103,11 @@ pub enum CriticalAngle {
     Absolute,
     /// Keeps the ray's direction, unbent.
     Straight,
+    /// Takes the root of the negative number as it comes: a direction of NaNs, which meets
+    /// nothing, so the background shows through the glass.
+    NotANumber,
+    /// Sends the glass ray along the mirror direction instead.
+    Mirrored,
 }
 
 impl RayFault {
@@ -138,19 +160,27 @@ impl RayFault {
         }
     }
 
-    /// What a mirror (or glass) ray's colour is multiplied by, where not the material's.
-    pub(super) fn carried(&self, transparent: bool) -> Option<Vec3A> {
+    /// What a mirror (or glass) ray's colour is multiplied by, where not the material's
+    /// `colour` for it.
+    pub(super) fn carried(&self, colour: Vec3A, transparent: bool) -> Option<Vec3A> {
         match *self {
             RayFault::ColourIgnored { transparent: which } if which == transparent => {
                 Some(Vec3A::ONE)
             }
+            RayFault::ColourPower {
+                transparent: which,
+                power,
+            } if which == transparent => Some(colour.powf(power)),
             _ => None,
         }
     }
 
     pub(super) fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Option<Vec3A> {
-        match self {
+        match *self {
             RayFault::MirrorSign => Some(direction + 2.0 * direction.dot(normal) * normal),
+            RayFault::MirrorFactor(factor) => {
+                Some((direction + factor * direction.dot(normal) * normal).normalize())
+            }
             _ => None,
         }
     }
@@ -191,6 +221,8 @@ impl RayFault {
             CriticalAngle::Grazing => 0.0,
             CriticalAngle::Absolute => (-k).sqrt(),
             CriticalAngle::Straight => return Some(direction),
+            CriticalAngle::NotANumber => return Some(Vec3A::NAN),
+            CriticalAngle::Mirrored => return Some(crate::trace::reflect(direction, normal)),
         };
         Some(crate::trace::refracted(direction, normal, ratio, root))
     }
@@ -198,6 +230,9 @@ impl RayFault {
     pub(super) fn crossing_ratio(&self, index: f32, inside: bool) -> Option<f32> {
         match self {
             RayFault::InvertedIndex => Some(1.0 / crate::trace::crossing_ratio(index, inside)),
+            RayFault::RatioUnturned { index_over_one } => {
+                Some(if *index_over_one { index } else { 1.0 / index })
+            }
             RayFault::IndexAs(instead) => Some(crate::trace::crossing_ratio(*instead, inside)),
             _ => None,
         }
@@ -210,7 +245,7 @@ fn only(fault: RayFault) -> Vec<Candidate> {
 
 /// Whether any material of the line's scene reflects (or, with `transparent`, refracts) with a
 /// colour other than white: there a colour left out changes the picture.
-fn has_tinted_material(line: &LineScene, transparent: bool) -> bool {
+pub(crate) fn has_tinted_material(line: &LineScene, transparent: bool) -> bool {
     material_colours(line, transparent).any(|colour| colour != glam::Vec3::ONE)
 }
 
@@ -334,13 +369,25 @@ pub(super) const REFRACTION_INDEX: Fault = Fault {
     name: "refraction_index",
     assignment: 4,
     sentence: "My glass bends rays as glass of another index would: the ratio of the indices \
-               inverted when a ray enters or leaves it (where no index is given), or the index \
-               taken as the number given.",
+               η_i / η_t wrong on one side of the glass or both (form 0: inverted both ways; 1: \
+               1 / index both ways, not turned when the ray leaves; 2: index both ways), or the \
+               index taken as the number given.",
     look_for: "Snell's ratio η_i / η_t: entering glass from air it is 1 / index, leaving it, \
                index / 1; tell the two apart by the sign of d·n.",
     candidates: |line: &LineScene| {
         if bounces(line) && has_material(line, true) {
-            only(RayFault::InvertedIndex)
+            Candidate::forms(
+                [
+                    RayFault::InvertedIndex,
+                    RayFault::RatioUnturned {
+                        index_over_one: false,
+                    },
+                    RayFault::RatioUnturned {
+                        index_over_one: true,
+                    },
+                ]
+                .map(Planted::Ray),
+            )
         } else {
             Vec::new()
         }
@@ -352,7 +399,8 @@ pub(super) const TOTAL_INTERNAL_REFLECTION: Fault = Fault {
     assignment: 4,
     sentence: "Past the critical angle I still trace a refracted ray (form 0: along the surface, \
                taking the square root of 0; 1: the root of the absolute value; 2: the ray \
-               unbent).",
+               unbent; 3: the root of the negative number, a ray of NaNs that shows the \
+               background; 4: the ray sent along the mirror direction).",
     look_for: "The refraction: where 1 - η²(1 - (N·I)²) is negative the light is totally \
                reflected inside: trace no refracted ray there (the mirror ray, if the material \
                reflects, is traced as usual).",
@@ -365,6 +413,8 @@ pub(super) const TOTAL_INTERNAL_REFLECTION: Fault = Fault {
                 CriticalAngle::Grazing,
                 CriticalAngle::Absolute,
                 CriticalAngle::Straight,
+                CriticalAngle::NotANumber,
+                CriticalAngle::Mirrored,
             ]
             .map(|way| Planted::Ray(RayFault::PastCriticalAngle(way))),
         )

@@ -12,6 +12,9 @@ pub enum SampleFault {
     JitterWholePixel,
     /// Uniform samples at the cells' lower-left corners, not their centres.
     UniformCorners,
+    /// The uniform grid spread about the pixel's centre by this factor (check's fit: a grid
+    /// from edge to edge of the pixel, a / (s − 1), is s / (s − 1)).
+    UniformSpread(f32),
     /// The filter's radius (or σ) times this.
     FilterScale(f32),
     /// The weighted samples divided by their number, not by the sum of their weights.
@@ -41,7 +44,10 @@ impl SampleFault {
         matches!(
             (self, sampler),
             (SampleFault::JitterWholePixel, Sampler::Jittered(_))
-                | (SampleFault::UniformCorners, Sampler::Uniform(_))
+                | (
+                    SampleFault::UniformCorners | SampleFault::UniformSpread(_),
+                    Sampler::Uniform(_)
+                )
         )
     }
 
@@ -55,6 +61,16 @@ impl SampleFault {
                 for (k, p) in out.iter_mut().enumerate() {
                     let (i, j) = (k as u32 % side, k as u32 / side);
                     *p = Vec2::new(i as f32, j as f32) / side as f32;
+                }
+            }
+            (SampleFault::UniformSpread(by), Sampler::Uniform(n)) => {
+                let side = n.isqrt().max(1);
+                let inside = |x: f32| x.clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+                for (k, p) in out.iter_mut().enumerate() {
+                    let (i, j) = (k as u32 % side, k as u32 / side);
+                    let from_centre = (Vec2::new(i as f32, j as f32) + 0.5) / side as f32 - 0.5;
+                    let spread = 0.5 + by * from_centre;
+                    *p = Vec2::new(inside(spread.x), inside(spread.y));
                 }
             }
             _ => sampler.positions(seed, pixel, out),
@@ -139,7 +155,9 @@ pub(super) const JITTER_WHOLE_PIXEL: Fault = Fault {
 pub(super) const UNIFORM_CORNERS: Fault = Fault {
     name: "uniform_corners",
     assignment: 7,
-    sentence: "My uniform samples sit at the corners of the grid's cells, not their centres.",
+    sentence: "My uniform samples are not at the centres of the grid's cells: at their corners \
+               (or, with a spread, a grid spread wider or narrower about the pixel's centre: \
+               s / (s - 1) is a grid from edge to edge of the pixel, a / (s - 1)).",
     look_for: "The uniform sampler: cell (i, j) of the s × s grid gets ((i + 0.5) / s, (j + 0.5) \
                / s).",
     candidates: |line: &LineScene| {

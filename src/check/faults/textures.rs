@@ -13,6 +13,11 @@ pub enum TextureFault {
     /// The checkerboard's cubes numbered by truncating toward zero, not by flooring: the
     /// cubes either side of each axis plane through the origin are one.
     CheckerTruncated,
+    /// The cell per axis tested as C's `fmod(x, 2) < 1`, true for every negative coordinate.
+    CheckerRemainder,
+    /// The sum of the floors tested as C's `sum % 2 == 1`, which is −1 for a negative odd
+    /// sum.
+    CheckerOddRemainder,
     /// The texture's Transform ignored: the pattern laid over world space.
     MatrixIgnored,
     /// The inverse of the texture's Transform applied to the point.
@@ -34,6 +39,9 @@ pub enum TextureFault {
         frequency: f32,
         /// What Marble's and Wood's amplitude is multiplied by.
         amplitude: f32,
+        /// The frequency of the first octave summed, each octave's weight its inverse: the
+        /// noise is `octave_noise(s p) / s` (2: the octaves summed from the second).
+        noise_scale: f32,
     },
 }
 
@@ -83,6 +91,20 @@ impl TextureFault {
                 }
                 _ => texture.weight(point),
             },
+            TextureFault::CheckerRemainder | TextureFault::CheckerOddRemainder => {
+                let Pattern::Checkerboard = texture.pattern else {
+                    return texture.weight(point);
+                };
+                let p = texture.to_texture.transform_point3(world);
+                // C's fmod and %: the remainder has the sign of the number divided.
+                let odd = if *self == TextureFault::CheckerRemainder {
+                    let first_half = |x: f64| f64::from(x % 2.0 < 1.0);
+                    (first_half(p.x) + first_half(p.y) + first_half(p.z)) % 2.0 == 0.0
+                } else {
+                    (p.x.floor() + p.y.floor() + p.z.floor()) % 2.0 == 1.0
+                };
+                f32::from(u8::from(odd))
+            }
             TextureFault::CheckerSwapped => match texture.pattern {
                 Pattern::Checkerboard => 1.0 - texture.weight(point),
                 _ => texture.weight(point),
@@ -118,13 +140,23 @@ impl TextureFault {
                 octaves,
                 frequency,
                 amplitude,
-            } => with_constants(
-                texture.pattern,
-                *octaves,
-                f64::from(*frequency),
-                f64::from(*amplitude),
-            )
-            .weight(texture.to_texture.transform_point3(world)),
+                noise_scale,
+            } => {
+                let scale = f64::from(*noise_scale);
+                with_constants(
+                    texture.pattern,
+                    *octaves,
+                    f64::from(*frequency),
+                    f64::from(*amplitude),
+                )
+                .weight_with_noise(
+                    texture.to_texture.transform_point3(world),
+                    |q, octaves| {
+                        let q = q * scale;
+                        crate::scene::perlin::octave_noise(q.x, q.y, q.z, octaves) / scale
+                    },
+                )
+            }
             TextureFault::MatrixIgnored => texture.pattern.weight(world),
             TextureFault::MatrixInverted => texture
                 .pattern
@@ -149,15 +181,24 @@ fn textures(line: &LineScene) -> impl Iterator<Item = &TextureSpec> {
 pub(super) const CHECKER_TRUNCATION: Fault = Fault {
     name: "checker_truncation",
     assignment: 6,
-    sentence: "My checkerboard numbers its cubes by truncating the coordinates toward zero \
-               (int(x)), so the cubes either side of x = 0, y = 0 or z = 0 have the same colour.",
+    sentence: "My checkerboard numbers its cubes wrongly where a coordinate is negative (form \
+               0: truncated toward zero, int(x), so the cubes either side of x = 0, y = 0 or \
+               z = 0 have the same colour; 1: fmod(x, 2) < 1 per axis, true for every negative \
+               x; 2: the sum of the floors tested with % 2 == 1, which is -1 for a negative odd \
+               sum).",
     look_for: "The checkerboard's parity: floor(x) + floor(y) + floor(z) of the texture-space \
-               point; a cast to int rounds toward zero, which is not floor for negative values.",
+               point, taken modulo 2 as a number from 0 to 1; a cast to int rounds toward \
+               zero, and C's fmod and % keep the sign of a negative number.",
     candidates: |line: &LineScene| {
         if textures(line).any(|t| t.pattern == Pattern::Checkerboard) {
-            vec![Candidate::plain(Planted::Texture(
-                TextureFault::CheckerTruncated,
-            ))]
+            Candidate::forms(
+                [
+                    TextureFault::CheckerTruncated,
+                    TextureFault::CheckerRemainder,
+                    TextureFault::CheckerOddRemainder,
+                ]
+                .map(Planted::Texture),
+            )
         } else {
             Vec::new()
         }
@@ -196,7 +237,8 @@ pub(super) const NOISE_CONSTANTS: Fault = Fault {
     assignment: 6,
     sentence: "My Noise, Marble or Wood uses other numbers than the file gives (octaves: how \
                many more octaves are summed; frequency and amplitude: how many times the \
-               file's).",
+               file's; the first octave's frequency: 2 where the octaves are summed from the \
+               second).",
     look_for: "The texture's noise: the sum over exactly the file's number of octaves (octave i \
                at 2^i times the frequency and 1/2^i of the weight); Marble is sin(frequency·x + \
                amplitude·noise), Wood the same of the distance from the y axis, with the \
@@ -213,6 +255,7 @@ pub(super) const NOISE_CONSTANTS: Fault = Fault {
                         octaves: more,
                         frequency: 1.0,
                         amplitude: 1.0,
+                        noise_scale: 1.0,
                     }),
                     "octaves",
                     f64::from(more),
@@ -276,12 +319,14 @@ mod tests {
             octaves: 0,
             frequency: 1.0,
             amplitude: 1.0,
+            noise_scale: 1.0,
         };
         assert_eq!(same.weight(&course, p), course.weight(p));
         let other = TextureFault::Constants {
             octaves: -1,
             frequency: 2.0,
             amplitude: 0.5,
+            noise_scale: 1.0,
         };
         assert_eq!(other.weight(&course, p), marble(2, 4.0, 0.75).weight(p));
         // No fewer than no octaves.
@@ -290,7 +335,41 @@ mod tests {
             octaves: -1,
             frequency: 1.0,
             amplitude: 1.0,
+            noise_scale: 1.0,
         };
         assert_eq!(fewer.weight(&noise, p), noise.weight(p));
+    }
+
+    #[test]
+    fn octaves_summed_from_the_second_are_the_noise_at_twice_the_point_halved() {
+        let course = texture(
+            Pattern::Marble {
+                octaves: 4,
+                frequency: 2.0,
+                amplitude: 1.5,
+            },
+            2.0,
+        );
+        let from_second = TextureFault::Constants {
+            octaves: 0,
+            frequency: 1.0,
+            amplitude: 1.0,
+            noise_scale: 2.0,
+        };
+        for p in [Vec3A::new(0.3, -0.7, 1.1), Vec3A::new(-2.2, 0.4, 0.05)] {
+            let q = course.to_texture.transform_point3(p.as_dvec3());
+            let noise: f64 = (1..=4)
+                .map(|i| {
+                    let scale = f64::from(1u32 << i);
+                    crate::scene::perlin::noise(q.x * scale, q.y * scale, q.z * scale) / scale
+                })
+                .sum();
+            let by_hand = 0.5 * ((2.0 * q.x + 1.5 * noise).sin() + 1.0);
+            let weight = from_second.weight(&course, p);
+            assert!(
+                (f64::from(weight) - by_hand).abs() < 1e-6,
+                "{weight} {by_hand}"
+            );
+        }
     }
 }

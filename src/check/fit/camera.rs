@@ -285,6 +285,14 @@ fn names(line: &LineScene, found: Mapping) -> Vec<Named> {
         // Nothing of the view's size or lean.
     } else if near(sx, span(width)) && near(sy, span(height)) && !leans {
         faults.push(fault("pixel_span_minus_one"));
+    } else if (near(sx, span(width)) || near(sx, 1.0))
+        && (near(sy, span(height)) || near(sy, 1.0))
+        && !leans
+    {
+        // One axis's pixels spread over its size - 1, the other's as the course's.
+        faults.push(fault("pixel_span_minus_one"));
+        numbers.push(("scale_x", f64::from(sx)));
+        numbers.push(("scale_y", f64::from(sy)));
     } else if near(sx, sy) && !leans {
         let scale = f64::from(sx + sy) / 2.0;
         let basis = (fault("camera_basis"), ("scale", scale));

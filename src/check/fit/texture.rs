@@ -22,8 +22,10 @@ const MAX_PIXELS: usize = 3000;
 /// A pixel's two materials must differ by this much (in a channel's 0…1) for its weight to be
 /// read.
 const APART: f32 = 0.1;
-/// The octaves tried: the file's, one fewer and one more.
-const OCTAVES: [i32; 3] = [0, -1, 1];
+/// The noises tried: how many octaves more than the file's, and the first octave's frequency
+/// (each octave's weight its inverse): the file's, one octave fewer and one more, and the
+/// octaves summed from the second.
+const NOISES: [(i32, f64); 4] = [(0, 1.0), (-1, 1.0), (1, 1.0), (0, 2.0)];
 /// The frequency's and amplitude's factors searched, evenly in their logarithm...
 const RANGE: (f64, f64) = (0.1, 10.0);
 /// ...at this many points for the frequency (a step of a quarter of a percent)...
@@ -45,8 +47,8 @@ struct Read {
     phase: f64,
     /// The file's amplitude.
     amplitude: f64,
-    /// The noise with each of [`OCTAVES`] more.
-    noise: [f64; 3],
+    /// The noise in each of the ways of [`NOISES`].
+    noise: [f64; NOISES.len()],
 }
 
 /// Weighs every texture at `0` or `1`: the colour of a pixel as each of its materials alone
@@ -87,7 +89,7 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
         (RANGE.0.ln() + (RANGE.1.ln() - RANGE.0.ln()) * i as f64 / (steps - 1) as f64).exp()
     };
     let mut best = (0usize, 1.0, 1.0, course);
-    for octaves in 0..OCTAVES.len() {
+    for octaves in 0..NOISES.len() {
         // The frequency first (the stripes' spacing), then the amplitude (how far the noise
         // bends them) at that frequency, then the frequency again at that amplitude.
         let mut frequency = 1.0;
@@ -104,6 +106,13 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
                 |a| off(octaves, frequency, a),
             );
         }
+        // The amplitude's coarse step (2%) refined around its best, a tenth of a percent.
+        let step = (RANGE.1 / RANGE.0).ln() / (AMPLITUDE_STEPS - 1) as f64;
+        let around = amplitude;
+        amplitude = least(
+            (-20..=20).map(|k| around * (step * f64::from(k) / 20.0).exp()),
+            |a| off(octaves, frequency, a),
+        );
         let value = off(octaves, frequency, amplitude);
         if value < best.3 {
             best = (octaves, frequency, amplitude, value);
@@ -122,10 +131,13 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
         amplitude = round;
     }
     let fault = FAULTS.iter().find(|f| f.name == "noise_constants")?;
-    let more = OCTAVES[octaves];
+    let (more, noise_scale) = NOISES[octaves];
     let mut numbers = Vec::new();
     if more != 0 {
         numbers.push(("octaves", f64::from(more)));
+    }
+    if noise_scale != 1.0 {
+        numbers.push(("first octave's frequency", noise_scale));
     }
     if frequency != 1.0 {
         numbers.push(("frequency", frequency));
@@ -140,6 +152,7 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
         octaves: more,
         frequency: frequency as f32,
         amplitude: amplitude as f32,
+        noise_scale: noise_scale as f32,
     });
     Some((plant, (vec![fault], numbers)))
 }
@@ -232,8 +245,10 @@ fn read_weights(line: &LineScene, shaded: &Image) -> Vec<Read> {
             weight: f64::from(weight),
             phase: frequency * along,
             amplitude,
-            noise: OCTAVES
-                .map(|more| octave_noise(p.x, p.y, p.z, octaves.saturating_add_signed(more))),
+            noise: NOISES.map(|(more, scale)| {
+                let q = p * scale;
+                octave_noise(q.x, q.y, q.z, octaves.saturating_add_signed(more)) / scale
+            }),
         });
     }
     read

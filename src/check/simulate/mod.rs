@@ -25,8 +25,8 @@ use crate::shade::Image;
 pub use draws::{drawn_by_chance, spreads};
 use draws::{seeded_spreads, slots_of};
 
-/// At most this many renders for one line, pairs included (a course picture renders in
-/// milliseconds)...
+/// At most this many renders for one line, singles and pairs together, where the singles leave
+/// room (a course picture renders in milliseconds; every single is tried)...
 const MAX_RENDERS: usize = 64;
 /// ...but at least this many pairs for each picture no single fault explains...
 const MIN_PAIRS: usize = 24;
@@ -800,7 +800,9 @@ fn simulate_here(
             rows: None,
         })
     };
-    // Every fault's candidates, in the library's order, as many as the renders allowed.
+    // Every fault's candidates, in the library's order: each is screened by a few rows before
+    // it is rendered whole, so none is left out (a cap here once dropped the library's last
+    // faults on a line that can show most of the others).
     let candidates: Vec<(&'static Fault, Candidate)> = FAULTS
         .iter()
         .flat_map(|fault| {
@@ -808,7 +810,6 @@ fn simulate_here(
                 .into_iter()
                 .map(move |candidate| (fault, candidate))
         })
-        .take(MAX_RENDERS)
         .collect();
     // The likely first: where a fault that explained pictures before in this run draws each
     // failing picture itself, and the line's kept record says which faults draw a picture
