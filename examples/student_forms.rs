@@ -8,7 +8,7 @@
 //! FORM is one of the names in [`Form::named`]; the rest is the course's command line.
 
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 
 use raycast::Scene;
 use raycast::accel::Hit;
@@ -165,6 +165,24 @@ enum Form {
     NormalByObjectMatrix,
     /// The nearest hit searched from t = 50 down: farther surfaces lost.
     FarthestFifty,
+    /// Camera rays started at the depth picture's near end (the command line's TMIN), as if
+    /// it bounded the search: what is nearer is cut away.
+    DepthNearAsStart(f32),
+    /// The depth picture's grey cast to `unsigned char` unclamped: past either end it wraps.
+    DepthWraps,
+    /// The highlight faded by `N.L` whether or not the line asks for `-specular_fix`.
+    SpecularAlwaysFaded,
+    /// The recursion's test `depth <= bounces` with the depth counted from 0: a level more.
+    OneBounceMore,
+    /// Uniform samples at the upper-right corners of the grid's cells, `(a + 1) / s`.
+    UniformUpperCorners,
+    /// The filter's weighted sum divided by the pixel's own number of samples.
+    WeightsOverPixelSamples,
+    /// The texture's point taken through the inverse of its Transform.
+    TextureMatrixInverted,
+    /// Shadow rays toward point lights made with the unnormalised `light - point` and tested
+    /// up to t = the light's distance: the distance squared along a unit direction.
+    ShadowToDistanceSquared,
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
     /// out in double precision (`Vec3d`), each then rounded to float.
     DoublePrecision,
@@ -176,6 +194,7 @@ impl Form {
         file_up: Vec3A,
         file_direction: Vec3A,
         (nearest, farthest): (f32, f32),
+        depth_near: f32,
     ) -> Option<Form> {
         Some(match name {
             "tangent_per_axis" => Form::TangentPerAxis,
@@ -208,6 +227,14 @@ impl Form {
             "absolute_epsilon_along_ray" => Form::AbsoluteEpsilonAlongRay,
             "gaussian_variance_as_sigma" => Form::GaussianVarianceAsSigma,
             "rows_from_the_top" => Form::RowsFromTheTop,
+            "depth_near_as_start" => Form::DepthNearAsStart(depth_near),
+            "depth_wraps" => Form::DepthWraps,
+            "specular_always_faded" => Form::SpecularAlwaysFaded,
+            "one_bounce_more" => Form::OneBounceMore,
+            "uniform_upper_corners" => Form::UniformUpperCorners,
+            "weights_over_pixel_samples" => Form::WeightsOverPixelSamples,
+            "texture_matrix_inverted" => Form::TextureMatrixInverted,
+            "shadow_to_distance_squared" => Form::ShadowToDistanceSquared,
             "blue_green_red" => Form::BlueGreenRed,
             "bytes_wrap" => Form::BytesWrap,
             "normals_clamped_at_zero" => Form::NormalsClampedAtZero,
@@ -336,6 +363,7 @@ impl TraceSeam for Form {
     fn shadow_end(&self, distance: f32) -> f32 {
         match self {
             Form::ShadowToInfinity => f32::INFINITY,
+            Form::ShadowToDistanceSquared if distance.is_finite() => distance * distance,
             Form::ShadowToOneMinusEpsilon if distance.is_finite() => 1.0 - 1e-4,
             _ => raycast::trace::shadow_end(distance),
         }
@@ -345,6 +373,12 @@ impl TraceSeam for Form {
         match self {
             Form::MarbleInTurns => surface.weigh(point, marble_in_turns),
             Form::NoiseFromSecondOctave => surface.weigh(point, noise_from_second_octave),
+            Form::TextureMatrixInverted => {
+                surface.weigh(point, |texture, point| {
+                    let inverse = texture.to_texture.inverse();
+                    texture.pattern.weight(inverse.transform_point3(point.as_dvec3()))
+                });
+            }
             Form::TextureMatrixIgnored => {
                 surface.weigh(point, |texture, point| {
                     texture.pattern.weight(point.as_dvec3())
@@ -393,6 +427,7 @@ impl TraceSeam for Form {
     fn bounces(&self, bounces: u32) -> u32 {
         match self {
             Form::DepthCountedFromOne => bounces.saturating_sub(1),
+            Form::OneBounceMore => bounces + 1,
             _ => bounces,
         }
     }
@@ -420,6 +455,9 @@ impl TraceSeam for Form {
                 normal
             };
             return shade(towards, falloff, Highlight::Course);
+        }
+        if let Form::SpecularAlwaysFaded = self {
+            return shade(normal, SpecularFalloff::Fade, Highlight::Course);
         }
         let shaded = shade(normal, falloff, Highlight::Course);
         match self {
@@ -499,9 +537,11 @@ impl TraceSeam for Form {
         let hit = hit?;
         match self {
             Form::FarthestFifty if hit.t * ray.direction.length() > 50.0 => return None,
+            Form::DepthNearAsStart(near) if hit.t * ray.direction.length() < *near => {
+                return scene.world.intersect(ray, near / ray.direction.length());
+            }
             Form::NormalByObjectMatrix => {
-                let Some((object_normal, Some(transform))) =
-                    scene.world.normal_origin(ray, t_min)
+                let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
                 else {
                     return Some(hit);
                 };
@@ -566,6 +606,10 @@ impl PictureSeam for Form {
             Form::DepthFromNearest(nearest) => {
                 (1.0 - (t - nearest) / (t_far - t_near)).clamp(0.0, 1.0)
             }
+            Form::DepthWraps => {
+                let raw = 1.0 - (t - t_near) / (t_far - t_near);
+                f32::from((raw * 255.0) as i32 as u8) / 255.0
+            }
             Form::DepthToFarthest(farthest) => {
                 (1.0 - (t - t_near) / (farthest - t_near)).clamp(0.0, 1.0)
             }
@@ -582,6 +626,14 @@ impl SampleSeam for Form {
                 for (k, p) in out.iter_mut().enumerate() {
                     let (a, b) = ((k as u32 % side) as f32, (k as u32 / side) as f32);
                     *p = Vec2::new((a * step).min(ONE_BELOW), (b * step).min(ONE_BELOW));
+                }
+            }
+            (Form::UniformUpperCorners, Sampler::Uniform(n)) => {
+                let side = n.isqrt().max(1);
+                for (k, p) in out.iter_mut().enumerate() {
+                    let (a, b) = ((k as u32 % side) as f32, (k as u32 / side) as f32);
+                    let corner = |c: f32| ((c + 1.0) / side as f32).min(ONE_BELOW);
+                    *p = Vec2::new(corner(a), corner(b));
                 }
             }
             (Form::JitterAnywhere, Sampler::Jittered(n)) => {
@@ -605,6 +657,7 @@ impl SampleSeam for Form {
     fn weighted_mean(&self, sum: Vec3A, total: f32, count: u32) -> Vec3A {
         match self {
             Form::WeightsOverCount => sum / count as f32,
+            Form::WeightsOverPixelSamples => sum / PIXEL_SAMPLES.load(Ordering::Relaxed) as f32,
             _ => sum / total,
         }
     }
@@ -639,6 +692,9 @@ fn marble_in_turns(texture: &Texture, point: Vec3A) -> f32 {
 /// Whether the student's bytes are rounded to the nearest (`FORM+rounded`), not truncated as
 /// the course's: a second, harmless difference beside the form's mistake.
 static ROUNDED: AtomicBool = AtomicBool::new(false);
+
+/// The line's samples a pixel (the student divides by it).
+static PIXEL_SAMPLES: AtomicU32 = AtomicU32::new(1);
 
 /// Where `point` falls between a texture's materials, its noise summed from the second octave.
 fn noise_from_second_octave(texture: &Texture, point: Vec3A) -> f32 {
@@ -712,8 +768,10 @@ fn run(args: Vec<String>) -> Result<(), String> {
             .map_err(|e| e.to_string())?;
     }
     let hits = hit_range(&scene, options.width, options.height);
-    let form = Form::named(form, camera.up.into(), raw_direction, hits)
+    let depth_near = options.depth.as_ref().map_or(0.0, |&(near, _, _)| near);
+    let form = Form::named(form, camera.up.into(), raw_direction, hits, depth_near)
         .ok_or_else(|| format!("unknown form '{form}'"))?;
+    PIXEL_SAMPLES.store(options.sampling.sampler.samples(), Ordering::Relaxed);
     let pending = reserve_outputs(&options).map_err(|e| e.to_string())?;
     render_to_files(&options, &scene, form, pending).map_err(|e| e.to_string())?;
     Ok(())

@@ -92,13 +92,17 @@ fn named_in(failing: &[String], form: &str, fault: &str) -> Vec<String> {
     let failing = failing.to_vec();
     for line in &failing {
         assert!(
-            // Graded against the staff's image, or raycast's render where there is none.
-            ["% of pixels off", "against raycast's render"]
-                .iter()
-                .any(
-                    |graded| line.contains(&format!("{graded}: {fault}: raycast's render"))
-                        || line.contains(&format!("{graded}: {fault}, "))
-                ),
+            // Graded against the staff's image, or raycast's render where there is none, or
+            // the spread of its renders where the picture is drawn by chance.
+            [
+                "% of pixels off",
+                "against raycast's render",
+                "with several seeds"
+            ]
+            .iter()
+            .any(|graded| line
+                .contains(&format!("{graded}: {fault}: raycast's render"))
+                || line.contains(&format!("{graded}: {fault}, "))),
             "{form}: {line}\n{}",
             failing.join("\n")
         );
@@ -802,5 +806,185 @@ fn octaves_summed_from_the_second_are_the_noise_constants_with_the_first_octaves
             "first octave's frequency 2)"
         ),
         2
+    );
+}
+
+#[test]
+fn picture_mistakes_written_their_own_way_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // Each with bytes rounded to the nearest beside it.
+    assert_eq!(
+        conformance_named(
+            "blue_green_red+rounded",
+            &["scene2_03_colored_lights.txt", "scene1_03.txt"],
+            "channel_swap",
+            ""
+        ),
+        3
+    );
+    assert_eq!(
+        conformance_named(
+            "normals_clamped_at_zero+rounded",
+            &["scene2_04_perspective.txt", "scene2_06_plane.txt"],
+            "normals_signed",
+            "mapping 0)"
+        ),
+        2
+    );
+    assert_eq!(
+        conformance_named(
+            "misses_in_background+rounded",
+            &[
+                "scene1_02.txt",
+                "scene1_03.txt",
+                "scene2_04_perspective.txt"
+            ],
+            "picture_background",
+            ""
+        ),
+        3
+    );
+}
+
+#[test]
+fn back_faces_written_their_own_way_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let lines = [
+        "scene2_05_inside_sphere.txt",
+        "scene2_07_sphere_triangles.txt",
+    ];
+    for (form, fault) in [
+        ("back_faces_always_black", "shade_back_ignored"),
+        ("back_faces_always_shaded", "back_faces_lit"),
+        ("back_faces_ambient", "ambient_on_back_faces"),
+    ] {
+        assert_eq!(conformance_named(form, &lines, fault, ""), 2, "{form}");
+    }
+}
+
+#[test]
+fn the_shading_sums_mistakes_written_their_own_way_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // The ambient term only in a scene without lights: none where there are lights.
+    assert_eq!(
+        conformance_named(
+            "ambient_only_without_lights",
+            &[
+                "scene2_02_ambient.txt",
+                "scene2_06_plane.txt",
+                "scene2_08_cube.txt"
+            ],
+            "ambient_missing",
+            ""
+        ),
+        3
+    );
+    assert_eq!(
+        conformance_named(
+            "ambient_times_lights",
+            &["scene2_03_colored_lights.txt"],
+            "ambient_per_light",
+            ""
+        ),
+        1
+    );
+    // Each light's terms with the normal turned to the light: |N·L|.
+    assert_eq!(
+        conformance_named(
+            "normal_turned_to_the_light",
+            &["scene2_01_diffuse.txt", "scene2_03_colored_lights.txt"],
+            "shade_back_abs",
+            ""
+        ),
+        2
+    );
+}
+
+#[test]
+fn the_first_hits_mistakes_written_their_own_way_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "hits_behind_the_eye",
+            &["scene2_06_plane.txt"],
+            "t_min_ignored",
+            ""
+        ),
+        3
+    );
+    assert_eq!(
+        conformance_named(
+            "normal_by_object_matrix",
+            &[
+                "scene2_11_squashed_sphere.txt",
+                "scene2_15_crazy_transforms.txt"
+            ],
+            "normal_transform",
+            ""
+        ),
+        3
+    );
+    // A search from t = 50: not one of the listed limits, fitted.
+    assert_eq!(
+        conformance_named(
+            "farthest_fifty",
+            &["scene2_06_plane.txt"],
+            "t_limit",
+            "limit 50)"
+        ),
+        2
+    );
+}
+
+#[test]
+fn the_later_stages_mistakes_written_their_own_way_are_named() {
+    if common::later_dir("the fitted forms of assignments 4 and 7").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "bytes_wrap",
+            &["output4_05.tga", "output4_12.tga"],
+            "no_clamp",
+            ""
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "shadow_to_infinity+rounded",
+            &["scene4_10_point_light_distance.txt"],
+            "shadow_past_light",
+            ""
+        ),
+        1
+    );
+    // The uniform lines' pictures and the random lines' alike (those graded against the
+    // spread of raycast's renders with several seeds).
+    assert_eq!(
+        later_named(
+            "weights_over_count",
+            &["output7_01c_low_res.tga", "output7_01f_low_res.tga"],
+            "filter_weights",
+            "form 0)"
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "texture_matrix_ignored+rounded",
+            &["scene6_13_checkerboard.txt"],
+            "texture_transform",
+            ""
+        ),
+        1
     );
 }

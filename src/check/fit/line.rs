@@ -118,8 +118,15 @@ pub fn fit_line<T: Trial>(
     // reach), for every picture still unexplained.
     let left: Vec<usize> = (0..pictures.len()).filter(|&k| !explained[k]).collect();
     if !left.is_empty() {
-        for (plant, named) in fit_parameters(line, |plant| trial.distance(plant, &left))? {
-            prove(trial, plant, &named, explained)?;
+        for alternatives in fit_parameters(line, |plant| trial.distance(plant, &left))? {
+            // A family's numbers in turn, until one explains a picture.
+            for (plant, named) in alternatives {
+                let before = explained.iter().filter(|&&e| e).count();
+                prove(trial, plant, &named, explained)?;
+                if explained.iter().filter(|&&e| e).count() > before {
+                    break;
+                }
+            }
         }
     }
     // The camera, last (its search renders the line hundreds of times), for the pictures whose

@@ -1,4 +1,5 @@
-//! Numbers of the stages past the first ray, fitted one family at a time: how near shadow and
+//! Numbers of the stages past the first ray, fitted one family at a time: how far a camera
+//! ray's search for the nearest hit starts (a finite "infinity"), how near shadow and
 //! secondary rays start to their surface (a t along the ray, or a distance along the normal, up
 //! to the course's largest allowed epsilon: nearer shadows and reflects the surface itself),
 //! glass's index, the weight below which rays are cut off, the mirror direction's factor, the
@@ -9,8 +10,8 @@
 
 use super::camera::Named;
 use crate::check::faults::{
-    FAULTS, LineScene, Plant, Planted, RayFault, SampleFault, bounces, glass_index, has_material,
-    has_tinted_material,
+    FAULTS, HitFault, LineScene, Plant, Planted, RayFault, SampleFault, bounces, glass_index,
+    has_material, has_tinted_material,
 };
 use crate::sample::Sampler;
 
@@ -37,7 +38,15 @@ fn leaves_surfaces(line: &LineScene) -> bool {
     line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0)
 }
 
-const FAMILIES: [Family; 9] = [
+const FAMILIES: [Family; 10] = [
+    Family {
+        fault: "t_limit",
+        parameter: "limit",
+        range: (0.5, 1e5),
+        course: |_| None,
+        applies: |line| line.has_image() || line.has_depth_or_normals(),
+        plant: |limit| Planted::Hit(HitFault::Limit(limit)),
+    },
     Family {
         fault: "shadow_acne",
         parameter: "least t",
@@ -132,13 +141,14 @@ const ROUND_SHARE: f64 = 0.02;
 /// A fit within this factor of the course's number is the course's.
 const SAME: f64 = 1.02;
 
-/// For each family that can change the line, the number whose render is least `distance` from
-/// the pictures, with the faults it names, where it is nearer than the family's other numbers
-/// by something (a family that changes nothing the pictures show names nothing).
+/// For each family that can change the line, the numbers whose render is least `distance` from
+/// the pictures, with the faults they name, where they are nearer than the family's other
+/// numbers by something (a family that changes nothing the pictures show names nothing): the
+/// alternatives to prove in turn, where the rows measured cannot tell several numbers apart.
 pub fn fit_parameters<E>(
     line: &LineScene,
     mut distance: impl FnMut(Plant) -> Result<f64, E>,
-) -> Result<Vec<(Plant, Named)>, E> {
+) -> Result<Vec<Vec<(Plant, Named)>>, E> {
     let mut fitted = Vec::new();
     for family in FAMILIES.iter().filter(|f| (f.applies)(line)) {
         let Some(fault) = FAULTS.iter().find(|f| f.name == family.fault) else {
@@ -179,11 +189,15 @@ pub fn fit_parameters<E>(
                 }
             }
         }
-        // Where every number from the best on toward the course's draws as near (a grid of
-        // samples clamped to the pixel's edge), the one nearest the course's: the least change
-        // that explains the pictures.
-        if let Some(course) = (family.course)(line).map(into) {
-            let (mut inside, mut outside) = (at, course);
+        // The numbers either side of the best that draw as near over the rows measured: where
+        // those rows cannot tell them apart (a search's limit between two rows' worth of a
+        // horizon, a grid of samples clamped to the pixel's edge), any of them may be the one.
+        let mut edge = |toward: f64| -> Result<f64, E> {
+            let mut inside = at;
+            let mut outside = (at + toward * step).clamp(low, high);
+            if measure(from(outside))? <= value {
+                return Ok(outside);
+            }
             for _ in 0..REFINE {
                 let middle = (inside + outside) / 2.0;
                 if measure(from(middle))? <= value {
@@ -192,45 +206,103 @@ pub fn fit_parameters<E>(
                     outside = middle;
                 }
             }
-            at = inside;
-        }
-        // The number as a person would write it, where the render is as near for it: one
-        // significant digit, a fraction of small numbers (4/3 of the radius), two or three digits.
-        let mut number = from(at);
-        let fraction = (1..=8u32).find_map(|d| {
-            let n = (number * f64::from(d)).round();
-            let close = n > 0.0 && (n / f64::from(d) / number - 1.0).abs() <= 0.02;
-            close.then(|| n / f64::from(d))
-        });
-        let rounder = [Some(significant(number, 1)), fraction]
-            .into_iter()
-            .chain([2, 3].map(|digits| Some(significant(number, digits))))
-            .flatten();
-        // A rounding takes the number no further from the course's than a few hundredths of
-        // it, past where it stopped.
-        let no_further = |round: f64| {
-            (family.course)(line).is_none_or(|course| {
-                (round - number).abs() <= ROUND_SHARE * number.abs()
-                    || (into(round) - into(course)).abs() <= (into(number) - into(course)).abs()
-            })
+            Ok(inside)
         };
-        for round in rounder.filter(|&round| no_further(round)) {
-            if measure(round)? <= value * (1.0 + ROUND_SHARE) {
-                number = round;
-                break;
-            }
-        }
-        if (family.course)(line).is_some_and(|course| {
-            number * course > 0.0 && number / course <= SAME && course / number <= SAME
-        }) {
+        let flat = (from(edge(-1.0)?), from(edge(1.0)?));
+        let course = (family.course)(line);
+        // The course's own number among them: the family explains nothing.
+        if course.is_some_and(|c| flat.0 <= c && c <= flat.1) {
             continue;
         }
-        fitted.push((
-            Plant::one((family.plant)(number as f32)),
-            (vec![fault], vec![(family.parameter, number)]),
-        ));
+        let mut numbers = Vec::new();
+        // Nearest the course's first (the least change that explains the pictures), then the
+        // roundest of them, then the best as a person would write it.
+        if let Some(course) = course {
+            let near = if course < flat.0 { flat.0 } else { flat.1 };
+            numbers.push(written(near, value, Some(course), &mut measure)?);
+        }
+        numbers.extend(roundest_between(flat.0, flat.1));
+        numbers.push(written(from(at), value, course, &mut measure)?);
+        let mut tried: Vec<f64> = Vec::new();
+        let mut alternatives = Vec::new();
+        for number in numbers {
+            let same_as_course = course.is_some_and(|course| {
+                number * course > 0.0 && number / course <= SAME && course / number <= SAME
+            });
+            if same_as_course || tried.contains(&number) {
+                continue;
+            }
+            tried.push(number);
+            alternatives.push((
+                Plant::one((family.plant)(number as f32)),
+                (vec![fault], vec![(family.parameter, number)]),
+            ));
+        }
+        if !alternatives.is_empty() {
+            fitted.push(alternatives);
+        }
     }
     Ok(fitted)
+}
+
+/// `number` as a person would write it, where the render is as near for it (within
+/// [`ROUND_SHARE`] of `value`) and it is no further from the `course`'s number than a few
+/// hundredths of it: one significant digit, a fraction of small numbers (4/3 of the radius),
+/// two or three digits.
+fn written<E>(
+    number: f64,
+    value: f64,
+    course: Option<f64>,
+    measure: &mut impl FnMut(f64) -> Result<f64, E>,
+) -> Result<f64, E> {
+    let fraction = (1..=8u32).find_map(|d| {
+        let n = (number * f64::from(d)).round();
+        let close = n > 0.0 && (n / f64::from(d) / number - 1.0).abs() <= 0.02;
+        close.then(|| n / f64::from(d))
+    });
+    let rounder = [Some(significant(number, 1)), fraction]
+        .into_iter()
+        .chain([2, 3].map(|digits| Some(significant(number, digits))))
+        .flatten();
+    let no_further = |round: f64| {
+        course.is_none_or(|course| {
+            (round - number).abs() <= ROUND_SHARE * number.abs()
+                || (round - course).abs() <= (number - course).abs()
+        })
+    };
+    for round in rounder.filter(|&round| no_further(round)) {
+        if measure(round)? <= value * (1.0 + ROUND_SHARE) {
+            return Ok(round);
+        }
+    }
+    Ok(number)
+}
+
+/// The roundest numbers from `low` to `high`: those of the fewest significant digits (up to
+/// three), at most four, the nearest their middle first.
+fn roundest_between(low: f64, high: f64) -> Vec<f64> {
+    if low <= 0.0 && 0.0 <= high {
+        return vec![0.0];
+    }
+    let middle = (low + high) / 2.0;
+    let magnitude = low.abs().max(high.abs()).log10().floor() as i32;
+    for digits in 1..=3 {
+        let exponent = magnitude - digits + 1;
+        let step = 10f64.powi(exponent);
+        // k / 10^n, not k × 0.1^n, so that 14 tenths is 1.4.
+        let at = |k: i64| match exponent {
+            e if e >= 0 => k as f64 * step,
+            e => k as f64 / 10f64.powi(-e),
+        };
+        let (first, last) = ((low / step).ceil() as i64, (high / step).floor() as i64);
+        if first <= last {
+            let mut round: Vec<f64> = (first..=last).map(at).collect();
+            round.sort_by(|a, b| (a - middle).abs().total_cmp(&(b - middle).abs()));
+            round.truncate(4);
+            return round;
+        }
+    }
+    Vec::new()
 }
 
 /// `x` to `digits` significant digits.
@@ -245,6 +317,16 @@ fn significant(x: f64, digits: i32) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_roundest_numbers_of_a_range() {
+        // A search's limit the measured rows cannot place closer than 49.996 to 60.02: 50 and
+        // 60 are as round, both are tried.
+        assert_eq!(roundest_between(49.996, 60.02), [60.0, 50.0]);
+        assert_eq!(roundest_between(1.38, 1.47), [1.4]);
+        assert_eq!(roundest_between(-0.3, 0.2), [0.0]);
+        assert_eq!(roundest_between(1.2345, 1.2346), Vec::<f64>::new());
+    }
 
     #[test]
     fn significant_digits() {
@@ -290,7 +372,7 @@ mod tests {
         })
         .unwrap();
         assert_eq!(fitted.len(), 1);
-        let (faults, numbers) = &fitted[0].1;
+        let (faults, numbers) = &fitted[0][0].1;
         assert_eq!(faults[0].name, "shadow_acne");
         assert_eq!(numbers[..], [("least t", 1e-6)]);
     }
@@ -314,7 +396,7 @@ mod tests {
         })
         .unwrap();
         assert_eq!(fitted.len(), 1);
-        let (faults, numbers) = &fitted[0].1;
+        let (faults, numbers) = &fitted[0][0].1;
         assert_eq!(faults[0].name, "uniform_corners");
         assert_eq!(numbers[..], [("spread", 1.5)]);
     }
@@ -339,6 +421,7 @@ mod tests {
         .unwrap();
         let named: Vec<_> = fitted
             .iter()
+            .flatten()
             .map(|(_, (faults, numbers))| (faults[0].name, numbers.clone()))
             .collect();
         assert_eq!(
