@@ -376,7 +376,9 @@ impl TraceSeam for Form {
             Form::TextureMatrixInverted => {
                 surface.weigh(point, |texture, point| {
                     let inverse = texture.to_texture.inverse();
-                    texture.pattern.weight(inverse.transform_point3(point.as_dvec3()))
+                    texture
+                        .pattern
+                        .weight(inverse.transform_point3(point.as_dvec3()))
                 });
             }
             Form::TextureMatrixIgnored => {

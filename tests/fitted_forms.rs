@@ -988,3 +988,111 @@ fn the_later_stages_mistakes_written_their_own_way_are_named() {
         1
     );
 }
+
+#[test]
+fn the_depth_pictures_mistakes_written_their_own_way_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // The camera rays started at the depth's near end: the plane nearer than 8 cut away.
+    assert_eq!(
+        conformance_named(
+            "depth_near_as_start",
+            &["scene2_06_plane.txt"],
+            "depth_tmin",
+            "t_min 8)"
+        ),
+        3
+    );
+    assert_eq!(
+        conformance_named("depth_wraps", &["scene2_06_plane.txt"], "depth_clamp", ""),
+        1
+    );
+}
+
+#[test]
+fn more_of_the_later_stages_mistakes_written_their_own_way_are_named() {
+    if common::later_dir("the fitted forms of assignments 3 to 7").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "specular_always_faded+rounded",
+            &["output3_09.tga", "output3_12.tga"],
+            "specular_fix",
+            ""
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "one_bounce_more",
+            &["scene4_04_reflective_sphere.txt"],
+            "bounces_off_by_one",
+            "bounces 1)"
+        ),
+        3
+    );
+    // (a + 1) / s: the grid moved half a cell up and right.
+    assert_eq!(
+        later_named(
+            "uniform_upper_corners",
+            &["output7_01d_low_res.tga", "output7_02d.tga"],
+            "uniform_corners",
+            "offset 0.5)"
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "weights_over_pixel_samples",
+            &["output7_01b_low_res.tga", "output7_01e_low_res.tga"],
+            "filter_weights",
+            "form 1)"
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "texture_matrix_inverted",
+            &["scene6_13_checkerboard.txt"],
+            "texture_transform",
+            "form 1)"
+        ),
+        1
+    );
+    // light - point unnormalised, tested to the distance: as far as the distance squared,
+    // which in scene4_10 (every light further than a unit) draws as a ray past the light does:
+    // both named, the line cannot tell them apart.
+    assert_eq!(
+        later_named(
+            "shadow_to_distance_squared",
+            &["scene4_10_point_light_distance.txt"],
+            "shadow_past_light",
+            "shadow_past_light, shadow_reach: "
+        ),
+        1
+    );
+}
+
+#[test]
+fn jittered_samples_anywhere_from_a_generator_of_the_students_own_are_the_jitter_whole_pixel() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    // Its pictures are drawn by chance as no render of raycast's is: they lie within the
+    // spread of raycast's renders with the fault planted and several seeds, and outside that
+    // of its jittered renders; and no fault whose render is one more draw as far from them as
+    // raycast's own is named beside it.
+    let failing = later_named(
+        "jitter_anywhere",
+        &[
+            "output7_01h_low_res.tga",
+            "output7_02h.tga",
+            "output7_02i.tga",
+        ],
+        "jitter_whole_pixel",
+        "several seeds: jitter_whole_pixel: raycast's render",
+    );
+    assert_eq!(failing, 3);
+}

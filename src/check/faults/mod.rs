@@ -301,6 +301,12 @@ impl Plant {
         })
     }
 
+    /// Whether it places `sampler`'s samples otherwise than raycast does: its pictures of a
+    /// line drawn by chance are spread otherwise too.
+    pub fn places_samples(&self, sampler: Sampler) -> bool {
+        self.samples().any(|s| s.places(sampler))
+    }
+
     fn samples(&self) -> impl Iterator<Item = SampleFault> + '_ {
         self.each().filter_map(|p| match p {
             Planted::Sample(s) => Some(s),

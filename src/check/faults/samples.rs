@@ -15,6 +15,9 @@ pub enum SampleFault {
     /// The uniform grid spread about the pixel's centre by this factor (check's fit: a grid
     /// from edge to edge of the pixel, a / (s − 1), is s / (s − 1)).
     UniformSpread(f32),
+    /// The uniform grid moved by this many of its cells along each axis (check's fit: the
+    /// cells' lower-left corners are −½, their upper-right ones ½).
+    UniformOffset(f32),
     /// The filter's radius (or σ) times this.
     FilterScale(f32),
     /// The weighted samples divided by their number, not by the sum of their weights.
@@ -45,7 +48,9 @@ impl SampleFault {
             (self, sampler),
             (SampleFault::JitterWholePixel, Sampler::Jittered(_))
                 | (
-                    SampleFault::UniformCorners | SampleFault::UniformSpread(_),
+                    SampleFault::UniformCorners
+                        | SampleFault::UniformSpread(_)
+                        | SampleFault::UniformOffset(_),
                     Sampler::Uniform(_)
                 )
         )
@@ -71,6 +76,15 @@ impl SampleFault {
                     let from_centre = (Vec2::new(i as f32, j as f32) + 0.5) / side as f32 - 0.5;
                     let spread = 0.5 + by * from_centre;
                     *p = Vec2::new(inside(spread.x), inside(spread.y));
+                }
+            }
+            (SampleFault::UniformOffset(by), Sampler::Uniform(n)) => {
+                let side = n.isqrt().max(1);
+                let inside = |x: f32| x.clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+                for (k, p) in out.iter_mut().enumerate() {
+                    let (i, j) = (k as u32 % side, k as u32 / side);
+                    let moved = (Vec2::new(i as f32, j as f32) + 0.5 + by) / side as f32;
+                    *p = Vec2::new(inside(moved.x), inside(moved.y));
                 }
             }
             _ => sampler.positions(seed, pixel, out),
@@ -156,8 +170,10 @@ pub(super) const UNIFORM_CORNERS: Fault = Fault {
     name: "uniform_corners",
     assignment: 7,
     sentence: "My uniform samples are not at the centres of the grid's cells: at their corners \
-               (or, with a spread, a grid spread wider or narrower about the pixel's centre: \
-               s / (s - 1) is a grid from edge to edge of the pixel, a / (s - 1)).",
+               (with an offset, the grid moved by that many cells: -0.5 the lower-left corners, \
+               0.5 the upper-right; with a spread, a grid spread wider or narrower about the \
+               pixel's centre: s / (s - 1) is a grid from edge to edge of the pixel, a / (s - \
+               1)).",
     look_for: "The uniform sampler: cell (i, j) of the s × s grid gets ((i + 0.5) / s, (j + 0.5) \
                / s).",
     candidates: |line: &LineScene| {

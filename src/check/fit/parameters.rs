@@ -38,7 +38,7 @@ fn leaves_surfaces(line: &LineScene) -> bool {
     line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0)
 }
 
-const FAMILIES: [Family; 10] = [
+const FAMILIES: [Family; 11] = [
     Family {
         fault: "t_limit",
         parameter: "limit",
@@ -120,6 +120,14 @@ const FAMILIES: [Family; 10] = [
         course: |_| Some(1.0),
         applies: |line| matches!(line.options.sampling.sampler, Sampler::Uniform(n) if n > 1),
         plant: |by| Planted::Sample(SampleFault::UniformSpread(by)),
+    },
+    Family {
+        fault: "uniform_corners",
+        parameter: "offset",
+        range: (-1.0, 1.0),
+        course: |_| Some(0.0),
+        applies: |line| matches!(line.options.sampling.sampler, Sampler::Uniform(n) if n > 1),
+        plant: |by| Planted::Sample(SampleFault::UniformOffset(by)),
     },
     Family {
         fault: "filter_radius",
@@ -227,7 +235,8 @@ pub fn fit_parameters<E>(
         let mut alternatives = Vec::new();
         for number in numbers {
             let same_as_course = course.is_some_and(|course| {
-                number * course > 0.0 && number / course <= SAME && course / number <= SAME
+                (number * course > 0.0 && number / course <= SAME && course / number <= SAME)
+                    || (course == 0.0 && number.abs() < 1e-3)
             });
             if same_as_course || tried.contains(&number) {
                 continue;

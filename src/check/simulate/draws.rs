@@ -62,6 +62,40 @@ pub(super) fn seeded_spreads(
         .collect())
 }
 
+/// For each of the line's images, where `plant` places the samples of a line drawn by chance
+/// otherwise than raycast does (a jittered sampler's samples anywhere in the pixel), the spread
+/// of the line's renders under `plant` with [`chance::seeds`] (each kept in the cache): a
+/// student's picture drawn so, with any generator, lies within it, where it lies outside the
+/// spread of raycast's own samples. `None` for the images not traced from samples.
+pub(super) fn plant_spreads(
+    kept: &cache::LineRenders,
+    prepared: &Prepared,
+    plant: crate::check::faults::Plant,
+    stop: &'static StopFlag,
+) -> Result<Vec<Option<Spread>>, Unfinished> {
+    let line = &prepared.line;
+    let mut seeded: Vec<Vec<Image>> = Vec::new();
+    for seed in chance::seeds(line.options.sampling.seed) {
+        seeded.push(kept.fault(&format!("seed {seed} {plant:?}"), || {
+            let mut options = line.options.clone();
+            options.sampling.seed = seed;
+            let pictures = render_pictures_until(&options, &line.scene, plant, stop)
+                .ok_or(Unfinished::Stopped)?
+                .pictures;
+            Ok(prepared.in_line_order(&pictures))
+        })?);
+    }
+    Ok((0..prepared.slots.len())
+        .map(|image| {
+            if prepared.slots[image] >= prepared.traced {
+                return None;
+            }
+            let renders: Vec<&Image> = seeded.iter().filter_map(|r| r.get(image)).collect();
+            Spread::of(&renders)
+        })
+        .collect())
+}
+
 /// The rule of the line's samples picture: raycast's render of the scene at `zoom` times the
 /// line's size, a ray through each picture pixel's centre, is the colour a dot there may have.
 fn samples_rule(

@@ -23,7 +23,7 @@ use crate::render::StopFlag;
 use crate::scene::Scene;
 use crate::shade::Image;
 pub use draws::{drawn_by_chance, spreads};
-use draws::{seeded_spreads, slots_of};
+use draws::{plant_spreads, seeded_spreads, slots_of};
 
 /// At most this many renders for one line, singles and pairs together, where the singles leave
 /// room (a course picture renders in milliseconds; every single is tried)...
@@ -33,6 +33,10 @@ const MIN_PAIRS: usize = 24;
 /// ...and where the line is screened by a few rows (a pair ruled out there is never rendered
 /// whole), this many.
 const SCREENED_PAIRS: usize = 128;
+/// Where a picture drawn by chance lies as near raycast's own render as two draws do, a fault's
+/// render matches it only where it lies at most this share as far from it (the same draw of a
+/// fault is not a pixel off; another draw is as far as raycast's).
+const NEARER_DRAW: f64 = 0.5;
 /// A fit measures its renders on every this many rows of a picture.
 const FIT_ROWS: usize = 3;
 
@@ -194,6 +198,11 @@ struct Renders<'a> {
     /// For each failing picture, where the line depends on chance, the spread of raycast's
     /// renders with several seeds (a render of the line is then one draw, compared as one).
     spreads: Vec<Option<Spread>>,
+    /// For each failing picture drawn by chance that lies as near raycast's own render as two
+    /// draws of the line lie to one another, how far it is from that render (the mean
+    /// difference): a fault's render, itself one draw, tells nothing about it unless it lies
+    /// nearer than that. `None` for the others.
+    drawn_alike: Vec<Option<f64>>,
     rule: Rule,
     stop: &'static StopFlag,
 }
@@ -237,10 +246,20 @@ impl<'a> Renders<'a> {
             })
             .collect();
         let screen = Screen::of(&screened, rule);
+        let drawn_alike = failing
+            .iter()
+            .zip(&spreads)
+            .map(|(&(_, actual, reference), spread)| {
+                let (spread, reference) = (spread.as_ref()?, reference?);
+                let bad = spread.compare_draws(actual, reference, rule.tolerance)?;
+                (bad.bad_fraction <= rule.max_bad).then(|| mean_difference(Some(reference), actual))
+            })
+            .collect();
         let renders = Renders {
             prepared,
             kept,
             screen,
+            drawn_alike,
             failing: failing
                 .iter()
                 .map(|&(image, actual, _)| (image, actual))
@@ -766,9 +785,14 @@ fn simulate_here(
             bad: Vec::with_capacity(failing.len()),
             error: Vec::with_capacity(failing.len()),
         };
+        // A plant that places the samples of a line drawn by chance otherwise draws its
+        // pictures with another spread: the student's picture is measured against its own,
+        // whole (rows screened against raycast's spread would rule it out).
+        let options = &prepared.line.options;
+        let redrawn = depends_on_chance(options) && plant.places_samples(options.sampling.sampler);
         let rows = match screen {
-            Some(screen) => renders.rows_for(plant, screen)?,
-            None => None,
+            Some(screen) if !redrawn => renders.rows_for(plant, screen)?,
+            _ => None,
         };
         if let (Some(screen), Some(seen)) = (screen, &rows) {
             let rendered = renders.in_order(seen);
@@ -785,10 +809,27 @@ fn simulate_here(
             }
         }
         let pictures = renders.whole(plant)?;
+        let own_spreads = if redrawn {
+            Some(plant_spreads(&renders.kept, &prepared, plant, stop)?)
+        } else {
+            None
+        };
         let mut permuted = Vec::new();
         for (k, &(image, actual, _)) in failing.iter().enumerate() {
             let picture = pictures.get(image);
-            tried.bad.push(bad(k, picture, actual));
+            let own_spread = own_spreads
+                .as_ref()
+                .and_then(|spreads| spreads.get(image)?.as_ref());
+            tried.bad.push(match own_spread {
+                Some(spread) => spread
+                    .compare(actual, rule.tolerance)
+                    .map_or(1.0, |c| c.bad_fraction),
+                // Where raycast's own render is as good a draw, a fault's must be nearer.
+                None => match renders.drawn_alike[k] {
+                    Some(own) if mean_difference(picture, actual) >= NEARER_DRAW * own => 1.0,
+                    _ => bad(k, picture, actual),
+                },
+            });
             tried.error.push(renders.difference(picture, actual));
             if faults.len() == 1 {
                 permuted.extend(moved(k, plant, faults[0], parameters, picture));
