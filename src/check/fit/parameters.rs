@@ -139,6 +139,9 @@ const FAMILIES: [Family; 11] = [
     },
 ];
 
+/// How a family's number maps to where it is searched, or back.
+type Mapping = fn(f64) -> f64;
+
 /// Points of the first, even search over a range...
 const GRID: usize = 13;
 /// ...and halvings of the interval around the best of them.
@@ -164,7 +167,7 @@ pub fn fit_parameters<E>(
         };
         // Searched in the number's logarithm where the range is positive.
         let logarithmic = family.range.0 > 0.0;
-        let (into, from): (fn(f64) -> f64, fn(f64) -> f64) = if logarithmic {
+        let (into, from): (Mapping, Mapping) = if logarithmic {
             (f64::ln, f64::exp)
         } else {
             (|x| x, |x| x)

@@ -96,6 +96,27 @@ pub(super) fn plant_spreads(
         .collect())
 }
 
+/// For each failing picture (its image, the student's, and raycast's own render) drawn by
+/// chance with `spreads`, the mean difference from raycast's render where it lies as near that
+/// render as two draws of the line do by `rule`: there a fault's render, one more draw, tells
+/// nothing unless it lies nearer.
+pub(super) fn drawn_alike(
+    failing: &[(usize, &Image, Option<&Image>)],
+    spreads: &[Option<Spread>],
+    rule: crate::check::rule::Rule,
+) -> Vec<Option<f64>> {
+    failing
+        .iter()
+        .zip(spreads)
+        .map(|(&(_, actual, reference), spread)| {
+            let (spread, reference) = (spread.as_ref()?, reference?);
+            let bad = spread.compare_draws(actual, reference, rule.tolerance)?;
+            (bad.bad_fraction <= rule.max_bad)
+                .then(|| super::mean_difference(Some(reference), actual))
+        })
+        .collect()
+}
+
 /// The rule of the line's samples picture: raycast's render of the scene at `zoom` times the
 /// line's size, a ray through each picture pixel's centre, is the colour a dot there may have.
 fn samples_rule(

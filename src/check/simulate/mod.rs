@@ -22,8 +22,8 @@ use crate::parse::read_scene;
 use crate::render::StopFlag;
 use crate::scene::Scene;
 use crate::shade::Image;
+use draws::{drawn_alike, plant_spreads, seeded_spreads, slots_of};
 pub use draws::{drawn_by_chance, spreads};
-use draws::{plant_spreads, seeded_spreads, slots_of};
 
 /// At most this many renders for one line, singles and pairs together, where the singles leave
 /// room (a course picture renders in milliseconds; every single is tried)...
@@ -246,15 +246,7 @@ impl<'a> Renders<'a> {
             })
             .collect();
         let screen = Screen::of(&screened, rule);
-        let drawn_alike = failing
-            .iter()
-            .zip(&spreads)
-            .map(|(&(_, actual, reference), spread)| {
-                let (spread, reference) = (spread.as_ref()?, reference?);
-                let bad = spread.compare_draws(actual, reference, rule.tolerance)?;
-                (bad.bad_fraction <= rule.max_bad).then(|| mean_difference(Some(reference), actual))
-            })
-            .collect();
+        let drawn_alike = drawn_alike(failing, &spreads, rule);
         let renders = Renders {
             prepared,
             kept,
