@@ -766,10 +766,15 @@ fn simulate_here(
     // The line under `plant`, seen against each failing picture: by its screened rows where
     // they rule it out (kept, for the pictures undone by a fault that moves pixels), else by
     // its whole render, with the pairs that render makes with the faults that only move pixels.
-    let look = |plant: Plant,
-                faults: &[&'static Fault],
-                parameters: &[(&'static str, f64)],
-                screen: Option<&Screen>| {
+    // Whether a plant places the samples of this line, drawn by chance, otherwise.
+    let options = &prepared.line.options;
+    let redraws =
+        |plant: Plant| depends_on_chance(options) && plant.places_samples(options.sampling.sampler);
+    let look_drawn = |plant: Plant,
+                      faults: &[&'static Fault],
+                      parameters: &[(&'static str, f64)],
+                      screen: Option<&Screen>,
+                      own_spread: bool| {
         let mut tried = Tried {
             plant,
             faults: faults.to_vec(),
@@ -778,10 +783,9 @@ fn simulate_here(
             error: Vec::with_capacity(failing.len()),
         };
         // A plant that places the samples of a line drawn by chance otherwise draws its
-        // pictures with another spread: the student's picture is measured against its own,
-        // whole (rows screened against raycast's spread would rule it out).
-        let options = &prepared.line.options;
-        let redrawn = depends_on_chance(options) && plant.places_samples(options.sampling.sampler);
+        // pictures with another spread: with `own_spread`, the student's picture is measured
+        // against its own, whole (rows screened against raycast's spread would rule it out).
+        let redrawn = own_spread && redraws(plant);
         let rows = match screen {
             Some(screen) if !redrawn => renders.rows_for(plant, screen)?,
             _ => None,
@@ -833,6 +837,11 @@ fn simulate_here(
             rows: None,
         })
     };
+    let look =
+        |plant: Plant,
+         faults: &[&'static Fault],
+         parameters: &[(&'static str, f64)],
+         screen: Option<&Screen>| { look_drawn(plant, faults, parameters, screen, false) };
     // Every fault's candidates, in the library's order: each is screened by a few rows before
     // it is rendered whole, so none is left out (a cap here once dropped the library's last
     // faults on a line that can show most of the others).
@@ -914,15 +923,30 @@ fn simulate_here(
         let plant = Plant::one(candidate.planted);
         singles.push(look(plant, &[fault], &parameters, renders.screen.as_ref())?);
     }
+    let explained_by = |singles: &[Look]| -> Vec<bool> {
+        (0..failing.len())
+            .map(|k| {
+                singles
+                    .iter()
+                    .any(|single| single.tried.bad[k] <= rule.max_bad)
+            })
+            .collect()
+    };
+    let mut explained = explained_by(&singles);
+    // A fault that places the samples otherwise, against the spread of its own seeded renders
+    // (eight renders of the line each): only where no listed fault explains a picture.
+    if explained.iter().any(|e| !e) {
+        for (index, &(fault, candidate)) in candidates.iter().enumerate() {
+            let plant = Plant::one(candidate.planted);
+            if redraws(plant) {
+                let parameters: Vec<_> = candidate.parameter.into_iter().collect();
+                singles[index] = look_drawn(plant, &[fault], &parameters, None, true)?;
+            }
+        }
+        explained = explained_by(&singles);
+    }
     // The fits, for the pictures no listed fault explains: a mistake written in a form the
     // library does not list is named by where the fit's numbers land.
-    let mut explained: Vec<bool> = (0..failing.len())
-        .map(|k| {
-            singles
-                .iter()
-                .any(|single| single.tried.bad[k] <= rule.max_bad)
-        })
-        .collect();
     if explained.iter().any(|e| !e) {
         let pictures: Vec<Picture<'_>> = failing
             .iter()
