@@ -183,6 +183,19 @@ enum Form {
     /// Shadow rays toward point lights made with the unnormalised `light - point` and tested
     /// up to t = the light's distance: the distance squared along a unit direction.
     ShadowToDistanceSquared,
+    /// The orthographic camera's rays take hits from t = 0 on: nothing behind its centre.
+    OrthographicFromZero,
+    /// A Transform's normal carried by the inverse transpose and never made unit again.
+    NormalNotRenormalised,
+    /// Perspective rays turned up or down by `y a`, then left or right by `x a`:
+    /// `cos(x a) cos(y a) d + sin(x a) h + cos(x a) sin(y a) up`.
+    SphericalRays,
+    /// The view's v counted from the top, `1 - (j + 0.5) / height`.
+    VFromTheTop,
+    /// The view's u mirrored, `1 - (i + 0.5) / width`.
+    UMirrored,
+    /// What a glass ray brings back added whole, not times the transparent colour.
+    GlassColourIgnored,
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
     /// out in double precision (`Vec3d`), each then rounded to float.
     DoublePrecision,
@@ -227,6 +240,12 @@ impl Form {
             "absolute_epsilon_along_ray" => Form::AbsoluteEpsilonAlongRay,
             "gaussian_variance_as_sigma" => Form::GaussianVarianceAsSigma,
             "rows_from_the_top" => Form::RowsFromTheTop,
+            "orthographic_from_zero" => Form::OrthographicFromZero,
+            "normal_not_renormalised" => Form::NormalNotRenormalised,
+            "spherical_rays" => Form::SphericalRays,
+            "v_from_the_top" => Form::VFromTheTop,
+            "u_mirrored" => Form::UMirrored,
+            "glass_colour_ignored" => Form::GlassColourIgnored,
             "depth_near_as_start" => Form::DepthNearAsStart(depth_near),
             "depth_wraps" => Form::DepthWraps,
             "specular_always_faded" => Form::SpecularAlwaysFaded,
@@ -298,6 +317,13 @@ impl CameraSeam for Form {
                 film_to_screen(i as f32 * across, j as f32 + 0.5, width, height)
             }
             Form::FarCorner => film_to_screen(i as f32 + 1.0, j as f32 + 1.0, width, height),
+            Form::VFromTheTop | Form::UMirrored => {
+                let (u, v) = film_to_screen(i as f32 + 0.5, j as f32 + 0.5, width, height);
+                match self {
+                    Form::VFromTheTop => (u, 1.0 - v),
+                    _ => (1.0 - u, v),
+                }
+            }
             _ => film_to_screen(i as f32 + 0.5, j as f32 + 0.5, width, height),
         }
     }
@@ -313,6 +339,13 @@ impl CameraSeam for Form {
                     + (x * screen) * horizontal.as_dvec3()
                     + (y * screen) * up.as_dvec3();
                 Ray::new(camera.center(), Vec3A::from(through.normalize().as_vec3()))
+            }
+            (Projection::Perspective { angle }, Form::SphericalRays) => {
+                let angle = angle.to_radians();
+                let (ax, ay) = (x * angle, y * angle);
+                let tilted = ay.cos() * direction + ay.sin() * up;
+                let through = ax.cos() * tilted + ax.sin() * horizontal;
+                Ray::new(camera.center(), through)
             }
             (Projection::Perspective { angle }, Form::TangentPerAxis) => {
                 let angle = angle.to_radians();
@@ -339,6 +372,7 @@ impl TraceSeam for Form {
     fn camera_t_min(&self, camera: &Camera) -> f32 {
         match (self, camera.projection()) {
             (Form::HitsBehindTheEye, Projection::Perspective { .. }) => f32::NEG_INFINITY,
+            (Form::OrthographicFromZero, Projection::Orthographic { .. }) => 0.0,
             _ => camera.t_min(),
         }
     }
@@ -475,6 +509,7 @@ impl TraceSeam for Form {
     fn carried(&self, colour: Vec3A, transparent: bool) -> Vec3A {
         match self {
             Form::MirrorColourTwice if !transparent => colour * colour,
+            Form::GlassColourIgnored if transparent => Vec3A::ONE,
             _ => colour,
         }
     }
@@ -550,6 +585,22 @@ impl TraceSeam for Form {
                 let normal = transform.object_to_world.transform_vector3a(object_normal);
                 return Some(Hit {
                     normal: normal.normalize(),
+                    ..hit
+                });
+            }
+            Form::NormalNotRenormalised => {
+                let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
+                else {
+                    return Some(hit);
+                };
+                let normal = transform.normal_to_world * object_normal.normalize();
+                let facing = if normal.dot(hit.normal) < 0.0 {
+                    -normal
+                } else {
+                    normal
+                };
+                return Some(Hit {
+                    normal: facing,
                     ..hit
                 });
             }

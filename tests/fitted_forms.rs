@@ -1096,3 +1096,66 @@ fn jittered_samples_anywhere_from_a_generator_of_the_students_own_are_the_jitter
     );
     assert_eq!(failing, 3);
 }
+
+#[test]
+fn second_forms_of_the_camera_and_the_first_hits_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // Tilted, then turned: the other order of the library's two turns, fitted.
+    assert_eq!(
+        conformance_named(
+            "spherical_rays",
+            &["scene2_04_perspective.txt"],
+            "equal_angle_rays",
+            "form_turned_up_first 1)"
+        ),
+        2
+    );
+    let lines = ["scene1_03.txt", "scene2_04_perspective.txt"];
+    assert_eq!(
+        conformance_named("v_from_the_top", &lines, "flip_vertical", ""),
+        4
+    );
+    assert_eq!(
+        conformance_named("u_mirrored", &lines, "flip_horizontal", ""),
+        4
+    );
+    assert_eq!(
+        conformance_named(
+            "orthographic_from_zero",
+            &["scene1_07.txt"],
+            "t_min_ignored",
+            "t_min 0)"
+        ),
+        2
+    );
+    assert_eq!(
+        conformance_named(
+            "normal_not_renormalised",
+            &[
+                "scene2_11_squashed_sphere.txt",
+                "scene2_13_rotated_squashed_sphere.txt"
+            ],
+            "normal_length",
+            ""
+        ),
+        4
+    );
+}
+
+#[test]
+fn a_glass_rays_colour_added_whole_is_the_secondary_colour() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "glass_colour_ignored",
+            &["scene4_05_transparent_bar.txt", "output4_07.tga"],
+            "secondary_colour",
+            "form 1)"
+        ),
+        2
+    );
+}

@@ -67,6 +67,8 @@ pub enum RayForm {
     Plane,
     /// Turned by x·angle about the up axis, then by y·angle about the horizontal one.
     TurnedAngles,
+    /// Turned by y·angle about the horizontal axis, then by x·angle about the up one.
+    TurnedOtherOrder,
     /// direction + tan(x·angle)·horizontal + tan(y·angle)·up.
     TangentPerAxis,
 }
@@ -131,6 +133,13 @@ impl CameraFault {
                         let turned = direction * (a.cos() * b.cos())
                             + horizontal * (a.sin() * b.cos())
                             + up * b.sin();
+                        Ray::new(camera.center(), turned)
+                    }
+                    RayForm::TurnedOtherOrder => {
+                        let (a, b) = (x * angle, y * angle);
+                        let turned = direction * (a.cos() * b.cos())
+                            + horizontal * a.sin()
+                            + up * (a.cos() * b.sin());
                         Ray::new(camera.center(), turned)
                     }
                     RayForm::TangentPerAxis => Ray::new(

@@ -1,6 +1,7 @@
 //! The camera, fitted: where each pixel's ray goes, as an offset of the film point, a scale of
 //! the view per axis and a shear, for each way a ray is made from a point of the view (through a
-//! plane, as the course does; by two turns; by a tangent per axis). The fitted numbers name the
+//! plane, as the course does; by two turns, in either order; by a tangent per axis), the plane
+//! first, the others in the order their course numbers draw the pictures. The fitted numbers name the
 //! fault: half a pixel off is `pixel_corner`, a view w/(w-1) as wide `pixel_span_minus_one`, a
 //! wider or narrower perspective view `field_of_view` (with the angle it amounts to), axes of
 //! other lengths or leaning `camera_basis`, rays not through a plane `equal_angle_rays`.
@@ -77,6 +78,7 @@ pub fn fit_camera<E>(
                 RayForm::Plane,
                 RayForm::TangentPerAxis,
                 RayForm::TurnedAngles,
+                RayForm::TurnedOtherOrder,
             ],
         ),
         Projection::Orthographic { .. } => (0.0, &[RayForm::Plane]),
@@ -95,7 +97,18 @@ pub fn fit_camera<E>(
     let mut spent = 0;
     let samples = line.options.sampling.sampler.samples().max(1) as usize;
     let budget = (BUDGET / samples).max(LEAST_BUDGET);
-    for &form in forms {
+    // The course's form first (most mistakes keep it: a scale, an offset, a lean), then the
+    // others in the order their course numbers draw the pictures, nearest first: the budget is
+    // shared, and the form the student wrote should not wait behind the others' searches.
+    let mut ordered = Vec::with_capacity(forms.len());
+    for &form in forms.iter().filter(|&&form| form != RayForm::Plane) {
+        ordered.push((form, distance(plant(form, &course_at))?));
+    }
+    ordered.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let plane = forms
+        .contains(&RayForm::Plane)
+        .then_some((RayForm::Plane, course));
+    for (form, _) in plane.into_iter().chain(ordered) {
         // Past the line's budget every render is as far as can be: the searches end at once.
         let mut measure = |p: &[f64]| {
             spent += 1;
@@ -266,6 +279,7 @@ fn names(line: &LineScene, found: Mapping) -> Vec<Named> {
         numbers.push((
             match found.form {
                 RayForm::TangentPerAxis => "form_tangent_per_axis",
+                RayForm::TurnedOtherOrder => "form_turned_up_first",
                 _ => "form_turned",
             },
             1.0,
