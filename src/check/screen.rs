@@ -205,6 +205,23 @@ impl Screen {
     }
 }
 
+/// The mean of every channel's difference over every row, in levels; infinite for pictures of
+/// other sizes ([`Screen::mean_difference`] is over a screen's rows).
+pub fn mean_difference(picture: Option<&Image>, actual: &Image) -> f64 {
+    match picture {
+        Some(p) if (p.width, p.height) == (actual.width, actual.height) && !p.pixels.is_empty() => {
+            let sum: u64 = p
+                .pixels
+                .iter()
+                .zip(&actual.pixels)
+                .map(|(a, b)| (0..3).map(|c| u64::from(a[c].abs_diff(b[c]))).sum::<u64>())
+                .sum();
+            sum as f64 / p.pixels.len() as f64
+        }
+        _ => f64::INFINITY,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -112,7 +112,7 @@ pub(super) fn drawn_alike(
             let (spread, reference) = (spread.as_ref()?, reference?);
             let bad = spread.compare_draws(actual, reference, rule.tolerance)?;
             (bad.bad_fraction <= rule.max_bad)
-                .then(|| super::mean_difference(Some(reference), actual))
+                .then(|| crate::check::screen::mean_difference(Some(reference), actual))
         })
         .collect()
 }

@@ -15,7 +15,7 @@ use super::envelope::Envelope;
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
 use super::fit::{Named, Picture, Trial, fit_line};
 use super::rule::{Rule, compare};
-use super::screen::{Failing, Screen};
+use super::screen::{Failing, Screen, mean_difference};
 use super::suite::{Line, Pin};
 use crate::job::{Command, parse_args, render_pictures_until, render_rows_until};
 use crate::parse::read_scene;
@@ -687,22 +687,6 @@ struct Tried {
     /// The mean difference of the channels against each failing picture, which falls as a fault
     /// explains part of a picture even where every pixel is still off.
     error: Vec<f64>,
-}
-
-/// The mean of every channel's difference, in levels; infinite for pictures of other sizes.
-fn mean_difference(picture: Option<&Image>, actual: &Image) -> f64 {
-    match picture {
-        Some(p) if (p.width, p.height) == (actual.width, actual.height) && !p.pixels.is_empty() => {
-            let sum: u64 = p
-                .pixels
-                .iter()
-                .zip(&actual.pixels)
-                .map(|(a, b)| (0..3).map(|c| u64::from(a[c].abs_diff(b[c]))).sum::<u64>())
-                .sum();
-            sum as f64 / p.pixels.len() as f64
-        }
-        _ => f64::INFINITY,
-    }
 }
 
 /// For each of `failing` (the index of an image among the line's outputs, and the student's
