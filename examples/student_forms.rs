@@ -20,7 +20,7 @@ use raycast::job::{Command, parse_args, render_to_files, reserve_outputs};
 use raycast::parse::description::Pattern;
 use raycast::parse::description::Projection;
 use raycast::parse::read_scene;
-use raycast::sample::{Filter, SampleSeam, Sampler};
+use raycast::sample::{Filter, ONE_BELOW, SampleSeam, Sampler};
 use raycast::scene::perlin::{noise as perlin_noise, octave_noise};
 use raycast::scene::{Highlight, Illumination, Light, SpecularFalloff, Surface, Texture};
 use raycast::shade::PictureSeam;
@@ -780,9 +780,6 @@ fn noise_from_second_octave(texture: &Texture, point: Vec3A) -> f32 {
     };
     weight.clamp(0.0, 1.0) as f32
 }
-
-/// The largest f32 below 1: a sample's position stays inside its pixel.
-const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// A checkerboard whose cell along each axis is `cell(x)` (1 or 0), their parities added.
 fn checker(texture: &Texture, point: Vec3A, cell: impl Fn(f64) -> f64) -> f32 {

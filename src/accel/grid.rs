@@ -437,17 +437,18 @@ mod tests {
         }
     }
 
+    /// A grid of 4 × 4 × 4 unit cells from the origin, listing nothing.
+    fn empty_grid() -> Grid {
+        let bounds = Aabb {
+            min: Vec3A::ZERO,
+            max: Vec3A::splat(4.0),
+        };
+        Grid::build(bounds, UVec3::splat(4), &[]).unwrap()
+    }
+
     #[test]
     fn a_ray_of_no_direction_visits_nothing_and_ends() {
-        let grid = Grid::build(
-            Aabb {
-                min: Vec3A::ZERO,
-                max: Vec3A::splat(4.0),
-            },
-            UVec3::splat(4),
-            &[],
-        )
-        .unwrap();
+        let grid = empty_grid();
         // A refracted direction past the critical angle taken as the square root of a negative
         // number (a student's tracer, which check renders), and a zero vector: before, the walk
         // stepped by nothing, forever.
@@ -468,15 +469,7 @@ mod tests {
 
     #[test]
     fn the_walk_visits_cells_in_order_along_the_ray() {
-        let grid = Grid::build(
-            Aabb {
-                min: Vec3A::ZERO,
-                max: Vec3A::splat(4.0),
-            },
-            UVec3::splat(4),
-            &[],
-        )
-        .unwrap();
+        let grid = empty_grid();
         // Along x through the middle of row (·, 1, 2): four cells, entered through -x faces.
         let ray = Ray::new(Vec3A::new(-1.0, 1.5, 2.5), Vec3A::X);
         let mut visited = Vec::new();

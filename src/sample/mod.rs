@@ -8,7 +8,7 @@ mod sampler;
 
 pub use film::{Film, FilmSample, render_filter_picture, render_samples_picture};
 pub use filter::Filter;
-pub use sampler::Sampler;
+pub use sampler::{ONE_BELOW, Sampler};
 
 /// How pixels are sampled and filtered; the default is the course's: one sample at each pixel's
 /// centre, no filter.

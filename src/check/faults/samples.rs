@@ -3,7 +3,7 @@
 use glam::{Vec2, Vec3A};
 
 use super::{Candidate, Fault, LineScene, Planted};
-use crate::sample::{Filter, Sampler};
+use crate::sample::{Filter, ONE_BELOW, Sampler};
 
 /// How a student's renderer samples and filters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,23 +69,10 @@ impl SampleFault {
                 }
             }
             (SampleFault::UniformSpread(by), Sampler::Uniform(n)) => {
-                let side = n.isqrt().max(1);
-                let inside = |x: f32| x.clamp(0.0, 1.0 - f32::EPSILON / 2.0);
-                for (k, p) in out.iter_mut().enumerate() {
-                    let (i, j) = (k as u32 % side, k as u32 / side);
-                    let from_centre = (Vec2::new(i as f32, j as f32) + 0.5) / side as f32 - 0.5;
-                    let spread = 0.5 + by * from_centre;
-                    *p = Vec2::new(inside(spread.x), inside(spread.y));
-                }
+                uniform_grid(n, out, |centre| 0.5 + by * (centre - 0.5));
             }
             (SampleFault::UniformOffset(by), Sampler::Uniform(n)) => {
-                let side = n.isqrt().max(1);
-                let inside = |x: f32| x.clamp(0.0, 1.0 - f32::EPSILON / 2.0);
-                for (k, p) in out.iter_mut().enumerate() {
-                    let (i, j) = (k as u32 % side, k as u32 / side);
-                    let moved = (Vec2::new(i as f32, j as f32) + 0.5 + by) / side as f32;
-                    *p = Vec2::new(inside(moved.x), inside(moved.y));
-                }
+                uniform_grid(n, out, |centre| centre + by / n.isqrt().max(1) as f32);
             }
             _ => sampler.positions(seed, pixel, out),
         }
@@ -136,6 +123,17 @@ impl SampleFault {
             },
             _ => filter,
         }
+    }
+}
+
+/// The `n` uniform samples of a pixel, each cell's centre (in [0, 1)²) moved by `place`, kept
+/// inside the pixel.
+fn uniform_grid(n: u32, out: &mut [Vec2], place: impl Fn(Vec2) -> Vec2) {
+    let side = n.isqrt().max(1);
+    for (k, p) in out.iter_mut().enumerate() {
+        let cell = Vec2::new((k as u32 % side) as f32, (k as u32 / side) as f32);
+        let placed = place((cell + 0.5) / side as f32);
+        *p = placed.clamp(Vec2::ZERO, Vec2::splat(ONE_BELOW));
     }
 }
 

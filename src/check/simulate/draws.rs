@@ -28,14 +28,7 @@ pub(super) fn seeded_spreads(
     let own = line.options.sampling.seed;
     let mut seeded: Vec<Vec<Image>> = Vec::new();
     for seed in chance::seeds(own).take_while(|_| drawn == Drawn::Traced) {
-        let render = || {
-            let mut options = line.options.clone();
-            options.sampling.seed = seed;
-            let pictures = render_pictures_until(&options, &line.scene, crate::render::Exact, stop)
-                .ok_or(Unfinished::Stopped)?
-                .pictures;
-            Ok(prepared.in_line_order(&pictures))
-        };
+        let render = || render_seeded(prepared, seed, crate::render::Exact, stop);
         // The line's own seed draws raycast's own render of it: kept as the course's picture.
         seeded.push(if seed == own {
             kept.course(&[], render)?
@@ -51,8 +44,7 @@ pub(super) fn seeded_spreads(
         .map(|image| {
             let slot = prepared.slots[image];
             if slot < prepared.traced {
-                let renders: Vec<&Image> = seeded.iter().filter_map(|r| r.get(image)).collect();
-                Spread::of(&renders).map(ByChance::Spread)
+                spread_of(&seeded, image).map(ByChance::Spread)
             } else if slot == prepared.traced {
                 samples_rule.clone().map(ByChance::Samples)
             } else {
@@ -73,27 +65,41 @@ pub(super) fn plant_spreads(
     plant: crate::check::faults::Plant,
     stop: &'static StopFlag,
 ) -> Result<Vec<Option<Spread>>, Unfinished> {
-    let line = &prepared.line;
     let mut seeded: Vec<Vec<Image>> = Vec::new();
-    for seed in chance::seeds(line.options.sampling.seed) {
+    for seed in chance::seeds(prepared.line.options.sampling.seed) {
         seeded.push(kept.fault(&format!("seed {seed} {plant:?}"), || {
-            let mut options = line.options.clone();
-            options.sampling.seed = seed;
-            let pictures = render_pictures_until(&options, &line.scene, plant, stop)
-                .ok_or(Unfinished::Stopped)?
-                .pictures;
-            Ok(prepared.in_line_order(&pictures))
+            render_seeded(prepared, seed, plant, stop)
         })?);
     }
     Ok((0..prepared.slots.len())
         .map(|image| {
-            if prepared.slots[image] >= prepared.traced {
-                return None;
-            }
-            let renders: Vec<&Image> = seeded.iter().filter_map(|r| r.get(image)).collect();
-            Spread::of(&renders)
+            (prepared.slots[image] < prepared.traced)
+                .then(|| spread_of(&seeded, image))
+                .flatten()
         })
         .collect())
+}
+
+/// The line's pictures under `variant` with its samples drawn from `seed`, in the line's order.
+fn render_seeded(
+    prepared: &Prepared,
+    seed: u64,
+    variant: impl crate::render::Variant,
+    stop: &'static StopFlag,
+) -> Result<Vec<Image>, Unfinished> {
+    let line = &prepared.line;
+    let mut options = line.options.clone();
+    options.sampling.seed = seed;
+    let pictures = render_pictures_until(&options, &line.scene, variant, stop)
+        .ok_or(Unfinished::Stopped)?
+        .pictures;
+    Ok(prepared.in_line_order(&pictures))
+}
+
+/// The spread of image `image` over the `seeded` renders of the line.
+fn spread_of(seeded: &[Vec<Image>], image: usize) -> Option<Spread> {
+    let renders: Vec<&Image> = seeded.iter().filter_map(|r| r.get(image)).collect();
+    Spread::of(&renders)
 }
 
 /// For each failing picture (its image, the student's, and raycast's own render) drawn by
