@@ -1,0 +1,362 @@
+//! A student's tracer with one mistake written in a form of its own: not the way check's fault
+//! library plants it, so that check's tests can show a fit naming what no list holds.
+//!
+//! ```sh
+//! cargo run --release --example student_forms -- FORM -input scene.txt -size 200 200 -output out.tga
+//! ```
+//!
+//! FORM is one of the names in [`Form::named`]; the rest is the course's command line.
+
+mod camera;
+mod picture;
+mod sample;
+mod textures;
+mod trace;
+
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+
+use raycast::Scene;
+use raycast::job::{Command, parse_args, render_to_files, reserve_outputs};
+use raycast::parse::read_scene;
+use raycast::{UVec3, Vec3A};
+
+/// Each mistake, as a student might have written it.
+#[derive(Debug, Clone, Copy)]
+enum Form {
+    /// Perspective rays at equal angle steps, a tangent per axis:
+    /// `direction + tan((u - 0.5) * angle) * horizontal + tan((v - 0.5) * angle) * up`.
+    TangentPerAxis,
+    /// The up vector made orthogonal to the direction (`up - (up . d) d`) and never normalised.
+    UpOrthogonalNotNormalised(Vec3A),
+    /// The horizontal vector `direction x up` never normalised (the up vector made from it is).
+    HorizontalNotNormalised(Vec3A),
+    /// The screen built from the file's direction as written, not normalised.
+    RawDirection(Vec3A),
+    /// Half a pixel added to the row but not to the column.
+    LeftEdge,
+    /// The depth picture's grey counted from the picture's nearest hit, over the command line's
+    /// range: `1 - (t - nearest) / (TMAX - TMIN)`.
+    DepthFromNearest(f32),
+    /// A Transform's normal carried as the 4-vector (n, 0) by the whole inverse transpose and
+    /// normalised with its fourth component, whose first three are then the normal: shortened
+    /// wherever the translation leans on it.
+    NormalFourVector,
+    /// Two mistakes of the shading sum at once: the ambient term inside the loop over the
+    /// lights, and each light's diffuse term written `kd * light * pow(max(N.L, 0), 2)`.
+    AmbientInLoopCosineSquared,
+    /// Shadow, mirror and glass rays started at `point + 1e-7 * normal`: the t of that point
+    /// along the ray, `1e-7 / |d.n|`.
+    TinyNormalOffset,
+    /// Each filter's reach (the box's and the tent's radius, the Gaussian's sigma) half a
+    /// pixel more than the command line says.
+    FilterHalfPixelWider,
+    /// Marble's veins as `sin(2 pi frequency x + amplitude noise)`: the file's frequency taken
+    /// as turns per unit, not radians.
+    MarbleInTurns,
+    /// A point light dimmed as light falls off in the world, `colour / (d * d)`, whatever the
+    /// file's attenuation says.
+    InverseSquareLight,
+    /// Snell's law in Heckbert's form, `c1 = -n.d`, `c2 = sqrt(1 - eta^2 (1 - c1^2))`,
+    /// `t = eta d + (eta c1 - c2) n`, with n the surface's outward normal on both sides: never
+    /// turned when the ray leaves the glass.
+    HeckbertOutwardNormal,
+    /// The same form with the normal turned to the ray, but `c1 = n.d`: the cosine's minus
+    /// forgotten.
+    HeckbertCosineSign,
+    /// The shadow ray toward a point light made with a unit direction and tested for hits
+    /// with `t < 1 - epsilon`, as for the unnormalised direction `light - point`.
+    ShadowToOneMinusEpsilon,
+    /// The mirror direction as the textbook's `2 (N.V) N - V`, with V the ray's own direction
+    /// where the formula means the direction back toward the eye.
+    ReflectViewVector,
+    /// The mirror direction `d - (d.n) n`, normalised: the 2 forgotten.
+    ReflectWithoutTwo,
+    /// Snell's ratio `1 / index` on both sides of the glass: never turned when the ray leaves.
+    RatioNeverFlipped,
+    /// Snell's ratio `index / 1` on both sides of the glass.
+    RatioIndexBothWays,
+    /// Past the critical angle the square root of a negative number: a direction of NaNs,
+    /// which finds nothing and brings back the background.
+    TotalInternalNan,
+    /// Past the critical angle the glass ray is sent along the mirror direction instead,
+    /// weighed by the transparent colour.
+    TotalInternalMirror,
+    /// The mirror ray's colour weighed by the reflective colour twice (once where the ray is
+    /// made, once where its colour is added).
+    MirrorColourTwice,
+    /// The checkerboard's cells counted with C's `fmod(x, 2) < 1` per axis, which is true for
+    /// every negative coordinate.
+    CheckerFmod,
+    /// The checkerboard's cells counted from `floor(|x|)`: mirrored about each axis.
+    CheckerAbsolute,
+    /// Uniform samples spread from edge to edge of the pixel, `a / (s - 1)`.
+    UniformEdgeToEdge,
+    /// The attenuation's three numbers read in the other order: `1 / (q + l d + c d^2)`.
+    AttenuationReversed,
+    /// Shadow, mirror and glass rays started `1e-6` along themselves, however large the
+    /// scene's coordinates.
+    AbsoluteEpsilonAlongRay,
+    /// The Gaussian written `exp(-d^2 / (2 sigma))`: the file's sigma taken as the variance.
+    GaussianVarianceAsSigma,
+    /// Rows counted from the top of the picture where the camera counts from the bottom.
+    RowsFromTheTop,
+    /// The horizontal vector made as `up x direction`, the cross product's order reversed.
+    HorizontalReversed,
+    /// Columns spread over `width - 1`, `i / (width - 1)`; rows through their centres.
+    ColumnsOverWidthMinusOne,
+    /// Rays through each pixel's upper-right corner, `(i + 1) / width`.
+    FarCorner,
+    /// The perspective screen as wide as the angle in radians at distance 1, not
+    /// `2 tan(angle / 2)`.
+    ScreenAsWideAsTheAngle,
+    /// The depth picture's grey counted from the command line's near end to the picture's
+    /// farthest hit.
+    DepthToFarthest(f32),
+    /// The normals picture as `(n + 1) / 2`, the way normal maps are stored.
+    NormalsHalfPlusHalf,
+    /// Each light's colour scaled by `N.L` where it arrives, before the diffuse and specular
+    /// terms (which take `N.L` again).
+    LightScaledByCosine,
+    /// The recursion's depth counted from 1, so `-bounces N` traces N - 1 levels.
+    DepthCountedFromOne,
+    /// The noise's octaves summed from the second, `noise(2^i p) / 2^i` for i = 1 to octaves.
+    NoiseFromSecondOctave,
+    /// The picture's bytes written blue, green, red into a writer that takes red first.
+    BlueGreenRed,
+    /// Bytes made with a cast to `unsigned char` and no clamp: past 255 they wrap.
+    BytesWrap,
+    /// The normals picture's colour `max(n, 0)` per component: the negative ones black.
+    NormalsClampedAtZero,
+    /// The depth and normals pictures' misses in the scene's background colour.
+    MissesInBackground,
+    /// Back faces black, `-shade_back` or not.
+    BackFacesAlwaysBlack,
+    /// Back faces shaded from their other side, `-shade_back` or not.
+    BackFacesAlwaysShaded,
+    /// Without `-shade_back`, back faces given the ambient term before the test that blacks
+    /// them out.
+    BackFacesAmbient,
+    /// The ambient term added only in a scene without lights.
+    AmbientOnlyWithoutLights,
+    /// The ambient term times the number of lights (at least one).
+    AmbientTimesLights,
+    /// Each light's terms with the normal turned toward the light: lit from both sides.
+    NormalTurnedToTheLight,
+    /// Shadow rays toward point lights tested to infinity.
+    ShadowToInfinity,
+    /// `-weight` never read: every mirror and glass ray traced.
+    EveryRayTraced,
+    /// Jittered samples anywhere in the pixel, from a generator of the student's own.
+    JitterAnywhere,
+    /// The filter's weighted sum divided by the number of samples it weighed.
+    WeightsOverCount,
+    /// The perspective camera's rays take hits from minus infinity on: behind the eye too.
+    HitsBehindTheEye,
+    /// Textures evaluated at the world point, the texture's own Transform never applied.
+    TextureMatrixIgnored,
+    /// A Transform's normal carried by the object's own matrix, then normalised.
+    NormalByObjectMatrix,
+    /// The nearest hit searched from t = 50 down: farther surfaces lost.
+    FarthestFifty,
+    /// Camera rays started at the depth picture's near end (the command line's TMIN), as if
+    /// it bounded the search: what is nearer is cut away.
+    DepthNearAsStart(f32),
+    /// The depth picture's grey cast to `unsigned char` unclamped: past either end it wraps.
+    DepthWraps,
+    /// The highlight faded by `N.L` whether or not the line asks for `-specular_fix`.
+    SpecularAlwaysFaded,
+    /// The recursion's test `depth <= bounces` with the depth counted from 0: a level more.
+    OneBounceMore,
+    /// Uniform samples at the upper-right corners of the grid's cells, `(a + 1) / s`.
+    UniformUpperCorners,
+    /// The filter's weighted sum divided by the pixel's own number of samples.
+    WeightsOverPixelSamples,
+    /// The texture's point taken through the inverse of its Transform.
+    TextureMatrixInverted,
+    /// Shadow rays toward point lights made with the unnormalised `light - point` and tested
+    /// up to t = the light's distance: the distance squared along a unit direction.
+    ShadowToDistanceSquared,
+    /// The orthographic camera's rays take hits from t = 0 on: nothing behind its centre.
+    OrthographicFromZero,
+    /// A Transform's normal carried by the inverse transpose and never made unit again.
+    NormalNotRenormalised,
+    /// Perspective rays turned up or down by `y a`, then left or right by `x a`:
+    /// `cos(x a) cos(y a) d + sin(x a) h + cos(x a) sin(y a) up`.
+    SphericalRays,
+    /// The view's v counted from the top, `1 - (j + 0.5) / height`.
+    VFromTheTop,
+    /// The view's u mirrored, `1 - (i + 0.5) / width`.
+    UMirrored,
+    /// What a glass ray brings back added whole, not times the transparent colour.
+    GlassColourIgnored,
+    /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
+    /// out in double precision (`Vec3d`), each then rounded to float.
+    DoublePrecision,
+}
+
+impl Form {
+    fn named(
+        name: &str,
+        file_up: Vec3A,
+        file_direction: Vec3A,
+        (nearest, farthest): (f32, f32),
+        depth_near: f32,
+    ) -> Option<Form> {
+        Some(match name {
+            "tangent_per_axis" => Form::TangentPerAxis,
+            "up_orthogonal_not_normalised" => Form::UpOrthogonalNotNormalised(file_up),
+            "horizontal_not_normalised" => Form::HorizontalNotNormalised(file_up),
+            "raw_direction" => Form::RawDirection(file_direction),
+            "left_edge" => Form::LeftEdge,
+            "depth_from_nearest" => Form::DepthFromNearest(nearest),
+            "normal_four_vector" => Form::NormalFourVector,
+            "ambient_in_loop_cosine_squared" => Form::AmbientInLoopCosineSquared,
+            "tiny_normal_offset" => Form::TinyNormalOffset,
+            "filter_half_pixel_wider" => Form::FilterHalfPixelWider,
+            "marble_in_turns" => Form::MarbleInTurns,
+            "inverse_square_light" => Form::InverseSquareLight,
+            "double_precision" => Form::DoublePrecision,
+            "heckbert_outward_normal" => Form::HeckbertOutwardNormal,
+            "heckbert_cosine_sign" => Form::HeckbertCosineSign,
+            "shadow_to_one_minus_epsilon" => Form::ShadowToOneMinusEpsilon,
+            "reflect_view_vector" => Form::ReflectViewVector,
+            "reflect_without_two" => Form::ReflectWithoutTwo,
+            "ratio_never_flipped" => Form::RatioNeverFlipped,
+            "ratio_index_both_ways" => Form::RatioIndexBothWays,
+            "total_internal_nan" => Form::TotalInternalNan,
+            "total_internal_mirror" => Form::TotalInternalMirror,
+            "mirror_colour_twice" => Form::MirrorColourTwice,
+            "checker_fmod" => Form::CheckerFmod,
+            "checker_absolute" => Form::CheckerAbsolute,
+            "uniform_edge_to_edge" => Form::UniformEdgeToEdge,
+            "attenuation_reversed" => Form::AttenuationReversed,
+            "absolute_epsilon_along_ray" => Form::AbsoluteEpsilonAlongRay,
+            "gaussian_variance_as_sigma" => Form::GaussianVarianceAsSigma,
+            "rows_from_the_top" => Form::RowsFromTheTop,
+            "orthographic_from_zero" => Form::OrthographicFromZero,
+            "normal_not_renormalised" => Form::NormalNotRenormalised,
+            "spherical_rays" => Form::SphericalRays,
+            "v_from_the_top" => Form::VFromTheTop,
+            "u_mirrored" => Form::UMirrored,
+            "glass_colour_ignored" => Form::GlassColourIgnored,
+            "depth_near_as_start" => Form::DepthNearAsStart(depth_near),
+            "depth_wraps" => Form::DepthWraps,
+            "specular_always_faded" => Form::SpecularAlwaysFaded,
+            "one_bounce_more" => Form::OneBounceMore,
+            "uniform_upper_corners" => Form::UniformUpperCorners,
+            "weights_over_pixel_samples" => Form::WeightsOverPixelSamples,
+            "texture_matrix_inverted" => Form::TextureMatrixInverted,
+            "shadow_to_distance_squared" => Form::ShadowToDistanceSquared,
+            "blue_green_red" => Form::BlueGreenRed,
+            "bytes_wrap" => Form::BytesWrap,
+            "normals_clamped_at_zero" => Form::NormalsClampedAtZero,
+            "misses_in_background" => Form::MissesInBackground,
+            "back_faces_always_black" => Form::BackFacesAlwaysBlack,
+            "back_faces_always_shaded" => Form::BackFacesAlwaysShaded,
+            "back_faces_ambient" => Form::BackFacesAmbient,
+            "ambient_only_without_lights" => Form::AmbientOnlyWithoutLights,
+            "ambient_times_lights" => Form::AmbientTimesLights,
+            "normal_turned_to_the_light" => Form::NormalTurnedToTheLight,
+            "shadow_to_infinity" => Form::ShadowToInfinity,
+            "every_ray_traced" => Form::EveryRayTraced,
+            "jitter_anywhere" => Form::JitterAnywhere,
+            "weights_over_count" => Form::WeightsOverCount,
+            "hits_behind_the_eye" => Form::HitsBehindTheEye,
+            "texture_matrix_ignored" => Form::TextureMatrixIgnored,
+            "normal_by_object_matrix" => Form::NormalByObjectMatrix,
+            "farthest_fifty" => Form::FarthestFifty,
+            "horizontal_reversed" => Form::HorizontalReversed,
+            "columns_over_width_minus_one" => Form::ColumnsOverWidthMinusOne,
+            "far_corner" => Form::FarCorner,
+            "screen_as_wide_as_the_angle" => Form::ScreenAsWideAsTheAngle,
+            "depth_to_farthest" => Form::DepthToFarthest(farthest),
+            "normals_half_plus_half" => Form::NormalsHalfPlusHalf,
+            "light_scaled_by_cosine" => Form::LightScaledByCosine,
+            "depth_counted_from_one" => Form::DepthCountedFromOne,
+            "noise_from_second_octave" => Form::NoiseFromSecondOctave,
+            _ => return None,
+        })
+    }
+}
+
+/// Whether the student's bytes are rounded to the nearest (`FORM+rounded`), not truncated as
+/// the course's: a second, harmless difference beside the form's mistake.
+static ROUNDED: AtomicBool = AtomicBool::new(false);
+
+/// The line's samples a pixel (the student divides by it).
+static PIXEL_SAMPLES: AtomicU32 = AtomicU32::new(1);
+
+fn run(args: Vec<String>) -> Result<(), String> {
+    let (form, course) = args
+        .split_first()
+        .ok_or("usage: student_forms FORM[+rounded] RAYTRACER-ARGUMENTS...")?;
+    let form = match form.strip_suffix("+rounded") {
+        Some(form) => {
+            ROUNDED.store(true, Ordering::Relaxed);
+            form
+        }
+        None => form,
+    };
+    let options = match parse_args(course.iter().map(Into::into).collect())? {
+        Command::Render(options) => *options,
+        _ => return Err("expected a render's command line".into()),
+    };
+    let description = read_scene(&options.input).map_err(|e| e.to_string())?;
+    let camera = description.camera;
+    let raw_direction = written_direction(&options.input).unwrap_or(camera.direction.into());
+    let mut scene = Scene::from_description(&description).map_err(|e| e.to_string())?;
+    if let Some([x, y, z]) = options.grid {
+        scene
+            .world
+            .use_grid(UVec3::new(x, y, z))
+            .map_err(|e| e.to_string())?;
+    }
+    let hits = hit_range(&scene, options.width, options.height);
+    let depth_near = options.depth.as_ref().map_or(0.0, |&(near, _, _)| near);
+    let form = Form::named(form, camera.up.into(), raw_direction, hits, depth_near)
+        .ok_or_else(|| format!("unknown form '{form}'"))?;
+    PIXEL_SAMPLES.store(options.sampling.sampler.samples(), Ordering::Relaxed);
+    let pending = reserve_outputs(&options).map_err(|e| e.to_string())?;
+    render_to_files(&options, &scene, form, pending).map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// The distances of the nearest and the farthest hits of the rays through the pixels' centres.
+fn hit_range(scene: &Scene, width: u32, height: u32) -> (f32, f32) {
+    let camera = &scene.camera;
+    let (mut nearest, mut farthest) = (f32::INFINITY, 0.0f32);
+    for j in 0..height {
+        for i in 0..width {
+            let (u, v) = raycast::camera::pixel_to_screen(i, j, width, height);
+            let ray = camera.ray(u, v);
+            if let Some(hit) = scene.world.intersect(&ray, camera.t_min()) {
+                let t = hit.t * ray.direction.length();
+                nearest = nearest.min(t);
+                farthest = farthest.max(t);
+            }
+        }
+    }
+    (nearest, farthest)
+}
+
+/// The camera's direction as the scene file writes it (the parser normalises it).
+fn written_direction(path: &std::path::Path) -> Option<Vec3A> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let mut words = text
+        .split_whitespace()
+        .skip_while(|w| *w != "direction")
+        .skip(1);
+    let mut next = || words.next()?.parse::<f32>().ok();
+    Some(Vec3A::new(next()?, next()?, next()?))
+}
+
+fn main() -> ExitCode {
+    match run(std::env::args().skip(1).collect()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("student_forms: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

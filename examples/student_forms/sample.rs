@@ -1,0 +1,65 @@
+//! The film's forms: sample positions, filters and their weights.
+
+use std::sync::atomic::Ordering;
+
+use raycast::Vec3A;
+use raycast::glam::Vec2;
+use raycast::sample::{Filter, ONE_BELOW, SampleSeam, Sampler};
+
+use crate::{Form, PIXEL_SAMPLES};
+
+impl SampleSeam for Form {
+    fn positions(&self, sampler: Sampler, seed: u64, pixel: u64, out: &mut [Vec2]) {
+        match (self, sampler) {
+            (Form::UniformEdgeToEdge, Sampler::Uniform(n)) if n > 1 => {
+                let side = n.isqrt();
+                let step = 1.0 / (side - 1) as f32;
+                for (k, p) in out.iter_mut().enumerate() {
+                    let (a, b) = ((k as u32 % side) as f32, (k as u32 / side) as f32);
+                    *p = Vec2::new((a * step).min(ONE_BELOW), (b * step).min(ONE_BELOW));
+                }
+            }
+            (Form::UniformUpperCorners, Sampler::Uniform(n)) => {
+                let side = n.isqrt().max(1);
+                for (k, p) in out.iter_mut().enumerate() {
+                    let (a, b) = ((k as u32 % side) as f32, (k as u32 / side) as f32);
+                    let corner = |c: f32| ((c + 1.0) / side as f32).min(ONE_BELOW);
+                    *p = Vec2::new(corner(a), corner(b));
+                }
+            }
+            (Form::JitterAnywhere, Sampler::Jittered(n)) => {
+                // The student's own generator: a 64-bit LCG seeded by the pixel.
+                let mut state = pixel.wrapping_mul(6_364_136_223_846_793_005) ^ 0x5DEE_CE66;
+                let mut unit = move || {
+                    state = state
+                        .wrapping_mul(6_364_136_223_846_793_005)
+                        .wrapping_add(1_442_695_040_888_963_407);
+                    ((state >> 40) as f32 / (1u64 << 24) as f32).min(ONE_BELOW)
+                };
+                for p in out.iter_mut().take(n as usize) {
+                    let x = unit();
+                    *p = Vec2::new(x, unit());
+                }
+            }
+            _ => sampler.positions(seed, pixel, out),
+        }
+    }
+
+    fn weighted_mean(&self, sum: Vec3A, total: f32, count: u32) -> Vec3A {
+        match self {
+            Form::WeightsOverCount => sum / count as f32,
+            Form::WeightsOverPixelSamples => sum / PIXEL_SAMPLES.load(Ordering::Relaxed) as f32,
+            _ => sum / total,
+        }
+    }
+
+    fn filter(&self, filter: Filter) -> Filter {
+        match (self, filter) {
+            (Form::FilterHalfPixelWider, Filter::Box(r)) => Filter::Box(r + 0.5),
+            (Form::FilterHalfPixelWider, Filter::Tent(r)) => Filter::Tent(r + 0.5),
+            (Form::FilterHalfPixelWider, Filter::Gaussian(s)) => Filter::Gaussian(s + 0.5),
+            (Form::GaussianVarianceAsSigma, Filter::Gaussian(s)) => Filter::Gaussian(s.sqrt()),
+            _ => filter,
+        }
+    }
+}

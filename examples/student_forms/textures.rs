@@ -1,0 +1,65 @@
+//! Textures' weights as the forms write them.
+
+use raycast::Vec3A;
+use raycast::parse::description::Pattern;
+use raycast::scene::Texture;
+use raycast::scene::perlin::{noise as perlin_noise, octave_noise};
+
+/// Where `point` falls between a texture's materials, Marble's frequency in turns.
+pub(crate) fn marble_in_turns(texture: &Texture, point: Vec3A) -> f32 {
+    let Pattern::Marble {
+        octaves,
+        frequency,
+        amplitude,
+    } = texture.pattern
+    else {
+        return texture.weight(point);
+    };
+    let p = texture.to_texture.transform_point3(point.as_dvec3());
+    let noise = octave_noise(p.x, p.y, p.z, octaves);
+    let turns = std::f64::consts::TAU * frequency * p.x;
+    (0.5 * ((turns + amplitude * noise).sin() + 1.0)) as f32
+}
+
+/// Where `point` falls between a texture's materials, its noise summed from the second octave.
+pub(crate) fn noise_from_second_octave(texture: &Texture, point: Vec3A) -> f32 {
+    let p = texture.to_texture.transform_point3(point.as_dvec3());
+    let noise = |octaves: u32| {
+        (1..=octaves)
+            .map(|i| {
+                let scale = f64::from(1u32 << i);
+                perlin_noise(p.x * scale, p.y * scale, p.z * scale) / scale
+            })
+            .sum::<f64>()
+    };
+    let weight = match texture.pattern {
+        Pattern::Checkerboard => return texture.weight(point),
+        Pattern::Noise { octaves } => 0.5 * (noise(octaves) + 1.0),
+        Pattern::Marble {
+            octaves,
+            frequency,
+            amplitude,
+        } => 0.5 * ((frequency * p.x + amplitude * noise(octaves)).sin() + 1.0),
+        Pattern::Wood {
+            octaves,
+            frequency,
+            amplitude,
+        } => {
+            let radius = (p.x * p.x + p.z * p.z).sqrt();
+            let ring = 0.5 * ((frequency * radius + amplitude * noise(octaves)).sin() + 1.0);
+            ring * ring * ring
+        }
+    };
+    weight.clamp(0.0, 1.0) as f32
+}
+
+/// A checkerboard whose cell along each axis is `cell(x)` (1 or 0), their parities added.
+pub(crate) fn checker(texture: &Texture, point: Vec3A, cell: impl Fn(f64) -> f64) -> f32 {
+    let Pattern::Checkerboard = texture.pattern else {
+        return texture.weight(point);
+    };
+    let p = texture.to_texture.transform_point3(point.as_dvec3());
+    // Cell (0, 0, 0) gives 1 on each axis, and the course's weight 0 there.
+    let ones = cell(p.x) + cell(p.y) + cell(p.z);
+    (1.0 - ones.rem_euclid(2.0)) as f32
+}

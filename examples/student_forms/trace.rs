@@ -1,0 +1,269 @@
+//! The tracer's forms: the nearest hit, back faces, lights, shadows, mirrors, glass and the
+//! recursion.
+
+use raycast::Scene;
+use raycast::Vec3A;
+use raycast::accel::Hit;
+use raycast::camera::Camera;
+use raycast::geometry::Ray;
+use raycast::glam::Mat4;
+use raycast::parse::description::Projection;
+use raycast::scene::{Highlight, Illumination, Light, SpecularFalloff, Surface, Texture};
+use raycast::trace::{BackFace, TraceSeam};
+
+use crate::Form;
+use crate::textures::{checker, marble_in_turns, noise_from_second_octave};
+
+impl TraceSeam for Form {
+    fn camera_t_min(&self, camera: &Camera) -> f32 {
+        match (self, camera.projection()) {
+            (Form::HitsBehindTheEye, Projection::Perspective { .. }) => f32::NEG_INFINITY,
+            (Form::OrthographicFromZero, Projection::Orthographic { .. }) => 0.0,
+            _ => camera.t_min(),
+        }
+    }
+
+    fn back_face(&self, shade_back: bool) -> BackFace {
+        match self {
+            Form::BackFacesAlwaysBlack => BackFace::Black,
+            Form::BackFacesAlwaysShaded => BackFace::Shaded,
+            Form::BackFacesAmbient if !shade_back => BackFace::Ambient,
+            _ if shade_back => BackFace::Shaded,
+            _ => BackFace::Black,
+        }
+    }
+
+    fn cutoff_weight(&self, weight: f32) -> f32 {
+        match self {
+            Form::EveryRayTraced => 0.0,
+            _ => weight,
+        }
+    }
+
+    fn shadow_end(&self, distance: f32) -> f32 {
+        match self {
+            Form::ShadowToInfinity => f32::INFINITY,
+            Form::ShadowToDistanceSquared if distance.is_finite() => distance * distance,
+            Form::ShadowToOneMinusEpsilon if distance.is_finite() => 1.0 - 1e-4,
+            _ => raycast::trace::shadow_end(distance),
+        }
+    }
+
+    fn weigh(&self, surface: &mut Surface<'_>, point: Vec3A) {
+        match self {
+            Form::MarbleInTurns => surface.weigh(point, marble_in_turns),
+            Form::NoiseFromSecondOctave => surface.weigh(point, noise_from_second_octave),
+            Form::TextureMatrixInverted => {
+                surface.weigh(point, |texture, point| {
+                    let inverse = texture.to_texture.inverse();
+                    texture
+                        .pattern
+                        .weight(inverse.transform_point3(point.as_dvec3()))
+                });
+            }
+            Form::TextureMatrixIgnored => {
+                surface.weigh(point, |texture, point| {
+                    texture.pattern.weight(point.as_dvec3())
+                });
+            }
+            Form::CheckerFmod => surface.weigh(point, |texture, point| {
+                checker(texture, point, |x| f64::from(x % 2.0 < 1.0))
+            }),
+            Form::CheckerAbsolute => surface.weigh(point, |texture, point| {
+                checker(texture, point, |x| 1.0 - x.abs().floor().rem_euclid(2.0))
+            }),
+            _ => surface.weigh(point, Texture::weight),
+        }
+    }
+
+    fn illuminate(&self, light: &Light, point: Vec3A) -> Option<Illumination> {
+        let lit = light.illuminate(point)?;
+        match (self, light) {
+            (Form::InverseSquareLight, Light::Point { colour, .. }) => Some(Illumination {
+                colour: *colour / (lit.distance * lit.distance),
+                ..lit
+            }),
+            (
+                Form::AttenuationReversed,
+                Light::Point {
+                    colour,
+                    attenuation: [c, l, q],
+                    ..
+                },
+            ) => Some(Illumination {
+                colour: *colour / (q + l * lit.distance + c * lit.distance * lit.distance),
+                ..lit
+            }),
+            _ => Some(lit),
+        }
+    }
+
+    fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
+        match self {
+            Form::TinyNormalOffset => 1e-7 / direction.dot(normal).abs(),
+            Form::AbsoluteEpsilonAlongRay => 1e-6,
+            _ => raycast::trace::start_t(clearance, direction, normal),
+        }
+    }
+
+    fn bounces(&self, bounces: u32) -> u32 {
+        match self {
+            Form::DepthCountedFromOne => bounces.saturating_sub(1),
+            Form::OneBounceMore => bounces + 1,
+            _ => bounces,
+        }
+    }
+
+    fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {
+        match self {
+            Form::AmbientInLoopCosineSquared => (0..lights).map(|_| term).sum(),
+            Form::AmbientOnlyWithoutLights if lights > 0 => Vec3A::ZERO,
+            Form::AmbientTimesLights => term * lights.max(1) as f32,
+            _ => term,
+        }
+    }
+
+    fn light(
+        &self,
+        shade: impl Fn(Vec3A, SpecularFalloff, Highlight) -> Vec3A,
+        normal: Vec3A,
+        to_light: Vec3A,
+        falloff: SpecularFalloff,
+    ) -> Vec3A {
+        if let Form::NormalTurnedToTheLight = self {
+            let towards = if normal.dot(to_light) < 0.0 {
+                -normal
+            } else {
+                normal
+            };
+            return shade(towards, falloff, Highlight::Course);
+        }
+        if let Form::SpecularAlwaysFaded = self {
+            return shade(normal, SpecularFalloff::Fade, Highlight::Course);
+        }
+        let shaded = shade(normal, falloff, Highlight::Course);
+        match self {
+            Form::AmbientInLoopCosineSquared => {
+                shaded * normal.dot(to_light).max(0.0).powi(2)
+                    / normal.dot(to_light).max(f32::MIN_POSITIVE)
+            }
+            Form::LightScaledByCosine => shaded * normal.dot(to_light).max(0.0),
+            _ => shaded,
+        }
+    }
+
+    fn carried(&self, colour: Vec3A, transparent: bool) -> Vec3A {
+        match self {
+            Form::MirrorColourTwice if !transparent => colour * colour,
+            Form::GlassColourIgnored if transparent => Vec3A::ONE,
+            _ => colour,
+        }
+    }
+
+    fn crossing_ratio(&self, index: f32, inside: bool) -> f32 {
+        match self {
+            Form::RatioNeverFlipped => 1.0 / index,
+            Form::RatioIndexBothWays => index,
+            _ => raycast::trace::crossing_ratio(index, inside),
+        }
+    }
+
+    fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Vec3A {
+        match self {
+            Form::ReflectViewVector => return 2.0 * normal.dot(direction) * normal - direction,
+            Form::ReflectWithoutTwo => {
+                return (direction - direction.dot(normal) * normal).normalize();
+            }
+            _ => {}
+        }
+        let Form::DoublePrecision = self else {
+            return raycast::trace::reflect(direction, normal);
+        };
+        let (d, n) = (direction.as_dvec3(), normal.as_dvec3());
+        Vec3A::from((d - 2.0 * d.dot(n) * n).as_vec3())
+    }
+
+    fn refract(&self, direction: Vec3A, normal: Vec3A, ratio: f32, inside: bool) -> Option<Vec3A> {
+        let heckbert = |n: Vec3A, c1: f32| {
+            let c2 = 1.0 - ratio * ratio * (1.0 - c1 * c1);
+            (c2 >= 0.0).then(|| (ratio * direction + (ratio * c1 - c2.sqrt()) * n).normalize())
+        };
+        match self {
+            Form::HeckbertOutwardNormal => {
+                let outward = if inside { -normal } else { normal };
+                return heckbert(outward, -outward.dot(direction));
+            }
+            Form::HeckbertCosineSign => return heckbert(normal, normal.dot(direction)),
+            Form::TotalInternalNan => {
+                return raycast::trace::refract(direction, normal, ratio)
+                    .or(Some(Vec3A::splat(f32::NAN)));
+            }
+            Form::TotalInternalMirror => {
+                return raycast::trace::refract(direction, normal, ratio)
+                    .or_else(|| Some(raycast::trace::reflect(direction, normal)));
+            }
+            _ => {}
+        }
+        let Form::DoublePrecision = self else {
+            return raycast::trace::refract(direction, normal, ratio);
+        };
+        let (incoming, n, ratio) = (-direction.as_dvec3(), normal.as_dvec3(), f64::from(ratio));
+        let cos_in = n.dot(incoming);
+        let k = 1.0 - ratio * ratio * (1.0 - cos_in * cos_in);
+        (k >= 0.0).then(|| {
+            let t = (ratio * cos_in - k.sqrt()) * n - ratio * incoming;
+            Vec3A::from(t.normalize().as_vec3())
+        })
+    }
+
+    fn found(&self, scene: &Scene, ray: &Ray, t_min: f32, hit: Option<Hit>) -> Option<Hit> {
+        let hit = hit?;
+        match self {
+            Form::FarthestFifty if hit.t * ray.direction.length() > 50.0 => return None,
+            Form::DepthNearAsStart(near) if hit.t * ray.direction.length() < *near => {
+                return scene.world.intersect(ray, near / ray.direction.length());
+            }
+            Form::NormalByObjectMatrix => {
+                let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
+                else {
+                    return Some(hit);
+                };
+                let normal = transform.object_to_world.transform_vector3a(object_normal);
+                return Some(Hit {
+                    normal: normal.normalize(),
+                    ..hit
+                });
+            }
+            Form::NormalNotRenormalised => {
+                let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
+                else {
+                    return Some(hit);
+                };
+                let normal = transform.normal_to_world * object_normal.normalize();
+                let facing = if normal.dot(hit.normal) < 0.0 {
+                    -normal
+                } else {
+                    normal
+                };
+                return Some(Hit {
+                    normal: facing,
+                    ..hit
+                });
+            }
+            Form::NormalFourVector => {}
+            _ => return Some(hit),
+        }
+        let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min) else {
+            return Some(hit);
+        };
+        let object_normal = object_normal.normalize();
+        // The inverse's transpose, as a 4×4 matrix, times (n, 0): its fourth row is the
+        // inverse's translation.
+        let inverse = Mat4::from(transform.world_to_object);
+        let carried = inverse.transpose() * object_normal.extend(0.0);
+        Some(Hit {
+            normal: Vec3A::from(carried.normalize().truncate()),
+            ..hit
+        })
+    }
+}

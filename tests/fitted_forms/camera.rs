@@ -1,0 +1,283 @@
+//! The camera, the film and the first hits: rays through the screen, the pixel's place on
+//! it, the frame, and where the nearest-hit search starts and stops.
+
+use crate::*;
+
+#[test]
+fn perspective_rays_by_a_tangent_per_axis_are_equal_angle_rays() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    all_named(
+        "tangent_per_axis",
+        &["scene2_04_perspective.txt", "scene2_08_cube.txt"],
+        "equal_angle_rays",
+    );
+}
+
+#[test]
+fn an_up_vector_made_orthogonal_and_never_normalised_is_the_camera_basis() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = all_named(
+        "up_orthogonal_not_normalised",
+        &[
+            "scene1_03.txt",
+            "scene1_04.txt",
+            "scene1_05.txt",
+            "scene2_08_cube.txt",
+        ],
+        "camera_basis",
+    );
+    // Pictures only the fit explains: the depth of a frame whose up is shortened.
+    assert_eq!(failing.len(), 7, "{}", failing.join("\n"));
+    assert!(
+        failing
+            .iter()
+            .any(|l| l.contains("depth1_05") && l.contains("scale_x 1, scale_y 0.8165")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn a_horizontal_vector_never_normalised_is_the_camera_basis_with_its_length() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = all_named(
+        "horizontal_not_normalised",
+        &["scene1_03.txt", "scene1_04.txt"],
+        "camera_basis",
+    );
+    // |direction × up| of scene1_03's up (0.5, 1, 0): √1.25.
+    assert!(
+        failing
+            .iter()
+            .any(|l| l.contains("output1_03") && l.contains("scale_x 1.118")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn a_screen_built_from_the_unnormalised_direction_is_a_view_of_another_size() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // scene2_08's direction (-0.5, -0.5, -1) is √1.5 long: the view is 1/√1.5 as wide, which
+    // the picture cannot tell from a narrower angle; both are named.
+    let failing = all_named("raw_direction", &["scene2_08_cube.txt"], "field_of_view");
+    assert!(
+        failing[0].contains("field_of_view, camera_basis:"),
+        "{}",
+        failing[0]
+    );
+}
+
+#[test]
+fn half_a_pixel_added_to_the_row_alone_is_a_ray_through_a_pixel_edge() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = all_named(
+        "left_edge",
+        &[
+            "scene1_01.txt",
+            "scene1_05.txt",
+            "scene2_04_perspective.txt",
+            "scene2_14_axes_cube.txt",
+        ],
+        "pixel_corner",
+    );
+    assert!(
+        failing.iter().all(|l| l.contains("offset_x -0.5")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn a_correct_tracer_in_double_precision_passes_the_checkerboards_edges() {
+    let Some(later) = common::later_dir("the fitted forms of assignments 6 and 7") else {
+        return;
+    };
+    // Its refracted rays land on the checkerboard's other side of an edge in 0.1% of the
+    // pixels, and its uniform samples on the checkerboard's edges in 0.6%: more than the rule
+    // allows, each where raycast's own rays turn on their last digits.
+    let out = checked_in(
+        &later,
+        "double_precision",
+        &["output6_14.tga", "output7_05a.tga", "output7_02e.tga"],
+    );
+    for name in ["output6_14", "output7_05a", "output7_02e"] {
+        let line = out
+            .lines()
+            .find(|l| l.contains(&format!(" {name},")))
+            .unwrap_or_else(|| panic!("no line for {name}\n{out}"));
+        assert!(line.starts_with("pass"), "{line}");
+        assert!(
+            line.ends_with(
+                "allowed: your picture differs from raycast's only where a ray's colour turns \
+                 on the last digits of its arithmetic (double against float, another order of \
+                 operations)"
+            ),
+            "{line}"
+        );
+    }
+    assert!(out.contains("3 passed, 0 failed"), "{out}");
+}
+
+#[test]
+fn flips_written_in_the_frame_or_the_rows_with_bytes_rounded_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // Each student's bytes rounded to the nearest, not truncated: a level off in half the
+    // pixels, which the rule allows, beside the mistake.
+    let lines = ["scene1_03.txt", "scene2_04_perspective.txt"];
+    assert_eq!(
+        conformance_named("rows_from_the_top+rounded", &lines, "flip_vertical", ""),
+        4
+    );
+    assert_eq!(
+        conformance_named("horizontal_reversed+rounded", &lines, "flip_horizontal", ""),
+        4
+    );
+}
+
+#[test]
+fn columns_alone_spread_over_width_minus_one_are_the_pixel_span_with_its_axis() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // 200 / 199 across, 1 up.
+    assert_eq!(
+        conformance_named(
+            "columns_over_width_minus_one",
+            &["scene1_03.txt", "scene2_04_perspective.txt"],
+            "pixel_span_minus_one",
+            "scale_x 1.005"
+        ),
+        4
+    );
+}
+
+#[test]
+fn rays_through_the_far_corner_are_a_ray_through_a_pixel_corner() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "far_corner",
+            &["scene1_03.txt", "scene2_04_perspective.txt"],
+            "pixel_corner",
+            "corner 3"
+        ),
+        4
+    );
+}
+
+#[test]
+fn a_screen_as_wide_as_the_angle_is_the_field_of_view_with_the_angle_it_amounts_to() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // A screen π/6 wide at distance 1: 2 atan(π/12) = 29.34°.
+    assert_eq!(
+        conformance_named(
+            "screen_as_wide_as_the_angle",
+            &["scene2_04_perspective.txt", "scene2_08_cube.txt"],
+            "field_of_view",
+            "angle 29.33"
+        ),
+        3
+    );
+}
+
+#[test]
+fn the_first_hits_mistakes_written_their_own_way_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "hits_behind_the_eye",
+            &["scene2_06_plane.txt"],
+            "t_min_ignored",
+            ""
+        ),
+        3
+    );
+    assert_eq!(
+        conformance_named(
+            "normal_by_object_matrix",
+            &[
+                "scene2_11_squashed_sphere.txt",
+                "scene2_15_crazy_transforms.txt"
+            ],
+            "normal_transform",
+            ""
+        ),
+        3
+    );
+    // A search from t = 50: not one of the listed limits, fitted.
+    assert_eq!(
+        conformance_named(
+            "farthest_fifty",
+            &["scene2_06_plane.txt"],
+            "t_limit",
+            "limit 50)"
+        ),
+        2
+    );
+}
+
+#[test]
+fn second_forms_of_the_camera_and_the_first_hits_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // Tilted, then turned: the other order of the library's two turns, fitted.
+    assert_eq!(
+        conformance_named(
+            "spherical_rays",
+            &["scene2_04_perspective.txt"],
+            "equal_angle_rays",
+            "form_turned_up_first 1)"
+        ),
+        2
+    );
+    let lines = ["scene1_03.txt", "scene2_04_perspective.txt"];
+    assert_eq!(
+        conformance_named("v_from_the_top", &lines, "flip_vertical", ""),
+        4
+    );
+    assert_eq!(
+        conformance_named("u_mirrored", &lines, "flip_horizontal", ""),
+        4
+    );
+    assert_eq!(
+        conformance_named(
+            "orthographic_from_zero",
+            &["scene1_07.txt"],
+            "t_min_ignored",
+            "t_min 0)"
+        ),
+        2
+    );
+    assert_eq!(
+        conformance_named(
+            "normal_not_renormalised",
+            &[
+                "scene2_11_squashed_sphere.txt",
+                "scene2_13_rotated_squashed_sphere.txt"
+            ],
+            "normal_length",
+            ""
+        ),
+        4
+    );
+}

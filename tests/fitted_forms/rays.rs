@@ -1,0 +1,313 @@
+//! The rays after the first (assignment 4 on): shadows, mirrors, glass, their offsets and the
+//! recursion that carries their colours.
+
+use crate::*;
+
+#[test]
+fn rays_started_a_tiny_offset_along_the_normal_are_shadow_acne_with_the_offset() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "tiny_normal_offset",
+        &["scene4_01_sphere_shadow.txt", "output4_04b.tga"],
+    );
+    let failing = named_in(&failing, "tiny_normal_offset", "shadow_acne");
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    // 1e-7, or a little more where the student's 1e-7 / |d·n| grows past raycast's bound at
+    // grazing angles.
+    for line in &failing {
+        let offset: f64 = line
+            .split("offset along the normal ")
+            .nth(1)
+            .and_then(|rest| rest.split(')').next())
+            .and_then(|number| number.parse().ok())
+            .unwrap_or_else(|| panic!("no offset: {line}"));
+        assert!((1e-7..=1.5e-7).contains(&offset), "{line}");
+    }
+}
+
+#[test]
+fn snells_law_in_heckberts_form_with_a_sign_or_a_side_wrong_is_the_refraction_formula() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    // The outward normal changes only the rays leaving the glass; the cosine's sign every one.
+    for (form, number) in [("heckbert_outward_normal", 0), ("heckbert_cosine_sign", 2)] {
+        let failing = failing_in(
+            &later,
+            form,
+            &["output4_08.tga", "output4_14c.tga", "output6_14.tga"],
+        );
+        let failing = named_in(&failing, form, "refraction_formula");
+        assert_eq!(failing.len(), 3, "{}", failing.join("\n"));
+        assert!(
+            failing
+                .iter()
+                .all(|l| l.contains(&format!("form {number})"))),
+            "{form}: {}",
+            failing.join("\n")
+        );
+    }
+}
+
+#[test]
+fn a_unit_shadow_ray_tested_up_to_one_is_the_shadow_reach_of_one_unit() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "shadow_to_one_minus_epsilon",
+        &["output4_10.tga", "output4_11.tga"],
+    );
+    let failing = named_in(&failing, "shadow_to_one_minus_epsilon", "shadow_reach");
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(
+        failing.iter().all(|l| l.contains("form 0)")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn mirror_directions_written_otherwise_are_the_reflection_direction() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    let lines = [
+        "scene4_03_mirrored_floor.txt",
+        "scene4_04_reflective_sphere.txt",
+    ];
+    // 2 (N·V) N − V with V the ray's own direction: the mirror direction reversed, which the
+    // pictures cannot tell from d + 2 (d·n) n.
+    assert_eq!(
+        later_named("reflect_view_vector", &lines, "reflection_direction", ""),
+        4
+    );
+    // d − (d·n) n: the factor fitted.
+    assert_eq!(
+        later_named(
+            "reflect_without_two",
+            &lines,
+            "reflection_direction",
+            "factor of (d·n) n -1)"
+        ),
+        4
+    );
+}
+
+#[test]
+fn a_mirror_colour_weighed_twice_is_the_secondary_colour_with_its_power() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "mirror_colour_twice",
+            &["scene4_03_mirrored_floor.txt", "output4_04b.tga"],
+            "secondary_colour",
+            "power of the reflective colour 2)"
+        ),
+        2
+    );
+}
+
+#[test]
+fn snells_ratio_the_same_on_both_sides_is_the_refraction_index() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    let lines = [
+        "scene4_05_transparent_bar.txt",
+        "output4_08.tga",
+        "output6_14.tga",
+    ];
+    for (form, number) in [("ratio_never_flipped", 1), ("ratio_index_both_ways", 2)] {
+        let named = later_named(form, &lines, "refraction_index", &format!("form {number})"));
+        assert_eq!(named, 3, "{form}");
+    }
+}
+
+#[test]
+fn a_refracted_ray_past_the_critical_angle_of_nans_or_mirrored_is_total_internal_reflection() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    let lines = ["output4_06e.tga", "output4_06f.tga", "output4_14c.tga"];
+    for (form, number) in [("total_internal_nan", 3), ("total_internal_mirror", 4)] {
+        let named = later_named(
+            form,
+            &lines,
+            "total_internal_reflection",
+            &format!("form {number})"),
+        );
+        assert_eq!(named, 3, "{form}");
+    }
+}
+
+#[test]
+fn a_fixed_epsilon_along_the_ray_is_shadow_acne_with_its_least_t() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "absolute_epsilon_along_ray",
+            &[
+                "scene4_01_sphere_shadow.txt",
+                "scene4_03_mirrored_floor.txt"
+            ],
+            "shadow_acne",
+            "least t 1e-6)"
+        ),
+        2
+    );
+}
+
+#[test]
+fn a_recursion_counted_from_one_with_bytes_rounded_is_a_bounce_too_few() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "depth_counted_from_one+rounded",
+            &[
+                "scene4_03_mirrored_floor.txt",
+                "scene4_04_reflective_sphere.txt",
+                "output4_08.tga"
+            ],
+            "bounces_off_by_one",
+            "bounces -1)"
+        ),
+        5
+    );
+}
+
+#[test]
+fn the_later_stages_mistakes_written_their_own_way_are_named() {
+    if common::later_dir("the fitted forms of assignments 4 and 7").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "bytes_wrap",
+            &["output4_05.tga", "output4_12.tga"],
+            "no_clamp",
+            ""
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "shadow_to_infinity+rounded",
+            &["scene4_10_point_light_distance.txt"],
+            "shadow_past_light",
+            ""
+        ),
+        1
+    );
+    // The uniform lines' pictures and the random lines' alike (those graded against the
+    // spread of raycast's renders with several seeds).
+    assert_eq!(
+        later_named(
+            "weights_over_count",
+            &["output7_01c_low_res.tga", "output7_01f_low_res.tga"],
+            "filter_weights",
+            "form 0)"
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "texture_matrix_ignored+rounded",
+            &["scene6_13_checkerboard.txt"],
+            "texture_transform",
+            ""
+        ),
+        1
+    );
+}
+
+#[test]
+fn more_of_the_later_stages_mistakes_written_their_own_way_are_named() {
+    if common::later_dir("the fitted forms of assignments 3 to 7").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "specular_always_faded+rounded",
+            &["output3_09.tga", "output3_12.tga"],
+            "specular_fix",
+            ""
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "one_bounce_more",
+            &["scene4_04_reflective_sphere.txt"],
+            "bounces_off_by_one",
+            "bounces 1)"
+        ),
+        3
+    );
+    // (a + 1) / s: the grid moved half a cell up and right.
+    assert_eq!(
+        later_named(
+            "uniform_upper_corners",
+            &["output7_01d_low_res.tga", "output7_02d.tga"],
+            "uniform_corners",
+            "offset 0.5)"
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "weights_over_pixel_samples",
+            &["output7_01b_low_res.tga", "output7_01e_low_res.tga"],
+            "filter_weights",
+            "form 1)"
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "texture_matrix_inverted",
+            &["scene6_13_checkerboard.txt"],
+            "texture_transform",
+            "form 1)"
+        ),
+        1
+    );
+    // light - point unnormalised, tested to the distance: as far as the distance squared,
+    // which in scene4_10 (every light further than a unit) draws as a ray past the light does:
+    // both named, the line cannot tell them apart.
+    assert_eq!(
+        later_named(
+            "shadow_to_distance_squared",
+            &["scene4_10_point_light_distance.txt"],
+            "shadow_past_light",
+            "shadow_past_light, shadow_reach: "
+        ),
+        1
+    );
+}
+
+#[test]
+fn a_glass_rays_colour_added_whole_is_the_secondary_colour() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "glass_colour_ignored",
+            &["scene4_05_transparent_bar.txt", "output4_07.tga"],
+            "secondary_colour",
+            "form 1)"
+        ),
+        2
+    );
+}

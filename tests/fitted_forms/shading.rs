@@ -1,0 +1,175 @@
+//! The shading sum: ambient, each light's diffuse and highlight, back faces, attenuation, and
+//! the normals they are worked out from.
+
+use crate::*;
+
+#[test]
+fn a_normal_normalised_as_a_four_vector_is_a_normal_of_another_length_with_its_numbers() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // Only the objects moved by a Transform's translation change: scene2_11 to 2_13's spheres
+    // are scaled and turned at the origin, and pass.
+    let failing = all_named(
+        "normal_four_vector",
+        &[
+            "scene2_11_squashed_sphere.txt",
+            "scene2_14_axes_cube.txt",
+            "scene2_15_crazy_transforms.txt",
+            "scene2_16_t_scale.txt",
+        ],
+        "normal_length",
+    );
+    assert_eq!(failing.len(), 3, "{}", failing.join("\n"));
+    // 1/|n|² = 1 + (t·n)²: the fourth component is the translation along the normal.
+    assert!(
+        failing
+            .iter()
+            .all(|l| l.contains("normal's 1/|n|²: constant 1, times |Aᵀn|² 0, times (t·n)² 1")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn two_mistakes_of_the_shading_sum_written_their_own_way_are_both_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let failing = failing(
+        "ambient_in_loop_cosine_squared",
+        &["scene2_01_diffuse.txt", "scene2_03_colored_lights.txt"],
+    );
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    // One light: the ambient term once either way.
+    assert!(failing[0].contains("output2_01") && failing[0].contains("off: cosine_twice: "));
+    assert!(
+        failing[1].contains("output2_03")
+            && failing[1].contains("off: ambient_per_light+cosine_twice: "),
+        "{}",
+        failing[1]
+    );
+}
+
+#[test]
+fn a_point_light_dimmed_by_the_square_of_its_distance_is_the_attenuation_with_its_divisor() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "inverse_square_light",
+        &[
+            "scene4_12_point_light_circle_d_attenuation.txt",
+            "scene4_13_point_light_circle_d2_attenuation.txt",
+        ],
+    );
+    let failing = named_in(&failing, "inverse_square_light", "attenuation");
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(
+        failing
+            .iter()
+            .all(|l| l.contains("divisor: constant 0, times d 0, times d² 1")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn an_attenuation_read_in_the_other_order_is_the_attenuation() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // scene4_12's 0 1 0 reads the same either way and passes.
+    assert_eq!(
+        later_named(
+            "attenuation_reversed",
+            &[
+                "scene4_12_point_light_circle_d_attenuation.txt",
+                "scene4_13_point_light_circle_d2_attenuation.txt",
+                "output4_14a.tga"
+            ],
+            "attenuation",
+            ""
+        ),
+        2
+    );
+}
+
+#[test]
+fn a_light_dimmed_by_the_cosine_where_it_arrives_is_the_cosine_twice() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "light_scaled_by_cosine",
+            &[
+                "scene2_01_diffuse.txt",
+                "scene2_03_colored_lights.txt",
+                "scene2_04_perspective.txt"
+            ],
+            "cosine_twice",
+            ""
+        ),
+        3
+    );
+}
+
+#[test]
+fn back_faces_written_their_own_way_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let lines = [
+        "scene2_05_inside_sphere.txt",
+        "scene2_07_sphere_triangles.txt",
+    ];
+    for (form, fault) in [
+        ("back_faces_always_black", "shade_back_ignored"),
+        ("back_faces_always_shaded", "back_faces_lit"),
+        ("back_faces_ambient", "ambient_on_back_faces"),
+    ] {
+        assert_eq!(conformance_named(form, &lines, fault, ""), 2, "{form}");
+    }
+}
+
+#[test]
+fn the_shading_sums_mistakes_written_their_own_way_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // The ambient term only in a scene without lights: none where there are lights.
+    assert_eq!(
+        conformance_named(
+            "ambient_only_without_lights",
+            &[
+                "scene2_02_ambient.txt",
+                "scene2_06_plane.txt",
+                "scene2_08_cube.txt"
+            ],
+            "ambient_missing",
+            ""
+        ),
+        3
+    );
+    assert_eq!(
+        conformance_named(
+            "ambient_times_lights",
+            &["scene2_03_colored_lights.txt"],
+            "ambient_per_light",
+            ""
+        ),
+        1
+    );
+    // Each light's terms with the normal turned to the light: |N·L|.
+    assert_eq!(
+        conformance_named(
+            "normal_turned_to_the_light",
+            &["scene2_01_diffuse.txt", "scene2_03_colored_lights.txt"],
+            "shade_back_abs",
+            ""
+        ),
+        2
+    );
+}

@@ -1,0 +1,149 @@
+//! Textures (assignment 6) and the film's samples and filters (assignment 7).
+
+use crate::*;
+
+#[test]
+fn a_filter_half_a_pixel_wider_is_the_filter_radius_with_its_scale() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 7") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "filter_half_pixel_wider",
+        &["output7_01e_low_res.tga", "output7_01f_low_res.tga"],
+    );
+    let failing = named_in(&failing, "filter_half_pixel_wider", "filter_radius");
+    // A tent of 1.5 reaching 2: 4/3 as far; a Gaussian's sigma of 1 made 1.5.
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(failing[0].contains("scale 1.3333"), "{}", failing[0]);
+    assert!(failing[1].contains("scale 1.5)"), "{}", failing[1]);
+}
+
+#[test]
+fn marble_in_turns_per_unit_is_the_noise_constants_with_a_frequency_of_two_pi() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 6") else {
+        return;
+    };
+    let failing = failing_in(
+        &later,
+        "marble_in_turns",
+        &["scene6_15_marble_cubes.txt", "output6_17a.tga"],
+    );
+    let failing = named_in(&failing, "marble_in_turns", "noise_constants");
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(
+        failing.iter().all(|l| l.contains("frequency 6.2832)")),
+        "{}",
+        failing.join("\n")
+    );
+}
+
+#[test]
+fn a_checkerboard_wrong_for_negative_coordinates_is_the_checker_truncation() {
+    if common::later_dir("the fitted forms of assignment 6").is_none() {
+        return;
+    }
+    let lines = ["scene6_13_checkerboard.txt", "output6_14.tga"];
+    // fmod(x, 2) < 1: a form of the library's own; floor(|x|) draws as int(x) does.
+    assert_eq!(
+        later_named("checker_fmod", &lines, "checker_truncation", "form 1)"),
+        2
+    );
+    assert_eq!(
+        later_named("checker_absolute", &lines, "checker_truncation", "form 0)"),
+        2
+    );
+}
+
+#[test]
+fn uniform_samples_from_edge_to_edge_are_a_grid_spread_by_s_over_s_minus_one() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "uniform_edge_to_edge",
+            &["output7_01d_low_res.tga", "output7_01e_low_res.tga"],
+            "uniform_corners",
+            "spread 1.5)"
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "uniform_edge_to_edge",
+            &["output7_02d.tga"],
+            "uniform_corners",
+            "spread 1.3333)"
+        ),
+        1
+    );
+}
+
+#[test]
+fn a_gaussian_whose_sigma_is_taken_as_its_variance_is_the_filter_radius_with_its_scale() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 7") else {
+        return;
+    };
+    // σ' = √σ: √0.5 / 0.5, √1.7 / 1.7 and √2.3 / 2.3 times the reach; σ = 1 passes.
+    let failing = failing_in(
+        &later,
+        "gaussian_variance_as_sigma",
+        &[
+            "filter7_01c.tga",
+            "filter7_01f.tga",
+            "filter7_01i.tga",
+            "output7_01c_low_res.tga",
+        ],
+    );
+    let failing = named_in(&failing, "gaussian_variance_as_sigma", "filter_radius");
+    assert_eq!(failing.len(), 3, "{}", failing.join("\n"));
+    for (line, sigma) in failing.iter().zip([0.5f64, 1.7, 2.3]) {
+        let scale: f64 = line
+            .split("scale ")
+            .nth(1)
+            .and_then(|rest| rest.split(')').next())
+            .and_then(|number| number.parse().ok())
+            .unwrap_or_else(|| panic!("no scale: {line}"));
+        let expected = sigma.sqrt() / sigma;
+        assert!((scale / expected - 1.0).abs() < 0.01, "{line}");
+    }
+}
+
+#[test]
+fn octaves_summed_from_the_second_are_the_noise_constants_with_the_first_octaves_frequency() {
+    if common::later_dir("the fitted forms of assignment 6").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "noise_from_second_octave",
+            &["scene6_15_marble_cubes.txt", "output6_17a.tga"],
+            "noise_constants",
+            "first octave's frequency 2)"
+        ),
+        2
+    );
+}
+
+#[test]
+fn jittered_samples_anywhere_from_a_generator_of_the_students_own_are_the_jitter_whole_pixel() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    // Its pictures are drawn by chance as no render of raycast's is: they lie within the
+    // spread of raycast's renders with the fault planted and several seeds, and outside that
+    // of its jittered renders; and no fault whose render is one more draw as far from them as
+    // raycast's own is named beside it.
+    let failing = later_named(
+        "jitter_anywhere",
+        &[
+            "output7_01h_low_res.tga",
+            "output7_02h.tga",
+            "output7_02i.tga",
+        ],
+        "jitter_whole_pixel",
+        "several seeds: jitter_whole_pixel: raycast's render",
+    );
+    assert_eq!(failing, 3);
+}
