@@ -190,6 +190,28 @@ enum Form {
     UMirrored,
     /// What a glass ray brings back added whole, not times the transparent colour.
     GlassColourIgnored,
+    /// The highlight `pow(max(N.H, 0), q)` added for every light, in front of the surface or
+    /// behind it.
+    HighlightUngated,
+    /// The highlight `pow(fabs(N.H), q)` added for every light.
+    HighlightAbsolute,
+    /// The half vector `(L + V) / 2`, the mean of the two: shorter than a unit wherever they
+    /// part.
+    HalfVectorHalved,
+    /// Phong's `pow(max(R.V, 0), q)` with V the ray's direction, R the light's mirrored.
+    MirrorAgainstTheRay,
+    /// A Transform's normal carried by the inverse matrix, not its transpose, then normalised.
+    NormalByInverse,
+    /// Jittered samples at each cell's centre moved by up to half a pixel, not half a cell:
+    /// `(a + 0.5) / s + rand() - 0.5`, kept in the pixel.
+    JitterAroundCells,
+    /// Hits farther than 20 units along the ray dropped by the shading (`if (t > 20) return
+    /// background`).
+    NearestWithinTwenty,
+    /// Both axes spread over the picture's size less one, `i / (width - 1)`, `j / (height - 1)`.
+    SpanMinusOneBoth,
+    /// The diffuse term `kd * fabs(N.L)`; the highlight as the course's.
+    DiffuseAbsolute,
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
     /// out in double precision (`Vec3d`), each then rounded to float.
     DoublePrecision,
@@ -275,6 +297,15 @@ impl Form {
             "light_scaled_by_cosine" => Form::LightScaledByCosine,
             "depth_counted_from_one" => Form::DepthCountedFromOne,
             "noise_from_second_octave" => Form::NoiseFromSecondOctave,
+            "highlight_ungated" => Form::HighlightUngated,
+            "normal_by_inverse" => Form::NormalByInverse,
+            "jitter_around_cells" => Form::JitterAroundCells,
+            "nearest_within_twenty" => Form::NearestWithinTwenty,
+            "span_minus_one_both" => Form::SpanMinusOneBoth,
+            "diffuse_absolute" => Form::DiffuseAbsolute,
+            "highlight_absolute" => Form::HighlightAbsolute,
+            "half_vector_halved" => Form::HalfVectorHalved,
+            "mirror_against_the_ray" => Form::MirrorAgainstTheRay,
             _ => return None,
         })
     }

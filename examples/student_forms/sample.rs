@@ -27,15 +27,19 @@ impl SampleSeam for Form {
                     *p = Vec2::new(corner(a), corner(b));
                 }
             }
+            (Form::JitterAroundCells, Sampler::Jittered(n)) => {
+                let side = n.isqrt().max(1);
+                let mut unit = student_generator(pixel);
+                for (k, p) in out.iter_mut().enumerate().take(n as usize) {
+                    let (a, b) = ((k as u32 % side) as f32, (k as u32 / side) as f32);
+                    let mut place =
+                        |c: f32| ((c + 0.5) / side as f32 + unit() - 0.5).clamp(0.0, ONE_BELOW);
+                    let x = place(a);
+                    *p = Vec2::new(x, place(b));
+                }
+            }
             (Form::JitterAnywhere, Sampler::Jittered(n)) => {
-                // The student's own generator: a 64-bit LCG seeded by the pixel.
-                let mut state = pixel.wrapping_mul(6_364_136_223_846_793_005) ^ 0x5DEE_CE66;
-                let mut unit = move || {
-                    state = state
-                        .wrapping_mul(6_364_136_223_846_793_005)
-                        .wrapping_add(1_442_695_040_888_963_407);
-                    ((state >> 40) as f32 / (1u64 << 24) as f32).min(ONE_BELOW)
-                };
+                let mut unit = student_generator(pixel);
                 for p in out.iter_mut().take(n as usize) {
                     let x = unit();
                     *p = Vec2::new(x, unit());
@@ -61,5 +65,16 @@ impl SampleSeam for Form {
             (Form::GaussianVarianceAsSigma, Filter::Gaussian(s)) => Filter::Gaussian(s.sqrt()),
             _ => filter,
         }
+    }
+}
+
+/// The student's own generator of numbers in [0, 1): a 64-bit LCG seeded by the pixel.
+fn student_generator(pixel: u64) -> impl FnMut() -> f32 {
+    let mut state = pixel.wrapping_mul(6_364_136_223_846_793_005) ^ 0x5DEE_CE66;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((state >> 40) as f32 / (1u64 << 24) as f32).min(ONE_BELOW)
     }
 }

@@ -8,7 +8,9 @@ use raycast::camera::Camera;
 use raycast::geometry::Ray;
 use raycast::glam::Mat4;
 use raycast::parse::description::Projection;
-use raycast::scene::{Highlight, Illumination, Light, SpecularFalloff, Surface, Texture};
+use raycast::scene::{
+    Highlight, HighlightAt, Illumination, Light, SpecularFalloff, Surface, Texture,
+};
 use raycast::trace::{BackFace, TraceSeam};
 
 use crate::Form;
@@ -138,6 +140,22 @@ impl TraceSeam for Form {
             };
             return shade(towards, falloff, Highlight::Course);
         }
+        let own = match self {
+            Form::HighlightUngated => Some(highlight_ungated as fn(&HighlightAt) -> f32),
+            Form::HighlightAbsolute => Some(highlight_absolute as fn(&HighlightAt) -> f32),
+            Form::HalfVectorHalved => Some(half_vector_halved as fn(&HighlightAt) -> f32),
+            Form::MirrorAgainstTheRay => Some(mirror_against_the_ray as fn(&HighlightAt) -> f32),
+            _ => None,
+        };
+        if let Some(own) = own {
+            return shade(normal, falloff, Highlight::Own(own));
+        }
+        if let Form::DiffuseAbsolute = self
+            && normal.dot(to_light) < 0.0
+        {
+            // The diffuse term alone, from the other side: no highlight there.
+            return shade(-normal, falloff, Highlight::Own(|_| 0.0));
+        }
         if let Form::SpecularAlwaysFaded = self {
             return shade(normal, SpecularFalloff::Fade, Highlight::Course);
         }
@@ -220,6 +238,23 @@ impl TraceSeam for Form {
         let hit = hit?;
         match self {
             Form::FarthestFifty if hit.t * ray.direction.length() > 50.0 => return None,
+            Form::NearestWithinTwenty if hit.t * ray.direction.length() > 20.0 => return None,
+            Form::NormalByInverse => {
+                let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
+                else {
+                    return Some(hit);
+                };
+                let normal = (transform.world_to_object.matrix3 * object_normal).normalize();
+                let facing = if normal.dot(hit.normal) < 0.0 {
+                    -normal
+                } else {
+                    normal
+                };
+                return Some(Hit {
+                    normal: facing,
+                    ..hit
+                });
+            }
             Form::DepthNearAsStart(near) if hit.t * ray.direction.length() < *near => {
                 return scene.world.intersect(ray, near / ray.direction.length());
             }
@@ -266,4 +301,31 @@ impl TraceSeam for Form {
             ..hit
         })
     }
+}
+
+fn highlight_ungated(at: &HighlightAt) -> f32 {
+    let half = (at.to_light + at.to_eye).normalize();
+    at.normal.dot(half).max(0.0).powf(at.exponent)
+}
+
+fn highlight_absolute(at: &HighlightAt) -> f32 {
+    let half = (at.to_light + at.to_eye).normalize();
+    at.normal.dot(half).abs().powf(at.exponent)
+}
+
+fn half_vector_halved(at: &HighlightAt) -> f32 {
+    if at.normal.dot(at.to_light) < 0.0 {
+        return 0.0;
+    }
+    let half = (at.to_light + at.to_eye) / 2.0;
+    at.normal.dot(half).max(0.0).powf(at.exponent)
+}
+
+fn mirror_against_the_ray(at: &HighlightAt) -> f32 {
+    let n_dot_l = at.normal.dot(at.to_light);
+    if n_dot_l < 0.0 {
+        return 0.0;
+    }
+    let mirrored = 2.0 * n_dot_l * at.normal - at.to_light;
+    mirrored.dot(-at.to_eye).max(0.0).powf(at.exponent)
 }

@@ -7,6 +7,7 @@
 use arrayvec::ArrayVec;
 use glam::{DAffine3, Vec3A};
 
+use super::highlight::{Highlight, HighlightAt};
 use super::perlin::octave_noise;
 use crate::parse::MAX_TEXTURE_DEPTH;
 use crate::parse::description::{self, Pattern};
@@ -60,25 +61,6 @@ pub enum SpecularFalloff {
     /// The handout's optional fix (`-specular_fix`): the highlight multiplied by N·L, so it
     /// fades to nothing as the light reaches grazing.
     Fade,
-}
-
-/// How a highlight is worked out: the course's Blinn-Torrance term, or one of the ways a
-/// student's tracer gets it wrong (check's fault library renders with those).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Highlight {
-    /// k_s max(N·H, 0)^q with H = normalize(L + V), V toward the eye, where N·L ≥ 0.
-    #[default]
-    Course,
-    /// (N·H)^q with N·H not clamped at 0, and worked out where the light is behind the surface
-    /// too (a negative base with a fractional exponent gives no highlight).
-    Unclamped,
-    /// H made from the ray's own direction, which points away from the eye: normalize(L + d).
-    HalfFromRay,
-    /// H = L + V, not made unit length.
-    HalfNotUnit,
-    /// Phong's mirror term (R·V)^q, R the light's direction mirrored about N, instead of
-    /// Blinn's (N·H)^q.
-    Mirror,
 }
 
 /// The scene's materials, asked by index.
@@ -352,31 +334,14 @@ impl Phong {
     ) -> Vec3A {
         let n_dot_l = normal.dot(to_light);
         let mut colour = self.diffuse * n_dot_l.max(0.0);
-        let lit = n_dot_l >= 0.0 || highlight == Highlight::Unclamped;
-        if self.specular != Vec3A::ZERO && lit {
+        if self.specular != Vec3A::ZERO && (n_dot_l >= 0.0 || !highlight.gated()) {
             let to_eye = -view.normalize();
-            let mut term = match highlight {
-                Highlight::Course => {
-                    let half = (to_light + to_eye).normalize_or_zero();
-                    normal.dot(half).max(0.0).powf(self.exponent)
-                }
-                Highlight::Unclamped => {
-                    let half = (to_light + to_eye).normalize_or_zero();
-                    let term = normal.dot(half).powf(self.exponent);
-                    if term.is_nan() { 0.0 } else { term }
-                }
-                Highlight::HalfFromRay => {
-                    let half = (to_light - to_eye).normalize_or_zero();
-                    normal.dot(half).max(0.0).powf(self.exponent)
-                }
-                Highlight::HalfNotUnit => {
-                    normal.dot(to_light + to_eye).max(0.0).powf(self.exponent)
-                }
-                Highlight::Mirror => {
-                    let mirrored = 2.0 * n_dot_l * normal - to_light;
-                    mirrored.dot(to_eye).max(0.0).powf(self.exponent)
-                }
-            };
+            let mut term = highlight.strength(&HighlightAt {
+                normal,
+                to_light,
+                to_eye,
+                exponent: self.exponent,
+            });
             if falloff == SpecularFalloff::Fade {
                 term *= n_dot_l;
             }

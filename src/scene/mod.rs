@@ -2,6 +2,7 @@
 
 mod build;
 mod builder;
+pub mod highlight;
 pub mod light;
 pub mod material;
 pub mod perlin;
@@ -13,8 +14,9 @@ use glam::Vec3A;
 
 pub use build::find_mesh;
 pub use builder::{BUILT_IN_CODE, MaterialRef, SceneBuilder};
+pub use highlight::{Highlight, HighlightAt, HighlightBase, HighlightForm};
 pub use light::{Illumination, Light};
-pub use material::{Highlight, Material, Materials, Phong, SpecularFalloff, Surface, Texture};
+pub use material::{Material, Materials, Phong, SpecularFalloff, Surface, Texture};
 
 use crate::accel::{World, WorldStats};
 use crate::camera::Camera;

@@ -173,3 +173,49 @@ fn the_shading_sums_mistakes_written_their_own_way_are_named() {
         2
     );
 }
+
+#[test]
+fn highlights_written_their_own_way_are_named_with_the_form_fitted() {
+    if common::later_dir("the fitted forms of assignment 3").is_none() {
+        return;
+    }
+    let lines = [
+        "scene3_03_bunny_mesh_200.txt",
+        "output3_09.tga",
+        "output3_10.tga",
+        "output3_12.tga",
+    ];
+    // pow(max(N.H, 0), q) for every light, in front of the surface or behind it; with bytes
+    // rounded.
+    assert_eq!(
+        later_named(
+            "highlight_ungated+rounded",
+            &lines,
+            "specular_unclamped",
+            "highlight where N·L < 0 1)"
+        ),
+        3
+    );
+    // pow(fabs(N.H), q) for every light: where q is even (output3_12's) the library's form
+    // draws the same.
+    assert_eq!(
+        later_named("highlight_absolute", &lines, "specular_unclamped", ""),
+        3
+    );
+    // H = (L + V) / 2, bytes rounded; the dark spheres of output3_10 that lose their
+    // highlights read as silhouettes moved, and are fitted all the same.
+    assert_eq!(
+        later_named(
+            "half_vector_halved+rounded",
+            &lines,
+            "half_vector",
+            "H not unit 1, H scaled by 0.5)"
+        ),
+        4
+    );
+    // Phong's (R.V)^q with V the ray's direction.
+    assert_eq!(
+        later_named("mirror_against_the_ray", &lines, "half_vector", ""),
+        4
+    );
+}

@@ -4,7 +4,7 @@ use glam::Vec3A;
 
 use super::{Candidate, Fault, LineScene, Planted};
 use crate::parse::description::{LightSpec, MaterialSpec};
-use crate::scene::{Highlight, Illumination, Light, SpecularFalloff};
+use crate::scene::{Highlight, HighlightForm, Illumination, Light, SpecularFalloff};
 use crate::trace::BackFace;
 
 /// How a student's tracer shades a hit.
@@ -41,6 +41,8 @@ pub enum ShadingFault {
         /// A point light's colour at distance d divided by these terms' x + y·d + z·d², not
         /// by the file's c + l·d + q·d².
         divisor: Option<[f32; 3]>,
+        /// The highlight's form.
+        highlight: HighlightForm,
     },
 }
 
@@ -153,8 +155,16 @@ impl ShadingFault {
             ),
             ShadingFault::Highlight(student) => shade(normal, falloff, student),
             ShadingFault::Weighed {
-                power, absolute, ..
+                power,
+                absolute,
+                highlight: form,
+                ..
             } => {
+                let highlight = if form == HighlightForm::default() {
+                    highlight
+                } else {
+                    Highlight::Formed(form)
+                };
                 let cosine = normal.dot(to_light);
                 let (turned, cosine) = if absolute && cosine < 0.0 {
                     (-normal, -cosine)

@@ -14,6 +14,10 @@ use crate::check::faults::{FAULTS, LineScene, PictureFault, Plant, Planted, show
 use crate::check::rule::Rule;
 use crate::shade::Image;
 
+/// The share of a picture's difference from the course's shading that the shading fit must
+/// account for where the picture's objects seem to stand elsewhere.
+const MOVED_SHARE: f64 = 0.9;
+
 /// A failing picture of the line, as the fits see it.
 #[derive(Debug, Clone, Copy)]
 pub struct Picture<'p> {
@@ -85,31 +89,40 @@ pub fn fit_line<T: Trial>(
             }
         }
     }
-    // The shading, for the shaded and normals pictures whose objects stand in place.
-    let in_place = |slot: Option<usize>, explained: &[bool]| {
+    // The shading, for the shaded and normals pictures whose objects stand in place; and for
+    // those whose objects seem to stand elsewhere, where the fit draws them nearly whole (a
+    // dark object's highlight or light lost reads as its silhouette moved).
+    let unexplained = |slot: Option<usize>, explained: &[bool], displaced: bool| {
         (0..pictures.len())
-            .find(|&k| !explained[k] && Some(pictures[k].slot) == slot && !moved(&pictures[k]))
+            .find(|&k| {
+                !explained[k] && Some(pictures[k].slot) == slot && moved(&pictures[k]) == displaced
+            })
             .map(|k| pictures[k].actual)
     };
-    let (shaded, normals) = (
-        in_place(shaded_slot, explained),
-        in_place(normals_slot, explained),
-    );
-    if (shaded.is_some() || normals.is_some())
-        && let Some((plants, named)) = fit_shading(line, shaded, normals)
-    {
-        let plant = match plants[..] {
-            [one] => Some(Plant::one(one)),
-            [first, second] => Some(Plant::two(first, second)),
-            _ => None,
-        };
-        if let Some(plant) = plant {
-            prove(trial, plant, &named, explained)?;
+    for (displaced, least_share) in [(false, 0.0), (true, MOVED_SHARE)] {
+        let (shaded, normals) = (
+            unexplained(shaded_slot, explained, displaced),
+            unexplained(normals_slot, explained, displaced),
+        );
+        if (shaded.is_some() || normals.is_some())
+            && let Some((plants, named)) = fit_shading(line, shaded, normals, least_share)
+        {
+            let plant = match plants[..] {
+                [one] => Some(Plant::one(one)),
+                [first, second] => Some(Plant::two(first, second)),
+                _ => None,
+            };
+            if let Some(plant) = plant {
+                prove(trial, plant, &named, explained)?;
+            }
+        }
+        if explained.iter().all(|&e| e) {
+            return Ok(());
         }
     }
     // Marble's and Wood's numbers, for the shaded picture where its objects stand in place.
     if shows_veins(line)
-        && let Some(shaded) = in_place(shaded_slot, explained)
+        && let Some(shaded) = unexplained(shaded_slot, explained, false)
         && let Some((plant, named)) = fit_texture(line, shaded)
     {
         prove(trial, Plant::one(plant), &named, explained)?;

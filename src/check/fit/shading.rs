@@ -19,7 +19,7 @@ use crate::check::faults::{
 };
 use crate::geometry::Ray;
 use crate::sample::Sampler;
-use crate::scene::{Illumination, Light, Surface, Texture};
+use crate::scene::{HighlightBase, HighlightForm, Illumination, Light, Surface, Texture};
 use crate::shade::{Image, to_byte};
 use crate::trace::{Scratch, Tracer, clearance, shadow_end, start_t};
 
@@ -47,11 +47,16 @@ const STAGES: [&[usize]; 3] = [&[0, 1], &[2, 3, 4], &[5, 6, 7]];
 const EVALUATIONS: usize = 80;
 /// ...and searches, each from where the last ended.
 const RESTARTS: usize = 4;
+/// The scales of H tried in each form of the highlights' family (1/2: the mean of L and V).
+const HALF_SCALES: [f32; 2] = [1.0, 0.5];
 /// At most this many pixels are weighed (evenly spread over the picture).
 const MAX_PIXELS: usize = 6000;
 /// A pixel's channel counts at most this many levels off: a pixel the family cannot draw (a
 /// shadow's edge, a mirror's image) weighs no more than a few that it draws nearly.
 const CAP: f64 = 24.0;
+/// A channel within this many levels of the middle of the student's counts nothing: bytes
+/// rounded to the nearest, not truncated as the course's, land there, and they are no mistake.
+const SLACK: f64 = 1.0;
 /// A round value is taken where the fit is worse by at most this share there...
 const ROUND_SHARE: f64 = 0.02;
 /// ...or by this many levels a pixel.
@@ -79,12 +84,13 @@ struct Seen<'a> {
 
 /// The line's shading fitted to the student's shaded picture (`shaded`) and normals picture
 /// (`normals`), each with the index of its slot: the plant, and the faults the numbers name,
-/// where the fit is nearer than the course's shading and every number off the course's is
-/// named.
+/// where the fit removes more than `least_share` of the course's shading's difference from the
+/// pictures and every number off the course's is named.
 pub fn fit_shading(
     line: &LineScene,
     shaded: Option<&Image>,
     normals: Option<&Image>,
+    least_share: f64,
 ) -> Option<(Vec<Planted>, Named)> {
     let options = &line.options;
     let settings = options.trace;
@@ -170,7 +176,16 @@ pub fn fit_shading(
             rest: Vec3A::ZERO,
         };
         let colour = tracer.colour(&ray, Some(&hit), &mut scratch);
-        one.rest = colour - shade(&one, &course, false, scene.lights.len(), settings.specular);
+        let course_highlight = HighlightForm::default();
+        one.rest = colour
+            - shade(
+                &one,
+                &course,
+                false,
+                course_highlight,
+                scene.lights.len(),
+                settings.specular,
+            );
         seen.push(one);
     }
     if seen.is_empty() {
@@ -178,11 +193,11 @@ pub fn fit_shading(
     }
     let lights = scene.lights.len();
     let falloff = settings.specular;
-    let cost = |numbers: &[f64], absolute: bool| -> f64 {
+    let cost_with = |numbers: &[f64], absolute: bool, highlight: HighlightForm| -> f64 {
         let mut sum = 0.0;
         for one in &seen {
             if let Some(shaded) = shaded {
-                let colour = shade(one, numbers, absolute, lights, falloff);
+                let colour = shade(one, numbers, absolute, highlight, lights, falloff);
                 sum += levels_off(colour, shaded.pixels[one.pixel]);
             }
             if let Some(normals) = normals {
@@ -192,6 +207,8 @@ pub fn fit_shading(
         }
         sum / seen.len() as f64
     };
+    let cost =
+        |numbers: &[f64], absolute: bool| cost_with(numbers, absolute, HighlightForm::default());
     let course_cost = cost(&course, false);
     // |N·L| only where some light is behind a surface it would light.
     let behind = seen.iter().any(|one| {
@@ -215,87 +232,195 @@ pub fn fit_shading(
         }
         round
     };
-    let mut best: Option<([f64; NUMBERS], bool, f64)> = None;
-    for absolute in [false, true].into_iter().filter(|&a| !a || behind) {
-        // Each stage's numbers alone first (the normal's length and a light's divisor trade
-        // off against each other: searched together from the course's, they settle anywhere
-        // along the valley between), the best of those, then every number from there.
-        let search = |start: [f64; NUMBERS], searched: &[usize]| {
-            search_from(
-                start,
-                searched,
-                |numbers| cost(numbers, absolute),
-                &scale_of,
-            )
-        };
-        let mut at = course;
-        let mut value = f64::INFINITY;
-        for stage in STAGES {
-            let searched: Vec<usize> = stage.iter().copied().filter(|i| free.contains(i)).collect();
-            if searched.is_empty() {
-                continue;
+    // The numbers fitted with the highlight's form `highlight`: each with |N·L| and without.
+    let search_numbers = |highlight: HighlightForm| {
+        let cost = |numbers: &[f64], absolute: bool| cost_with(numbers, absolute, highlight);
+        let mut best: Option<([f64; NUMBERS], bool, f64)> = None;
+        for absolute in [false, true].into_iter().filter(|&a| !a || behind) {
+            // Each stage's numbers alone first (the normal's length and a light's divisor trade
+            // off against each other: searched together from the course's, they settle anywhere
+            // along the valley between), the best of those, then every number from there.
+            let search = |start: [f64; NUMBERS], searched: &[usize]| {
+                search_from(
+                    start,
+                    searched,
+                    |numbers| cost(numbers, absolute),
+                    &scale_of,
+                )
+            };
+            let mut at = course;
+            let mut value = f64::INFINITY;
+            for stage in STAGES {
+                let searched: Vec<usize> =
+                    stage.iter().copied().filter(|i| free.contains(i)).collect();
+                if searched.is_empty() {
+                    continue;
+                }
+                let (there, cost_there) = search(course, &searched);
+                if cost_there < value {
+                    (at, value) = (there, cost_there);
+                }
             }
-            let (there, cost_there) = search(course, &searched);
-            if cost_there < value {
-                (at, value) = (there, cost_there);
+            if value > 0.0 {
+                let (there, cost_there) = search(at, &free);
+                if cost_there < value {
+                    (at, value) = (there, cost_there);
+                }
             }
-        }
-        if value > 0.0 {
-            let (there, cost_there) = search(at, &free);
-            if cost_there < value {
-                (at, value) = (there, cost_there);
+            // Every number at the round value nearest it at once, where that costs (almost)
+            // nothing (numbers that trade off against each other may each sit off their round value
+            // while the others do); then each number alone, again while any moves (one number may
+            // round only once another has).
+            let nearest: [f64; NUMBERS] = std::array::from_fn(|index| {
+                round_values(index)
+                    .into_iter()
+                    .min_by(|a, b| (a - at[index]).abs().total_cmp(&(b - at[index]).abs()))
+                    .unwrap_or(at[index])
+            });
+            // A round value is taken where the picture is (almost) as near as the search's least.
+            let near_enough = value * (1.0 + ROUND_SHARE) + ROUND_LEVELS;
+            let mut current = value;
+            let there = cost(&nearest, absolute);
+            if there <= near_enough {
+                (at, current) = (nearest, there);
             }
-        }
-        // Every number at the round value nearest it at once, where that costs (almost)
-        // nothing (numbers that trade off against each other may each sit off their round value
-        // while the others do); then each number alone, again while any moves (one number may
-        // round only once another has).
-        let nearest: [f64; NUMBERS] = std::array::from_fn(|index| {
-            round_values(index)
-                .into_iter()
-                .min_by(|a, b| (a - at[index]).abs().total_cmp(&(b - at[index]).abs()))
-                .unwrap_or(at[index])
-        });
-        // A round value is taken where the picture is (almost) as near as the search's least.
-        let near_enough = value * (1.0 + ROUND_SHARE) + ROUND_LEVELS;
-        let mut current = value;
-        let there = cost(&nearest, absolute);
-        if there <= near_enough {
-            (at, current) = (nearest, there);
-        }
-        for _ in 0..at.len() {
-            let mut moved = false;
-            for index in 0..at.len() {
-                // The nearest of its round values (the course's first among equals).
-                let mut choice = (at[index], current);
-                for r in round_values(index) {
-                    let mut tried = at;
-                    tried[index] = r;
-                    let there = cost(&tried, absolute);
-                    if there <= near_enough && there < choice.1 {
-                        choice = (r, there);
+            for _ in 0..at.len() {
+                let mut moved = false;
+                for index in 0..at.len() {
+                    // The nearest of its round values (the course's first among equals).
+                    let mut choice = (at[index], current);
+                    for r in round_values(index) {
+                        let mut tried = at;
+                        tried[index] = r;
+                        let there = cost(&tried, absolute);
+                        if there <= near_enough && there < choice.1 {
+                            choice = (r, there);
+                        }
+                    }
+                    if choice.0 != at[index] {
+                        at[index] = choice.0;
+                        current = choice.1;
+                        moved = true;
                     }
                 }
-                if choice.0 != at[index] {
-                    at[index] = choice.0;
-                    current = choice.1;
-                    moved = true;
+                if !moved {
+                    break;
                 }
             }
-            if !moved {
-                break;
+            // A divisor a person writes whole (d², d, none, the file's terms reversed) where
+            // the picture cannot tell it from the terms found, one by one, round as they are.
+            if free.contains(&5) && [at[5], at[6], at[7]] != [c, l, q] {
+                for whole in [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [q, l, c]] {
+                    let mut tried = at;
+                    tried[5..8].copy_from_slice(&whole);
+                    let there = cost(&tried, absolute);
+                    if there <= near_enough {
+                        (at, current) = (tried, there);
+                        break;
+                    }
+                }
+            }
+            let value = current;
+            if best.is_none_or(|(_, _, v)| value < v) {
+                best = Some((at, absolute, value));
             }
         }
-        let value = current;
-        if best.is_none_or(|(_, _, v)| value < v) {
-            best = Some((at, absolute, value));
+        best
+    };
+    let (mut at, mut absolute, mut value) = search_numbers(HighlightForm::default())?;
+    // The highlight's form: a highlight is a few pixels of a picture, too few to steer the
+    // numbers' search, which may settle on numbers that draw it another way; so its family is
+    // searched at the course's numbers and at those found, and the numbers again with each form
+    // found.
+    let mut highlight = HighlightForm::default();
+    if shaded.is_some() && value > 0.0 {
+        let mut forms: Vec<HighlightForm> = Vec::new();
+        for (numbers, whole) in [(course, false), (at, absolute)] {
+            let course_cost = cost(&numbers, whole);
+            let (form, _) = fit_highlight(|form| cost_with(&numbers, whole, form), course_cost);
+            if form != HighlightForm::default() && !forms.contains(&form) {
+                forms.push(form);
+            }
+        }
+        for form in forms {
+            if let Some((there, whole, cost_there)) = search_numbers(form)
+                && cost_there < value
+            {
+                (at, absolute, value, highlight) = (there, whole, cost_there, form);
+            }
         }
     }
-    let (at, absolute, value) = best?;
-    if value >= course_cost || (at == course && !absolute) {
+    let unchanged = at == course && !absolute && highlight == HighlightForm::default();
+    if value >= course_cost * (1.0 - least_share) || unchanged {
         return None;
     }
-    name(at, absolute, lights, [c, l, q])
+    name(at, absolute, highlight, lights, [c, l, q])
+}
+
+/// The member of the highlights' family that draws the picture nearest (by `cost`, the
+/// course's costing `course`), with its cost; the course's unless another is nearer by more
+/// than a round value's allowance. H's scale is searched once the rest of the form is chosen.
+fn fit_highlight(cost: impl Fn(HighlightForm) -> f64, course: f64) -> (HighlightForm, f64) {
+    let mut forms = Vec::new();
+    for view_along_ray in [false, true] {
+        for base in [
+            HighlightBase::Clamped,
+            HighlightBase::Absolute,
+            HighlightBase::Whole,
+        ] {
+            for ungated in [false, true] {
+                let form = HighlightForm {
+                    view_along_ray,
+                    base,
+                    ungated,
+                    ..HighlightForm::default()
+                };
+                forms.push(HighlightForm {
+                    mirror: true,
+                    ..form
+                });
+                for half_not_unit in [false, true] {
+                    for half_scale in HALF_SCALES {
+                        forms.push(HighlightForm {
+                            half_not_unit,
+                            half_scale,
+                            ..form
+                        });
+                    }
+                }
+            }
+        }
+    }
+    // A form is taken only where it is nearer than the course's by more than the allowance
+    // within which round values are taken: one that changes nothing is the course's.
+    let enough = |value: f64| value < course - course * ROUND_SHARE - ROUND_LEVELS;
+    let Some((mut form, mut value)) = forms
+        .into_iter()
+        .map(|form| (form, cost(form)))
+        .filter(|&(_, value)| enough(value))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+    else {
+        return (HighlightForm::default(), course);
+    };
+    if !form.mirror && value > 0.0 {
+        let start = [Start {
+            value: f64::from(form.half_scale),
+            step: 0.25,
+        }];
+        let scaled = |scale: f64| HighlightForm {
+            half_scale: scale as f32,
+            ..form
+        };
+        let Ok(least) = minimise(&start, EVALUATIONS, |x| {
+            Ok::<_, std::convert::Infallible>(cost(scaled(x[0])))
+        });
+        // The round scale where it is as near.
+        let near_enough = least.value * (1.0 + ROUND_SHARE) + ROUND_LEVELS;
+        if least.value < value && (value > near_enough || !HALF_SCALES.contains(&form.half_scale)) {
+            (form, value) = (scaled(least.at[0]), least.value);
+        }
+    }
+    (form, value)
 }
 
 /// The least of `cost` over the numbers `searched` (the others as in `start`), by the simplex
@@ -344,16 +469,17 @@ fn search_from(
     (at, value)
 }
 
-/// The colour the family draws at `one` with `numbers` (unclamped).
+/// The colour the family draws at `one` with `numbers` and the highlight's form (unclamped).
 fn shade(
     one: &Seen<'_>,
     numbers: &[f64],
     absolute: bool,
+    highlight: HighlightForm,
     lights: usize,
     falloff: crate::scene::SpecularFalloff,
 ) -> Vec3A {
     // (Point lights dimmed below, from the file's divisor.)
-    let fault = weighed(numbers, absolute, false);
+    let fault = weighed(numbers, absolute, false, highlight);
     let normal = one.normal * length(one, numbers);
     let mut colour = fault.ambient(one.ambient, lights) + one.rest;
     for &(lit, divisor) in &one.lights {
@@ -385,12 +511,18 @@ fn shade(
 
 /// The shading the numbers say, as the fault library plants it.
 /// (`divided`: with the numbers' own divisor for point lights.)
-fn weighed(numbers: &[f64], absolute: bool, divided: bool) -> ShadingFault {
+fn weighed(
+    numbers: &[f64],
+    absolute: bool,
+    divided: bool,
+    highlight: HighlightForm,
+) -> ShadingFault {
     ShadingFault::Weighed {
         ambient: numbers[0] as f32,
         power: numbers[1] as f32,
         absolute,
         divisor: divided.then(|| [numbers[5], numbers[6], numbers[7]].map(|n| n as f32)),
+        highlight,
     }
 }
 
@@ -400,8 +532,8 @@ fn length(one: &Seen<'_>, numbers: &[f64]) -> f32 {
     length_from(numbers, one.stretch)
 }
 
-/// How many levels `colour` lands from the student's bytes, summed over the channels, each at
-/// most [`CAP`].
+/// How many levels `colour` lands from the student's bytes, summed over the channels, each
+/// less [`SLACK`] and at most [`CAP`].
 fn levels_off(colour: Vec3A, student: [u8; 3]) -> f64 {
     colour
         .to_array()
@@ -412,7 +544,7 @@ fn levels_off(colour: Vec3A, student: [u8; 3]) -> f64 {
                 0.0
             } else {
                 let level = f64::from(c.clamp(0.0, 1.0)) * 255.0;
-                (level - (f64::from(s) + 0.5)).abs().min(CAP)
+                ((level - (f64::from(s) + 0.5)).abs() - SLACK).clamp(0.0, CAP)
             }
         })
         .sum()
@@ -423,6 +555,7 @@ fn levels_off(colour: Vec3A, student: [u8; 3]) -> f64 {
 fn name(
     at: [f64; NUMBERS],
     absolute: bool,
+    highlight: HighlightForm,
     lights: usize,
     [c, l, q]: [f64; 3],
 ) -> Option<(Vec<Planted>, Named)> {
@@ -432,7 +565,8 @@ fn name(
     let mut plants: Vec<Planted> = Vec::new();
     let [ambient, power, a, b, n, x, y, z] = at;
     let divided = [x, y, z] != [c, l, q];
-    if ambient != 1.0 || power != 1.0 || absolute || divided {
+    let highlighted = highlight != HighlightForm::default();
+    if ambient != 1.0 || power != 1.0 || absolute || divided || highlighted {
         if ambient == 0.0 {
             faults.push(fault("ambient_missing")?);
         } else if ambient == lights as f64 && lights > 1 {
@@ -457,11 +591,46 @@ fn name(
                 None => numbers.extend([("divisor: constant", x), ("times d", y), ("times d²", z)]),
             }
         }
+        if highlight.ungated || highlight.base != HighlightBase::Clamped {
+            faults.push(fault("specular_unclamped")?);
+            numbers.extend(
+                highlight
+                    .ungated
+                    .then_some(("highlight where N·L < 0", 1.0)),
+            );
+            match highlight.base {
+                HighlightBase::Clamped => {}
+                HighlightBase::Absolute => numbers.push(("|N·H|", 1.0)),
+                HighlightBase::Whole => numbers.push(("N·H unclamped", 1.0)),
+            }
+        }
+        let course_half = HighlightForm {
+            ungated: highlight.ungated,
+            base: highlight.base,
+            ..HighlightForm::default()
+        };
+        if highlight != course_half {
+            faults.push(fault("half_vector")?);
+            let flags = [
+                ("V along the ray", highlight.view_along_ray),
+                ("Phong's R·V", highlight.mirror),
+                ("H not unit", highlight.half_not_unit),
+            ];
+            numbers.extend(
+                flags
+                    .into_iter()
+                    .filter(|f| f.1)
+                    .map(|(what, _)| (what, 1.0)),
+            );
+            if highlight.half_scale != 1.0 {
+                numbers.push(("H scaled by", f64::from(highlight.half_scale)));
+            }
+        }
         if ambient != 1.0 || power != 1.0 || absolute {
             numbers.push(("ambient weight", ambient));
             numbers.push(("power of N·L", power));
         }
-        plants.push(Planted::Shading(weighed(&at, absolute, divided)));
+        plants.push(Planted::Shading(weighed(&at, absolute, divided, highlight)));
     }
     if [a, b, n] != [1.0, 0.0, 0.0] {
         faults.push(fault("normal_length")?);
@@ -484,8 +653,10 @@ mod tests {
     #[test]
     fn levels_off_counts_from_the_middle_of_the_students_level() {
         assert_eq!(levels_off(Vec3A::splat(0.2), [51, 51, 51]), 0.0);
-        // 0.5 is level 127.5: a student's 120 is 7.0 below.
-        assert!((levels_off(Vec3A::new(0.5, 0.2, 0.2), [120, 51, 51]) - 7.0).abs() < 1e-4);
+        // 0.5 is level 127.5: a student's 120 is 7.0 below, 6.0 past the slack.
+        assert!((levels_off(Vec3A::new(0.5, 0.2, 0.2), [120, 51, 51]) - 6.0).abs() < 1e-4);
+        // Rounded where the course truncates: 0.5 is written 128 (and 0.2, 51.0, stays 51).
+        assert_eq!(levels_off(Vec3A::new(0.5, 0.2, 0.2), [128, 51, 51]), 0.0);
         assert_eq!(levels_off(Vec3A::ONE, [0, 0, 0]), 3.0 * CAP);
     }
 
@@ -493,7 +664,7 @@ mod tests {
     fn numbers_land_on_names() {
         let named = |at: [f64; 5], absolute| {
             let at = [at[0], at[1], at[2], at[3], at[4], 1.0, 0.0, 0.0];
-            name(at, absolute, 2, [1.0, 0.0, 0.0])
+            name(at, absolute, HighlightForm::default(), 2, [1.0, 0.0, 0.0])
                 .map(|(_, (faults, _))| faults.iter().map(|f| f.name).collect::<Vec<_>>())
         };
         assert_eq!(
@@ -506,5 +677,51 @@ mod tests {
         );
         assert_eq!(named([0.7, 1.0, 1.0, 0.0, 0.0], false), None);
         assert_eq!(named([1.0, 1.5, 1.0, 0.0, 0.0], false), None);
+    }
+
+    #[test]
+    fn highlight_forms_land_on_names() {
+        let course = [1.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
+        let named = |highlight: HighlightForm| {
+            name(course, false, highlight, 1, [1.0, 0.0, 0.0]).map(|(_, (faults, numbers))| {
+                let faults: Vec<&str> = faults.iter().map(|f| f.name).collect();
+                (faults, numbers)
+            })
+        };
+        let form = HighlightForm::default();
+        let absolute = HighlightForm {
+            ungated: true,
+            base: HighlightBase::Absolute,
+            ..form
+        };
+        assert_eq!(
+            named(absolute),
+            Some((
+                vec!["specular_unclamped"],
+                vec![("highlight where N·L < 0", 1.0), ("|N·H|", 1.0)]
+            ))
+        );
+        let halved = HighlightForm {
+            half_not_unit: true,
+            half_scale: 0.5,
+            ..form
+        };
+        assert_eq!(
+            named(halved),
+            Some((
+                vec!["half_vector"],
+                vec![("H not unit", 1.0), ("H scaled by", 0.5)]
+            ))
+        );
+        let both = HighlightForm {
+            view_along_ray: true,
+            mirror: true,
+            ungated: true,
+            ..form
+        };
+        assert_eq!(
+            named(both).map(|(faults, _)| faults),
+            Some(vec!["specular_unclamped", "half_vector"])
+        );
     }
 }
