@@ -39,11 +39,6 @@ impl CameraSeam for Form {
                 let across = width as f32 / (width.max(2) - 1) as f32;
                 film_to_screen(i as f32 * across, j as f32 + 0.5, width, height)
             }
-            Form::SpanMinusOneBoth => {
-                let across = width as f32 / (width.max(2) - 1) as f32;
-                let up = height as f32 / (height.max(2) - 1) as f32;
-                film_to_screen(i as f32 * across, j as f32 * up, width, height)
-            }
             Form::FarCorner => film_to_screen(i as f32 + 1.0, j as f32 + 1.0, width, height),
             Form::VFromTheTop | Form::UMirrored => {
                 let (u, v) = film_to_screen(i as f32 + 0.5, j as f32 + 0.5, width, height);

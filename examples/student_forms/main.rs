@@ -202,14 +202,21 @@ enum Form {
     MirrorAgainstTheRay,
     /// A Transform's normal carried by the inverse matrix, not its transpose, then normalised.
     NormalByInverse,
+    /// A Transform's normal carried by the transpose of the object's matrix (the inverse
+    /// forgotten), then normalised.
+    NormalByTranspose,
+    /// The tent's distance `fabs(dx) + fabs(dy)`.
+    TentManhattan,
+    /// The tent's distance `max(fabs(dx), fabs(dy))`.
+    TentChebyshev,
+    /// The box's test `dx * dx + dy * dy <= r * r`.
+    BoxDisc,
     /// Jittered samples at each cell's centre moved by up to half a pixel, not half a cell:
     /// `(a + 0.5) / s + rand() - 0.5`, kept in the pixel.
     JitterAroundCells,
     /// Hits farther than 20 units along the ray dropped by the shading (`if (t > 20) return
     /// background`).
     NearestWithinTwenty,
-    /// Both axes spread over the picture's size less one, `i / (width - 1)`, `j / (height - 1)`.
-    SpanMinusOneBoth,
     /// The diffuse term `kd * fabs(N.L)`; the highlight as the course's.
     DiffuseAbsolute,
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
@@ -299,9 +306,12 @@ impl Form {
             "noise_from_second_octave" => Form::NoiseFromSecondOctave,
             "highlight_ungated" => Form::HighlightUngated,
             "normal_by_inverse" => Form::NormalByInverse,
+            "tent_manhattan" => Form::TentManhattan,
+            "tent_chebyshev" => Form::TentChebyshev,
+            "box_disc" => Form::BoxDisc,
+            "normal_by_transpose" => Form::NormalByTranspose,
             "jitter_around_cells" => Form::JitterAroundCells,
             "nearest_within_twenty" => Form::NearestWithinTwenty,
-            "span_minus_one_both" => Form::SpanMinusOneBoth,
             "diffuse_absolute" => Form::DiffuseAbsolute,
             "highlight_absolute" => Form::HighlightAbsolute,
             "half_vector_halved" => Form::HalfVectorHalved,

@@ -57,6 +57,19 @@ impl SampleSeam for Form {
         }
     }
 
+    fn weight(&self, filter: Filter, x: f32, y: f32) -> f32 {
+        let (dx, dy) = (x.abs(), y.abs());
+        match (self, filter) {
+            (Form::TentManhattan, Filter::Tent(r)) => {
+                let d = dx + dy;
+                if d < r { 1.0 - d / r } else { 0.0 }
+            }
+            (Form::TentChebyshev, Filter::Tent(r)) => (1.0 - dx.max(dy) / r).max(0.0),
+            (Form::BoxDisc, Filter::Box(r)) => f32::from(u8::from(dx * dx + dy * dy <= r * r)),
+            _ => filter.weight(x, y),
+        }
+    }
+
     fn filter(&self, filter: Filter) -> Filter {
         match (self, filter) {
             (Form::FilterHalfPixelWider, Filter::Box(r)) => Filter::Box(r + 0.5),

@@ -239,19 +239,18 @@ impl TraceSeam for Form {
         match self {
             Form::FarthestFifty if hit.t * ray.direction.length() > 50.0 => return None,
             Form::NearestWithinTwenty if hit.t * ray.direction.length() > 20.0 => return None,
-            Form::NormalByInverse => {
+            Form::NormalByInverse | Form::NormalByTranspose => {
                 let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
                 else {
                     return Some(hit);
                 };
-                let normal = (transform.world_to_object.matrix3 * object_normal).normalize();
-                let facing = if normal.dot(hit.normal) < 0.0 {
-                    -normal
-                } else {
-                    normal
+                let matrix = match self {
+                    Form::NormalByInverse => transform.world_to_object.matrix3,
+                    _ => transform.object_to_world.matrix3.transpose(),
                 };
+                let normal = matrix * object_normal;
                 return Some(Hit {
-                    normal: facing,
+                    normal: normal.normalize(),
                     ..hit
                 });
             }

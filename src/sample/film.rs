@@ -72,8 +72,8 @@ impl Film {
                 let first = (pj as usize * self.width as usize + pi as usize) * n;
                 for sample in &self.entries[first..first + n] {
                     let p = sample.position;
-                    let weight =
-                        filter.weight(pi as f32 + p.x - centre_x, pj as f32 + p.y - centre_y);
+                    let (x, y) = (pi as f32 + p.x - centre_x, pj as f32 + p.y - centre_y);
+                    let weight = variant.weight(filter, x, y);
                     if weight != 0.0 {
                         sum += value(sample) * weight;
                         total += weight;

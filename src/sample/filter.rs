@@ -28,6 +28,14 @@ pub enum Filter {
     TentAcross(f32),
     /// A mistake of check's library: the box round, weight 1 nearer than r.
     BoxRound(f32),
+    /// A mistake of check's library: the tent of the distance |x| + |y| (a pyramid on its
+    /// corner).
+    TentDiamond(f32),
+    /// A mistake of check's library: the tent of the distance max(|x|, |y|) (a pyramid on its
+    /// side).
+    TentSquare(f32),
+    /// A mistake of check's library: the box of the points with |x| + |y| < r.
+    BoxDiamond(f32),
 }
 
 impl Filter {
@@ -49,6 +57,15 @@ impl Filter {
             }
             Filter::Tent(r) => (1.0 - (x * x + y * y).sqrt() / r).max(0.0),
             Filter::TentAcross(r) => (1.0 - x.abs() / r).max(0.0) * (1.0 - y.abs() / r).max(0.0),
+            Filter::TentDiamond(r) => (1.0 - (x.abs() + y.abs()) / r).max(0.0),
+            Filter::TentSquare(r) => (1.0 - x.abs().max(y.abs()) / r).max(0.0),
+            Filter::BoxDiamond(r) => {
+                if x.abs() + y.abs() < r {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
             Filter::BoxRound(r) => {
                 if x * x + y * y < r * r {
                     1.0
@@ -75,6 +92,9 @@ impl Filter {
             | Filter::BoxOpen(r)
             | Filter::Tent(r)
             | Filter::TentAcross(r)
+            | Filter::TentDiamond(r)
+            | Filter::TentSquare(r)
+            | Filter::BoxDiamond(r)
             | Filter::BoxRound(r) => r,
             // Its edge's samples weigh 1: the support takes the next pixel where one lies there.
             Filter::BoxClosed(r) => r + f32::EPSILON * r.max(1.0),
@@ -131,6 +151,11 @@ mod tests {
         assert_eq!(round.weight(0.7, 0.7), 1.0);
         assert_eq!(round.weight(0.8, 0.8), 0.0);
         assert_eq!(Filter::Box(1.0).weight(0.8, 0.8), 1.0);
+        // The tent and the box of the other distances: |x| + |y| = 1.4, max(|x|, |y|) = 0.8.
+        assert!((Filter::TentDiamond(2.0).weight(0.6, -0.8) - 0.3).abs() < 1e-6);
+        assert!((Filter::TentSquare(2.0).weight(0.6, -0.8) - 0.6).abs() < 1e-6);
+        assert_eq!(Filter::BoxDiamond(1.5).weight(0.6, -0.8), 1.0);
+        assert_eq!(Filter::BoxDiamond(1.0).weight(0.6, -0.8), 0.0);
         assert_eq!(across.support_radius(), 2);
         assert_eq!(round.support_radius(), 1);
     }

@@ -39,6 +39,12 @@ pub trait SampleSeam: Copy + Send + Sync {
         filter
     }
 
+    /// The weight `filter` gives a sample at (x, y) from the pixel's centre, in pixels.
+    #[inline(always)]
+    fn weight(&self, filter: Filter, x: f32, y: f32) -> f32 {
+        filter.weight(x, y)
+    }
+
     /// A pixel's value from the `count` samples its filter weighs: their weighted `sum`, and
     /// the sum of their weights `total` (positive).
     #[inline(always)]

@@ -281,3 +281,44 @@ fn second_forms_of_the_camera_and_the_first_hits_are_named() {
         4
     );
 }
+
+#[test]
+fn normals_carried_by_the_inverse_or_the_transpose_and_a_nearer_limit_are_named() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    let transformed = [
+        "scene2_11_squashed_sphere.txt",
+        "scene2_13_rotated_squashed_sphere.txt",
+        "scene2_15_crazy_transforms.txt",
+    ];
+    // M^-1 n: the same as the inverse transpose where the matrix is a scale alone (2_11).
+    assert_eq!(
+        conformance_named(
+            "normal_by_inverse",
+            &transformed,
+            "normal_transform",
+            "form 1)"
+        ),
+        3
+    );
+    // M^T n: the same as M n where the matrix is a scale alone (2_11, form 0).
+    assert_eq!(
+        conformance_named(
+            "normal_by_transpose",
+            &transformed[1..],
+            "normal_transform",
+            "form 2)"
+        ),
+        3
+    );
+    assert_eq!(
+        conformance_named(
+            "nearest_within_twenty",
+            &["scene2_06_plane.txt"],
+            "t_limit",
+            "limit 20)"
+        ),
+        2
+    );
+}

@@ -219,3 +219,20 @@ fn highlights_written_their_own_way_are_named_with_the_form_fitted() {
         4
     );
 }
+
+#[test]
+fn a_diffuse_term_of_the_absolute_cosine_alone_is_the_shade_back_abs() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // kd * fabs(N.L), the highlight left as the course's (these lines have none).
+    assert_eq!(
+        conformance_named(
+            "diffuse_absolute",
+            &["scene2_01_diffuse.txt", "scene2_03_colored_lights.txt"],
+            "shade_back_abs",
+            ""
+        ),
+        2
+    );
+}

@@ -147,3 +147,52 @@ fn jittered_samples_anywhere_from_a_generator_of_the_students_own_are_the_jitter
     );
     assert_eq!(failing, 3);
 }
+
+#[test]
+fn jittered_samples_moved_by_half_a_pixel_about_each_cell_are_the_jitter_whole_pixel() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    // (a + 0.5) / s + rand() - 0.5: a whole pixel's spread about each cell's centre, from the
+    // student's own generator.
+    let failing = later_named(
+        "jitter_around_cells",
+        &[
+            "output7_01h_low_res.tga",
+            "output7_02h.tga",
+            "output7_02i.tga",
+        ],
+        "jitter_whole_pixel",
+        "several seeds: jitter_whole_pixel: raycast's render",
+    );
+    assert_eq!(failing, 3);
+}
+
+#[test]
+fn filters_of_another_distance_written_their_own_way_are_the_filter_shape() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    let tents = ["output7_01e_low_res.tga", "output7_02e.tga"];
+    // 1 - (|dx| + |dy|) / r, tested d < r.
+    assert_eq!(
+        later_named("tent_manhattan", &tents, "filter_shape", "form 1)"),
+        2
+    );
+    // max(0, 1 - max(|dx|, |dy|) / r).
+    assert_eq!(
+        later_named("tent_chebyshev", &tents, "filter_shape", "form 2)"),
+        2
+    );
+    // dx² + dy² <= r²: the round box, its edge in (uniform samples of 16 a pixel reach past
+    // the disc; 9 do not).
+    assert_eq!(
+        later_named(
+            "box_disc",
+            &["output7_01d_low_res.tga", "output7_02d.tga"],
+            "filter_shape",
+            "form 0)"
+        ),
+        1
+    );
+}

@@ -21,6 +21,10 @@ pub enum HitFault {
     Nearer(f32),
     /// Normals carried into the world by the object's matrix, not its inverse transpose.
     NormalByMatrix,
+    /// Normals carried by the inverse of the object's matrix, not transposed.
+    NormalByInverse,
+    /// Normals carried by the transpose of the object's matrix, not of its inverse.
+    NormalByTranspose,
     /// Normals carried by the inverse transpose but not made unit length again.
     NormalNotUnit,
     /// Each object's t measured along its own space's ray made unit length.
@@ -137,20 +141,26 @@ impl HitFault {
                     ..hit
                 })
             }
-            HitFault::NormalByMatrix | HitFault::NormalNotUnit => {
+            HitFault::NormalByMatrix
+            | HitFault::NormalByInverse
+            | HitFault::NormalByTranspose
+            | HitFault::NormalNotUnit => {
                 let hit = hit?;
                 let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, hit.t)
                 else {
                     return Some(hit);
                 };
                 let object_normal = object_normal.normalize_or_zero();
-                let normal = if *self == HitFault::NormalByMatrix {
-                    transform
-                        .object_to_world
-                        .transform_vector3a(object_normal)
-                        .normalize_or_zero()
-                } else {
-                    transform.normal_to_world * object_normal
+                let matrix = transform.object_to_world.matrix3;
+                let normal = match self {
+                    HitFault::NormalByMatrix => (matrix * object_normal).normalize_or_zero(),
+                    HitFault::NormalByInverse => {
+                        (transform.world_to_object.matrix3 * object_normal).normalize_or_zero()
+                    }
+                    HitFault::NormalByTranspose => {
+                        (matrix.transpose() * object_normal).normalize_or_zero()
+                    }
+                    _ => transform.normal_to_world * object_normal,
                 };
                 Some(Hit {
                     normal: if normal == glam::Vec3A::ZERO {
@@ -181,13 +191,20 @@ fn transformed_normals_show(line: &LineScene) -> bool {
 pub(super) const NORMAL_TRANSFORM: Fault = Fault {
     name: "normal_transform",
     assignment: 2,
-    sentence: "I carry normals into the world with the object's matrix, not with the transpose \
-               of its inverse.",
+    sentence: "I carry normals into the world with another matrix than the transpose of the \
+               object's inverse (form 0: the matrix itself; 1: its inverse; 2: its transpose).",
     look_for: "The normal of a transformed object: n_world = (M^-1)^T n_object, then normalised; \
                M itself tilts normals of scaled or sheared objects.",
     candidates: |line: &LineScene| {
         if transformed_normals_show(line) {
-            vec![Candidate::plain(Planted::Hit(HitFault::NormalByMatrix))]
+            Candidate::forms(
+                [
+                    HitFault::NormalByMatrix,
+                    HitFault::NormalByInverse,
+                    HitFault::NormalByTranspose,
+                ]
+                .map(Planted::Hit),
+            )
         } else {
             Vec::new()
         }

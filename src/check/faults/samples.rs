@@ -37,8 +37,9 @@ pub enum SampleFault {
     BoxClosed,
     /// An allowed answer: the box's edges out.
     BoxOpen,
-    /// The filter another shape: the tent made of two straight ones, the box round.
-    Shape,
+    /// The filter another shape: the tent made of two straight ones (form 0) or of another
+    /// distance, |x| + |y| (1) or max(|x|, |y|) (2); the box round (0) or of |x| + |y| (1).
+    Shape(u8),
 }
 
 impl SampleFault {
@@ -95,6 +96,9 @@ impl SampleFault {
                 Filter::Tent(r) => Filter::Tent(r * by),
                 Filter::TentAcross(r) => Filter::TentAcross(r * by),
                 Filter::BoxRound(r) => Filter::BoxRound(r * by),
+                Filter::TentDiamond(r) => Filter::TentDiamond(r * by),
+                Filter::TentSquare(r) => Filter::TentSquare(r * by),
+                Filter::BoxDiamond(r) => Filter::BoxDiamond(r * by),
                 Filter::Gaussian(s) => Filter::Gaussian(s * by),
                 Filter::GaussianUncut { sigma, radius } => Filter::GaussianUncut {
                     sigma: sigma * by,
@@ -116,10 +120,13 @@ impl SampleFault {
                 Filter::Box(r) => Filter::BoxOpen(r),
                 other => other,
             },
-            SampleFault::Shape => match filter {
-                Filter::Tent(r) => Filter::TentAcross(r),
-                Filter::Box(r) => Filter::BoxRound(r),
-                other => other,
+            SampleFault::Shape(form) => match (filter, form) {
+                (Filter::Tent(r), 0) => Filter::TentAcross(r),
+                (Filter::Tent(r), 1) => Filter::TentDiamond(r),
+                (Filter::Tent(r), _) => Filter::TentSquare(r),
+                (Filter::Box(r), 0) => Filter::BoxRound(r),
+                (Filter::Box(r), _) => Filter::BoxDiamond(r),
+                (other, _) => other,
             },
             _ => filter,
         }
@@ -216,7 +223,8 @@ pub(super) const FILTER_SHAPE: Fault = Fault {
     name: "filter_shape",
     assignment: 7,
     sentence: "My filter has another shape: a tent made of two straight ones, (1 - |x|/r)(1 - \
-               |y|/r), or a round box that takes the samples nearer than r.",
+               |y|/r) (form 0), or of another distance, |x| + |y| (1) or max(|x|, |y|) (2); a \
+               box round, taking the samples nearer than r (0), or of |x| + |y| < r (1).",
     look_for: "The filter's weight of a sample at (x, y) from the pixel's centre: the tent is 1 \
                - d/r with d the distance sqrt(x² + y²); the box is 1 where both |x| and |y| are \
                below r (a square), 0 elsewhere.",
@@ -226,7 +234,15 @@ pub(super) const FILTER_SHAPE: Fault = Fault {
         if sampling.is_plain() || !shaped {
             return Vec::new();
         }
-        vec![Candidate::plain(Planted::Sample(SampleFault::Shape))]
+        let forms: &[u8] = match sampling.filter {
+            Filter::Tent(_) => &[0, 1, 2],
+            _ => &[0, 1],
+        };
+        Candidate::forms(
+            forms
+                .iter()
+                .map(|&form| Planted::Sample(SampleFault::Shape(form))),
+        )
     },
 };
 
