@@ -205,6 +205,10 @@ enum Form {
     /// A Transform's normal carried by the transpose of the object's matrix (the inverse
     /// forgotten), then normalised.
     NormalByTranspose,
+    /// A ray's weight carried as the product of its colours' mean channels.
+    WeightByMeanChannel,
+    /// A ray's weight carried as the product of its colours' greatest channels.
+    WeightByGreatestChannel,
     /// The tent's distance `fabs(dx) + fabs(dy)`.
     TentManhattan,
     /// The tent's distance `max(fabs(dx), fabs(dy))`.
@@ -306,6 +310,8 @@ impl Form {
             "noise_from_second_octave" => Form::NoiseFromSecondOctave,
             "highlight_ungated" => Form::HighlightUngated,
             "normal_by_inverse" => Form::NormalByInverse,
+            "weight_by_mean_channel" => Form::WeightByMeanChannel,
+            "weight_by_greatest_channel" => Form::WeightByGreatestChannel,
             "tent_manhattan" => Form::TentManhattan,
             "tent_chebyshev" => Form::TentChebyshev,
             "box_disc" => Form::BoxDisc,

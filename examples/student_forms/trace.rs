@@ -35,6 +35,14 @@ impl TraceSeam for Form {
         }
     }
 
+    fn ray_weight(&self, weight: f32, colour: Vec3A) -> f32 {
+        match self {
+            Form::WeightByMeanChannel => weight * colour.element_sum() / 3.0,
+            Form::WeightByGreatestChannel => weight * colour.max_element(),
+            _ => weight * colour.length(),
+        }
+    }
+
     fn cutoff_weight(&self, weight: f32) -> f32 {
         match self {
             Form::EveryRayTraced => 0.0,

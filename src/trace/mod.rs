@@ -111,6 +111,13 @@ pub trait TraceSeam: Copy + Send + Sync {
         bounces
     }
 
+    /// The weight of a mirror or glass ray spawned with `colour` (the material's reflective
+    /// or transparent colour) from a ray of `weight`.
+    #[inline(always)]
+    fn ray_weight(&self, weight: f32, colour: Vec3A) -> f32 {
+        spawned(weight, Vec3A::ONE, colour).0
+    }
+
     /// The weight below which no mirror or glass ray is traced, given `-weight`.
     #[inline(always)]
     fn cutoff_weight(&self, weight: f32) -> f32 {
@@ -612,7 +619,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         if branch.bounces_left > 0 {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, transparent: bool, direction: Vec3A| {
-                let (weight, _) = spawned(branch.weight, branch.throughput, colour);
+                let weight = self.variant.ray_weight(branch.weight, colour);
                 let throughput = branch.throughput * self.variant.carried(colour, transparent);
                 let cutoff = self.variant.cutoff_weight(self.settings.cutoff_weight);
                 if worth_tracing(cutoff, weight, throughput) {

@@ -311,3 +311,18 @@ fn a_glass_rays_colour_added_whole_is_the_secondary_colour() {
         2
     );
 }
+
+#[test]
+fn a_rays_weight_made_of_other_numbers_than_the_colours_magnitude_is_the_weight_cutoff() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // output4_06f alone of the course's lines cuts rays off where the weight's form shows: each
+    // is named with the cut-off that draws it, as the course's weight would be cut there.
+    for form in ["weight_by_greatest_channel", "weight_by_mean_channel"] {
+        assert_eq!(
+            later_named(form, &["output4_06f.tga"], "weight_cutoff", "weight 0.1"),
+            1
+        );
+    }
+}
