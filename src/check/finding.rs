@@ -89,6 +89,7 @@ impl Finding {
                     .collect::<serde_json::Map<_, _>>(),
                 "parameter_order": m.parameters.iter().map(|&(name, _)| name).collect::<Vec<_>>(),
                 "match": m.bad_fraction,
+                "against": if m.against_spread { "spread" } else { "render" },
                 "accounts_for": m.accounts_for,
                 "assignment": m.faults.iter().map(|f| f.assignment).collect::<Vec<_>>(),
                 "sentence": m.faults.iter().map(|f| f.sentence).collect::<Vec<_>>().join(" "),
@@ -131,6 +132,7 @@ impl Finding {
             parameters,
             bad_fraction: value["match"].as_f64()?,
             accounts_for: value["accounts_for"].as_f64(),
+            against_spread: value["against"] == "spread",
         }))
     }
 }
@@ -199,17 +201,29 @@ pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
         2 => "these two faults".to_string(),
         n => format!("these {n} faults"),
     };
-    // "Equals" only where not a pixel is off; otherwise as close as the suite's rule asks.
-    let likeness = if first.bad_fraction == 0.0 {
-        "equals"
-    } else {
-        "matches, within the suite's rule,"
-    };
     let parameters = parameters_text(first);
+    // "Equals" only where not a pixel is off; otherwise as close as the suite's rule asks. A
+    // picture drawn by chance equals no render: it lies within their spread, or near it.
+    let likeness = if first.against_spread {
+        format!(
+            "lies within the spread of raycast's renders of this line with {planted} planted and \
+             several seeds ({:.3}% of pixels outside it{parameters})",
+            100.0 * first.bad_fraction
+        )
+    } else {
+        format!(
+            "{} raycast's render of this line with {planted} planted ({:.3}% of pixels \
+             off{parameters})",
+            if first.bad_fraction == 0.0 {
+                "equals"
+            } else {
+                "matches, within the suite's rule,"
+            },
+            100.0 * first.bad_fraction
+        )
+    };
     let mut text = format!(
-        "Your picture {likeness} raycast's render of this line with {planted} planted ({:.3}% \
-         of pixels off{parameters}){}. {} Look for: {}",
-        100.0 * first.bad_fraction,
+        "Your picture {likeness}{}. {} Look for: {}",
         accounted(first, ": it accounts for"),
         first
             .faults
@@ -243,17 +257,27 @@ pub fn headline(findings: &[Finding], explanation: &str) -> String {
     let Some(first) = faults.first() else {
         return explanation.to_string();
     };
-    let mut text = format!(
-        "raycast's render with {} planted matches ({:.3}% of pixels off{}){}",
-        if first.faults.len() == 1 {
-            "this fault"
-        } else {
-            "these faults"
-        },
-        100.0 * first.bad_fraction,
-        parameters_text(first),
-        accounted(first, ", accounting for"),
-    );
+    let planted = if first.faults.len() == 1 {
+        "this fault"
+    } else {
+        "these faults"
+    };
+    let mut text = if first.against_spread {
+        format!(
+            "raycast's renders with {planted} planted and several seeds draw it ({:.3}% of \
+             pixels outside their spread{}){}",
+            100.0 * first.bad_fraction,
+            parameters_text(first),
+            accounted(first, ", accounting for"),
+        )
+    } else {
+        format!(
+            "raycast's render with {planted} planted matches ({:.3}% of pixels off{}){}",
+            100.0 * first.bad_fraction,
+            parameters_text(first),
+            accounted(first, ", accounting for"),
+        )
+    };
     if faults.len() > 1 {
         text.push_str("; this line alone cannot tell the faults named apart");
     }
@@ -304,6 +328,44 @@ mod tests {
         assert_eq!(show(1e-7), "1e-7");
         assert_eq!(show(2.5e-5), "2.5e-5");
         assert_eq!(show(f64::INFINITY), "infinity");
+    }
+
+    #[test]
+    fn a_match_against_a_spread_is_worded_as_one_and_read_back() {
+        let fault = crate::check::faults::fault("jitter_whole_pixel").unwrap();
+        let drawn = FaultMatch {
+            faults: vec![fault],
+            parameters: Vec::new(),
+            bad_fraction: 0.0,
+            accounts_for: None,
+            against_spread: true,
+        };
+        let findings = [Finding::Fault(drawn.clone())];
+        // Never "equals" or "matches" one render: a picture drawn by chance lies in a spread.
+        assert_eq!(
+            headline(&findings, ""),
+            "raycast's renders with this fault planted and several seeds draw it (0.000% of \
+             pixels outside their spread)"
+        );
+        let text = explain(&findings, PictureKind::Image);
+        assert!(
+            text.starts_with(
+                "Your picture lies within the spread of raycast's renders of this line with this \
+                 fault planted and several seeds (0.000% of pixels outside it)"
+            ),
+            "{text}"
+        );
+        let read = Finding::from_json(&findings[0].json());
+        assert_eq!(read, Some(Finding::Fault(drawn.clone())));
+        let one = FaultMatch {
+            against_spread: false,
+            ..drawn
+        };
+        let text = explain(&[Finding::Fault(one)], PictureKind::Image);
+        assert!(
+            text.starts_with("Your picture equals raycast's render"),
+            "{text}"
+        );
     }
 
     #[test]

@@ -53,6 +53,9 @@ pub struct FaultMatch {
     /// the render accounts for: 1 − [`FaultMatch::bad_fraction`] / the picture's own share off
     /// (none where the picture is graded against no single reference).
     pub accounts_for: Option<f64>,
+    /// Whether the picture was measured against the spread of the faults' renders with several
+    /// seeds (a line drawn by chance, where the faults place its samples), not one render.
+    pub against_spread: bool,
 }
 
 impl FaultMatch {
@@ -687,6 +690,8 @@ struct Tried {
     /// The mean difference of the channels against each failing picture, which falls as a fault
     /// explains part of a picture even where every pixel is still off.
     error: Vec<f64>,
+    /// Whether `bad` was measured against the spread of the plant's renders with several seeds.
+    against_spread: bool,
 }
 
 /// For each of `failing` (the index of an image among the line's outputs, and the student's
@@ -742,6 +747,7 @@ fn simulate_here(
                     parameters: parameters.to_vec(),
                     bad: found,
                     error: vec![f64::INFINITY; failing.len()],
+                    against_spread: false,
                 };
                 (k, pair)
             })
@@ -765,6 +771,7 @@ fn simulate_here(
             parameters: parameters.to_vec(),
             bad: Vec::with_capacity(failing.len()),
             error: Vec::with_capacity(failing.len()),
+            against_spread: false,
         };
         // A plant that places the samples of a line drawn by chance otherwise draws its
         // pictures with another spread: with `own_spread`, the student's picture is measured
@@ -801,9 +808,12 @@ fn simulate_here(
                 .as_ref()
                 .and_then(|spreads| spreads.get(image)?.as_ref());
             tried.bad.push(match own_spread {
-                Some(spread) => spread
-                    .compare(actual, rule.tolerance)
-                    .map_or(1.0, |c| c.bad_fraction),
+                Some(spread) => {
+                    tried.against_spread = true;
+                    spread
+                        .compare(actual, rule.tolerance)
+                        .map_or(1.0, |c| c.bad_fraction)
+                }
                 // Where raycast's own render is as good a draw, a fault's must be nearer.
                 None => match renders.drawn_alike[k] {
                     Some(own) if mean_difference(picture, actual) >= NEARER_DRAW * own => 1.0,
@@ -883,6 +893,7 @@ fn simulate_here(
                         parameters: candidate.parameter.into_iter().collect(),
                         bad: score,
                         error: vec![f64::INFINITY; failing.len()],
+                        against_spread: false,
                     });
                 }
                 exact[k] = Some(matches(&alike, k, rule));
@@ -1172,12 +1183,14 @@ fn matches(tried: &[Tried], k: usize, rule: Rule) -> Vec<FaultMatch> {
             Some(m) => {
                 m.bad_fraction = t.bad[k];
                 m.parameters = t.parameters.clone();
+                m.against_spread = t.against_spread;
             }
             None => found.push(FaultMatch {
                 faults,
                 parameters: t.parameters.clone(),
                 bad_fraction: t.bad[k],
                 accounts_for: None,
+                against_spread: t.against_spread,
             }),
         }
     }
