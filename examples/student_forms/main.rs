@@ -209,6 +209,11 @@ enum Form {
     WeightByMeanChannel,
     /// A ray's weight carried as the product of its colours' greatest channels.
     WeightByGreatestChannel,
+    /// Triangles by Moller and Trumbore's test, a hit refused where `u` or `v` is below `5e-3`
+    /// or their sum above `1 - 5e-3`: cracks along every edge.
+    MollerTrumboreEdges,
+    /// Triangles by Moller and Trumbore's test, a hit refused where `fabs(det) < 1e-3`.
+    MollerTrumboreDeterminant,
     /// The tent's distance `fabs(dx) + fabs(dy)`.
     TentManhattan,
     /// The tent's distance `max(fabs(dx), fabs(dy))`.
@@ -310,6 +315,8 @@ impl Form {
             "noise_from_second_octave" => Form::NoiseFromSecondOctave,
             "highlight_ungated" => Form::HighlightUngated,
             "normal_by_inverse" => Form::NormalByInverse,
+            "moller_trumbore_edges" => Form::MollerTrumboreEdges,
+            "moller_trumbore_determinant" => Form::MollerTrumboreDeterminant,
             "weight_by_mean_channel" => Form::WeightByMeanChannel,
             "weight_by_greatest_channel" => Form::WeightByGreatestChannel,
             "tent_manhattan" => Form::TentManhattan,

@@ -6,7 +6,7 @@ use raycast::Vec3A;
 use raycast::accel::Hit;
 use raycast::camera::Camera;
 use raycast::geometry::Ray;
-use raycast::glam::Mat4;
+use raycast::glam::{Mat4, Vec3};
 use raycast::parse::description::Projection;
 use raycast::scene::{
     Highlight, HighlightAt, Illumination, Light, SpecularFalloff, Surface, Texture,
@@ -246,6 +246,17 @@ impl TraceSeam for Form {
         let hit = hit?;
         match self {
             Form::FarthestFifty if hit.t * ray.direction.length() > 50.0 => return None,
+            Form::MollerTrumboreEdges | Form::MollerTrumboreDeterminant => {
+                let (edge, determinant) = match self {
+                    Form::MollerTrumboreEdges => (5e-3, 0.0),
+                    _ => (0.0, 1e-5),
+                };
+                return scene
+                    .world
+                    .intersect_accepting(ray, t_min, |local, corners| {
+                        moller_trumbore(local, corners, edge, determinant)
+                    });
+            }
             Form::NearestWithinTwenty if hit.t * ray.direction.length() > 20.0 => return None,
             Form::NormalByInverse | Form::NormalByTranspose => {
                 let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
@@ -335,4 +346,22 @@ fn mirror_against_the_ray(at: &HighlightAt) -> f32 {
     }
     let mirrored = 2.0 * n_dot_l * at.normal - at.to_light;
     mirrored.dot(-at.to_eye).max(0.0).powf(at.exponent)
+}
+
+/// Whether Moller and Trumbore's test takes the hit of `ray` on the triangle of `corners`,
+/// refusing a hit within `edge` of an edge in u, v or their sum, or a determinant below
+/// `determinant` in magnitude.
+fn moller_trumbore(ray: &Ray, corners: &[Vec3; 3], edge: f32, determinant: f32) -> bool {
+    let [a, b, c] = corners.map(Vec3A::from);
+    let (e1, e2) = (b - a, c - a);
+    let p = ray.direction.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < determinant || det == 0.0 {
+        return false;
+    }
+    let s = ray.origin - a;
+    let u = s.dot(p) / det;
+    let q = s.cross(e1);
+    let v = ray.direction.dot(q) / det;
+    u >= edge && v >= edge && u + v <= 1.0 - edge
 }

@@ -306,7 +306,11 @@ fn show(value: f64) -> String {
     if value.fract() == 0.0 && value.abs() < 1e9 {
         format!("{value:.0}")
     } else if value != 0.0 && value.abs() < 1e-3 {
-        format!("{value:e}")
+        // Four significant digits: a float's 1e-5 is 9.999999747e-6 as a double.
+        let text = format!("{value:.3e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        format!("{mantissa}e{exponent}")
     } else if value.is_infinite() {
         if value > 0.0 { "infinity" } else { "-infinity" }.to_string()
     } else {
@@ -327,6 +331,8 @@ mod tests {
         assert_eq!(show(1.000_01), "1");
         assert_eq!(show(1e-7), "1e-7");
         assert_eq!(show(2.5e-5), "2.5e-5");
+        assert_eq!(show(f64::from(1e-5f32)), "1e-5");
+        assert_eq!(show(-1.2345e-4), "-1.234e-4");
         assert_eq!(show(f64::INFINITY), "infinity");
     }
 

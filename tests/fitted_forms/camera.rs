@@ -322,3 +322,30 @@ fn normals_carried_by_the_inverse_or_the_transpose_and_a_nearer_limit_are_named(
         2
     );
 }
+
+#[test]
+fn moller_and_trumbores_test_with_an_epsilon_is_the_triangle_epsilon_with_it_fitted() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // u, v >= 5e-3 and u + v <= 1 - 5e-3: an epsilon the library does not list, fitted.
+    assert_eq!(
+        conformance_named(
+            "moller_trumbore_edges",
+            &["scene2_07_sphere_triangles.txt", "scene2_08_cube.txt"],
+            "triangle_epsilon",
+            "edge_epsilon 0.005)"
+        ),
+        5
+    );
+    // fabs(det) < 1e-5: the bunny of a thousand triangles loses its smallest.
+    assert_eq!(
+        conformance_named(
+            "moller_trumbore_determinant",
+            &["scene2_09_bunny_200.txt", "scene2_10_bunny_1k.txt"],
+            "triangle_epsilon",
+            "determinant_epsilon 1e-5)"
+        ),
+        1
+    );
+}

@@ -324,7 +324,7 @@ pub(super) const OBJECT_SPACE_T: Fault = Fault {
 };
 
 /// Whether the line's scene has triangles (loose, or of a mesh).
-fn has_triangles(line: &LineScene) -> bool {
+pub(crate) fn has_triangles(line: &LineScene) -> bool {
     line.scene.world.stats().triangles > 0
 }
 

@@ -29,6 +29,7 @@ use crate::shade::PictureSeam;
 use crate::trace::{BackFace, TraceSeam};
 
 pub use camera::{CameraFault, Mapping, RayForm};
+pub(crate) use intersection::has_triangles;
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
 pub use pictures::PictureFault;
 pub use rays::{CriticalAngle, RayFault};

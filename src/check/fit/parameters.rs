@@ -3,15 +3,17 @@
 //! secondary rays start to their surface (a t along the ray, or a distance along the normal, up
 //! to the course's largest allowed epsilon: nearer shadows and reflects the surface itself),
 //! glass's index, the weight below which rays are cut off, the mirror direction's factor, the
-//! power of the material's colour a mirror or glass ray's colour is weighed by, and how far the
-//! filter reaches. Each family is one number searched over its range by the render's distance
-//! from the student's pictures; where it lands names its fault with the number
-//! (an epsilon of 1e-6 is `shadow_acne` at 1e-6, whatever the formula that put it there).
+//! power of the material's colour a mirror or glass ray's colour is weighed by, how far the
+//! filter reaches, and the epsilons by which a triangle test refuses hits (on the barycentric
+//! coordinates, or on the determinant). Each family is one number searched over its range by
+//! the render's distance from the student's pictures; where it lands names its fault with the
+//! number (an epsilon of 1e-6 is `shadow_acne` at 1e-6, whatever the formula that put it
+//! there).
 
 use super::camera::Named;
 use crate::check::faults::{
     FAULTS, HitFault, LineScene, Plant, Planted, RayFault, SampleFault, bounces, glass_index,
-    has_material, has_tinted_material,
+    has_material, has_tinted_material, has_triangles,
 };
 use crate::sample::Sampler;
 
@@ -38,7 +40,7 @@ fn leaves_surfaces(line: &LineScene) -> bool {
     line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0)
 }
 
-const FAMILIES: [Family; 11] = [
+const FAMILIES: [Family; 13] = [
     Family {
         fault: "t_limit",
         parameter: "limit",
@@ -128,6 +130,22 @@ const FAMILIES: [Family; 11] = [
         course: |_| Some(0.0),
         applies: |line| matches!(line.options.sampling.sampler, Sampler::Uniform(n) if n > 1),
         plant: |by| Planted::Sample(SampleFault::UniformOffset(by)),
+    },
+    Family {
+        fault: "triangle_epsilon",
+        parameter: "edge_epsilon",
+        range: (1e-6, 0.1),
+        course: |_| None,
+        applies: has_triangles,
+        plant: |epsilon| Planted::Hit(HitFault::EdgeEpsilon(epsilon)),
+    },
+    Family {
+        fault: "triangle_epsilon",
+        parameter: "determinant_epsilon",
+        range: (1e-9, 1.0),
+        course: |_| None,
+        applies: has_triangles,
+        plant: |epsilon| Planted::Hit(HitFault::DeterminantEpsilon(epsilon)),
     },
     Family {
         fault: "filter_radius",
