@@ -214,6 +214,8 @@ enum Form {
     MollerTrumboreEdges,
     /// Triangles by Moller and Trumbore's test, a hit refused where `fabs(det) < 1e-3`.
     MollerTrumboreDeterminant,
+    /// Normals never turned toward the ray, and back faces shaded like any other.
+    NormalsNeverTurned,
     /// The tent's distance `fabs(dx) + fabs(dy)`.
     TentManhattan,
     /// The tent's distance `max(fabs(dx), fabs(dy))`.
@@ -315,6 +317,7 @@ impl Form {
             "noise_from_second_octave" => Form::NoiseFromSecondOctave,
             "highlight_ungated" => Form::HighlightUngated,
             "normal_by_inverse" => Form::NormalByInverse,
+            "normals_never_turned" => Form::NormalsNeverTurned,
             "moller_trumbore_edges" => Form::MollerTrumboreEdges,
             "moller_trumbore_determinant" => Form::MollerTrumboreDeterminant,
             "weight_by_mean_channel" => Form::WeightByMeanChannel,

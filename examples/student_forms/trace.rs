@@ -28,6 +28,7 @@ impl TraceSeam for Form {
     fn back_face(&self, shade_back: bool) -> BackFace {
         match self {
             Form::BackFacesAlwaysBlack => BackFace::Black,
+            Form::NormalsNeverTurned => BackFace::Unturned,
             Form::BackFacesAlwaysShaded => BackFace::Shaded,
             Form::BackFacesAmbient if !shade_back => BackFace::Ambient,
             _ if shade_back => BackFace::Shaded,

@@ -182,6 +182,9 @@ pub enum BackFace {
     Shaded,
     /// The ambient term alone.
     Ambient,
+    /// Shaded with the normal as found, facing away from the ray (a tracer that never turns
+    /// it).
+    Unturned,
 }
 
 /// How far a shadow, mirror or glass ray must clear the surface it leaves, relative to the
@@ -549,9 +552,11 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         let direction = ray.direction;
         let inside = direction.dot(hit.normal) > 0.0;
         let point = ray.at(hit.t);
+        let mut turned = inside;
         if inside {
             match self.variant.back_face(self.settings.shade_back) {
                 BackFace::Shaded => {}
+                BackFace::Unturned => turned = false,
                 BackFace::Black => return Vec3A::ZERO,
                 BackFace::Ambient => {
                     let mut surface = Surface::unweighed(&scene.materials, hit.material);
@@ -563,7 +568,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 }
             }
         }
-        let normal = if inside { -hit.normal } else { hit.normal };
+        let normal = if turned { -hit.normal } else { hit.normal };
         let mut surface = Surface::unweighed(&scene.materials, hit.material);
         self.variant.weigh(&mut surface, point);
         // How far the rays this hit sends must clear its surface: once for all of them.

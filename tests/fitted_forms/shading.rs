@@ -236,3 +236,42 @@ fn a_diffuse_term_of_the_absolute_cosine_alone_is_the_shade_back_abs() {
         2
     );
 }
+
+#[test]
+fn normals_never_turned_toward_the_ray_are_the_back_faces_mistake_of_each_line() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // With -shade_back, the back faces shaded from the wrong side: shade_back_ignored's form 1;
+    // without it, shaded at all: back_faces_lit's form 1, which draws there as the ambient term
+    // alone (the lights stand outside the sphere, behind its inside's outward normal), so the
+    // line cannot tell it from ambient_on_back_faces.
+    let failing = failing("normals_never_turned", &["scene2_05_inside_sphere.txt"]);
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(
+        failing[0].contains("output2_05,")
+            && failing[0].contains("off: shade_back_ignored: raycast's render")
+            && failing[0].contains("form 1)"),
+        "{}",
+        failing[0]
+    );
+    assert!(
+        failing[1].contains("output2_05_no_back")
+            && failing[1].contains("off: back_faces_lit, ambient_on_back_faces: raycast's render"),
+        "{}",
+        failing[1]
+    );
+    // Glass seen from inside, bytes rounded: every failing picture shade_back_ignored's form 1.
+    assert_eq!(
+        later_named(
+            "normals_never_turned+rounded",
+            &[
+                "scene4_05_transparent_bar.txt",
+                "scene4_06_transparent_bars.txt"
+            ],
+            "shade_back_ignored",
+            "form 1)"
+        ),
+        5
+    );
+}

@@ -14,6 +14,8 @@ pub enum ShadingFault {
     ShadeBackIgnored,
     /// Back faces shaded (the normal turned toward the ray) without `-shade_back`.
     BackFacesLit,
+    /// Back faces shaded with their normal not turned toward the ray, `-shade_back` or not.
+    BackFacesUnturned,
     /// Each light's N·L taken as |N·L|: lit from behind too.
     AbsoluteCosine,
     /// The ambient term added once for each light.
@@ -108,6 +110,7 @@ impl ShadingFault {
         match self {
             ShadingFault::ShadeBackIgnored => BackFace::Black,
             ShadingFault::BackFacesLit if !shade_back => BackFace::Shaded,
+            ShadingFault::BackFacesUnturned => BackFace::Unturned,
             ShadingFault::AmbientOnBackFaces if face == BackFace::Black => BackFace::Ambient,
             _ => face,
         }
@@ -190,12 +193,19 @@ fn only(fault: ShadingFault) -> Vec<Candidate> {
 pub(super) const SHADE_BACK_IGNORED: Fault = Fault {
     name: "shade_back_ignored",
     assignment: 2,
-    sentence: "I ignore -shade_back: back faces stay black even when the line asks to shade them.",
+    sentence: "I ignore -shade_back: back faces stay black even when the line asks to shade them \
+               (form 0), or are shaded with their normal facing away from the ray (form 1).",
     look_for: "Where a hit's normal faces away from the ray: with -shade_back, turn the normal \
                around and shade as usual; only without it is the pixel black.",
     candidates: |line: &LineScene| {
         if line.options.trace.shade_back && line.has_image() {
-            only(ShadingFault::ShadeBackIgnored)
+            Candidate::forms(
+                [
+                    ShadingFault::ShadeBackIgnored,
+                    ShadingFault::BackFacesUnturned,
+                ]
+                .map(Planted::Shading),
+            )
         } else {
             Vec::new()
         }
@@ -205,12 +215,15 @@ pub(super) const SHADE_BACK_IGNORED: Fault = Fault {
 pub(super) const BACK_FACES_LIT: Fault = Fault {
     name: "back_faces_lit",
     assignment: 2,
-    sentence: "I shade back faces even without -shade_back.",
+    sentence: "I shade back faces even without -shade_back (form 0: the normal turned toward the \
+               ray; 1: not turned).",
     look_for: "Where a hit's normal faces away from the ray: without -shade_back the pixel is \
                black (and nothing more is traced from it).",
     candidates: |line: &LineScene| {
         if !line.options.trace.shade_back && line.has_image() {
-            only(ShadingFault::BackFacesLit)
+            Candidate::forms(
+                [ShadingFault::BackFacesLit, ShadingFault::BackFacesUnturned].map(Planted::Shading),
+            )
         } else {
             Vec::new()
         }
