@@ -216,6 +216,11 @@ enum Form {
     MollerTrumboreDeterminant,
     /// Normals never turned toward the ray, and back faces shaded like any other.
     NormalsNeverTurned,
+    /// The loop over the lights `for (i = 0; i < n - 1; i++)`.
+    LightLoopShort,
+    /// The loop over the lights returns once the first light's terms are added (a `return`
+    /// inside the loop).
+    FirstLightOnly,
     /// The tent's distance `fabs(dx) + fabs(dy)`.
     TentManhattan,
     /// The tent's distance `max(fabs(dx), fabs(dy))`.
@@ -317,6 +322,8 @@ impl Form {
             "noise_from_second_octave" => Form::NoiseFromSecondOctave,
             "highlight_ungated" => Form::HighlightUngated,
             "normal_by_inverse" => Form::NormalByInverse,
+            "light_loop_short" => Form::LightLoopShort,
+            "first_light_only" => Form::FirstLightOnly,
             "normals_never_turned" => Form::NormalsNeverTurned,
             "moller_trumbore_edges" => Form::MollerTrumboreEdges,
             "moller_trumbore_determinant" => Form::MollerTrumboreDeterminant,

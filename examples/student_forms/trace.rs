@@ -125,6 +125,14 @@ impl TraceSeam for Form {
         }
     }
 
+    fn lights_visited(&self, lights: usize) -> usize {
+        match self {
+            Form::LightLoopShort => lights.saturating_sub(1),
+            Form::FirstLightOnly => lights.min(1),
+            _ => lights,
+        }
+    }
+
     fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {
         match self {
             Form::AmbientInLoopCosineSquared => (0..lights).map(|_| term).sum(),

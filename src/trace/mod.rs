@@ -71,6 +71,12 @@ pub trait TraceSeam: Copy + Send + Sync {
         term
     }
 
+    /// How many of the scene's `lights` lights the loop over them visits, from the first.
+    #[inline(always)]
+    fn lights_visited(&self, lights: usize) -> usize {
+        lights
+    }
+
     /// The light `light` sends to `point` (its direction, colour and distance).
     #[inline(always)]
     fn illuminate(&self, light: &Light, point: Vec3A) -> Option<Illumination> {
@@ -576,7 +582,8 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         let mut colour = self
             .variant
             .ambient(scene.ambient * surface.diffuse(), scene.lights.len());
-        for (light_index, light) in scene.lights.iter().enumerate() {
+        let visited = self.variant.lights_visited(scene.lights.len());
+        for (light_index, light) in scene.lights.iter().enumerate().take(visited) {
             let Some(light) = self.variant.illuminate(light, point) else {
                 continue;
             };

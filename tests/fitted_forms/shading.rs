@@ -275,3 +275,31 @@ fn normals_never_turned_toward_the_ray_are_the_back_faces_mistake_of_each_line()
         5
     );
 }
+
+#[test]
+fn a_loop_over_the_lights_that_stops_early_is_the_lights_skipped() {
+    if common::later_dir("the fitted forms of assignments 2 to 4").is_none() {
+        return;
+    }
+    // for (i = 0; i < n - 1; i++): with one light, none shades.
+    assert_eq!(
+        conformance_named(
+            "light_loop_short+rounded",
+            &["scene2_01_diffuse.txt", "scene2_03_colored_lights.txt"],
+            "lights_skipped",
+            "form 0)"
+        ),
+        2
+    );
+    // A return inside the loop: the first light alone (with two, the same as all but the
+    // last; with three, form 1).
+    assert_eq!(
+        later_named(
+            "first_light_only",
+            &["output4_02.tga", "output3_11.tga"],
+            "lights_skipped",
+            ""
+        ),
+        2
+    );
+}

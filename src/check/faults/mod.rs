@@ -167,6 +167,7 @@ pub static FAULTS: &[Fault] = &[
     shading::SPECULAR_UNCLAMPED,
     shading::HALF_VECTOR,
     shading::ATTENUATION,
+    shading::LIGHTS_SKIPPED,
     rays::SHADOW_ACNE,
     rays::SHADOW_PAST_LIGHT,
     rays::SHADOW_REACH,
@@ -376,6 +377,11 @@ impl TraceSeam for Plant {
         };
         self.shadings()
             .fold(course, |face, s| s.back_face(shade_back, face))
+    }
+
+    fn lights_visited(&self, lights: usize) -> usize {
+        self.shadings()
+            .fold(lights, |lights, s| s.lights_visited(lights))
     }
 
     fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {

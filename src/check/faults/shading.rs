@@ -32,6 +32,9 @@ pub enum ShadingFault {
     Highlight(Highlight),
     /// A point light's attenuation worked out another way.
     Attenuation(Attenuation),
+    /// The loop over the lights stopped early: before the last (form 0), or after the first
+    /// (form 1).
+    LightsSkipped(u8),
     /// The terms weighed by numbers check's shading fit found.
     Weighed {
         /// What the ambient term is multiplied by.
@@ -113,6 +116,14 @@ impl ShadingFault {
             ShadingFault::BackFacesUnturned => BackFace::Unturned,
             ShadingFault::AmbientOnBackFaces if face == BackFace::Black => BackFace::Ambient,
             _ => face,
+        }
+    }
+
+    pub(super) fn lights_visited(&self, lights: usize) -> usize {
+        match self {
+            ShadingFault::LightsSkipped(0) => lights.saturating_sub(1),
+            ShadingFault::LightsSkipped(_) => lights.min(1),
+            _ => lights,
         }
     }
 
@@ -435,3 +446,25 @@ mod tests {
         assert_eq!((lit.to_light, lit.distance), (Vec3A::Y, 2.0));
     }
 }
+
+pub(super) const LIGHTS_SKIPPED: Fault = Fault {
+    name: "lights_skipped",
+    assignment: 2,
+    sentence: "My loop over the lights stops early: the last light never shades (form 0: i < n - \
+               1), or only the first one does (form 1).",
+    look_for: "The loop over the scene's lights: for (i = 0; i < numLights; i++), each light's \
+               diffuse and specular terms added.",
+    candidates: |line: &LineScene| {
+        let lights = line.scene.lights.len();
+        if !line.has_image() || lights == 0 {
+            return Vec::new();
+        }
+        // With two lights, only the first is the same as all but the last.
+        let forms: &[u8] = if lights >= 3 { &[0, 1] } else { &[0] };
+        Candidate::forms(
+            forms
+                .iter()
+                .map(|&form| Planted::Shading(ShadingFault::LightsSkipped(form))),
+        )
+    },
+};

@@ -1088,6 +1088,15 @@ fn simulate_here(
         let singles: Vec<usize> = (0..tried.len())
             .filter(|&t| tried[t].faults.len() == 1)
             .collect();
+        // Each fault's place among the closest: a pair of the two closest faults is tried
+        // before the closest fault with every render of the rest (a line of many faults can
+        // spend the budget on the first fault's pairs alone).
+        let rank = |t: usize| {
+            closest
+                .iter()
+                .position(|&c| tried[c].faults[0].name == tried[t].faults[0].name)
+                .unwrap_or(closest.len())
+        };
         let mut order: Vec<(usize, usize)> = Vec::new();
         for &first in closest
             .iter()
@@ -1099,6 +1108,9 @@ fn simulate_here(
                 }
             }
         }
+        // Stable: among pairs of the same places, the closest first fault's, in the library's
+        // order.
+        order.sort_by_key(|&(first, other)| rank(first) + rank(other));
         // A pair screened by a few rows costs a few rows: the closest faults are paired with
         // every other.
         let budget = if renders.screen.is_some() {
