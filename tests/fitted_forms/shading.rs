@@ -245,7 +245,7 @@ fn normals_never_turned_toward_the_ray_are_the_back_faces_mistake_of_each_line()
     // With -shade_back, the back faces shaded from the wrong side: shade_back_ignored's form 1;
     // without it, shaded at all: back_faces_lit's form 1, which draws there as the ambient term
     // alone (the lights stand outside the sphere, behind its inside's outward normal), so the
-    // line cannot tell it from ambient_on_back_faces.
+    // line cannot tell it from ambient_on_back_faces, the likelier, named first.
     let failing = failing("normals_never_turned", &["scene2_05_inside_sphere.txt"]);
     assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
     assert!(
@@ -257,7 +257,7 @@ fn normals_never_turned_toward_the_ray_are_the_back_faces_mistake_of_each_line()
     );
     assert!(
         failing[1].contains("output2_05_no_back")
-            && failing[1].contains("off: back_faces_lit, ambient_on_back_faces: raycast's render"),
+            && failing[1].contains("off: ambient_on_back_faces, back_faces_lit: raycast's render"),
         "{}",
         failing[1]
     );

@@ -152,11 +152,14 @@ pub static FAULTS: &[Fault] = &[
     intersection::T_MIN_IGNORED,
     intersection::T_LIMIT,
     shading::SHADE_BACK_IGNORED,
+    // Before back_faces_lit: where back faces show the ambient term alone, the ambient term
+    // added before the test that blacks them out is the likelier mistake than a normal never
+    // turned, which draws the same where every light is behind the back faces.
+    shading::AMBIENT_ON_BACK_FACES,
     shading::BACK_FACES_LIT,
     shading::SHADE_BACK_ABS,
     shading::AMBIENT_PER_LIGHT,
     shading::AMBIENT_MISSING,
-    shading::AMBIENT_ON_BACK_FACES,
     shading::COSINE_TWICE,
     pictures::NO_CLAMP,
     intersection::DEPTH_TMIN,

@@ -417,6 +417,28 @@ pub(super) const ATTENUATION: Fault = Fault {
     },
 };
 
+pub(super) const LIGHTS_SKIPPED: Fault = Fault {
+    name: "lights_skipped",
+    assignment: 2,
+    sentence: "My loop over the lights stops early: the last light never shades (form 0: i < n - \
+               1), or only the first one does (form 1).",
+    look_for: "The loop over the scene's lights: for (i = 0; i < numLights; i++), each light's \
+               diffuse and specular terms added.",
+    candidates: |line: &LineScene| {
+        let lights = line.scene.lights.len();
+        if !line.has_image() || lights == 0 {
+            return Vec::new();
+        }
+        // With two lights, only the first is the same as all but the last.
+        let forms: &[u8] = if lights >= 3 { &[0, 1] } else { &[0] };
+        Candidate::forms(
+            forms
+                .iter()
+                .map(|&form| Planted::Shading(ShadingFault::LightsSkipped(form))),
+        )
+    },
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -446,25 +468,3 @@ mod tests {
         assert_eq!((lit.to_light, lit.distance), (Vec3A::Y, 2.0));
     }
 }
-
-pub(super) const LIGHTS_SKIPPED: Fault = Fault {
-    name: "lights_skipped",
-    assignment: 2,
-    sentence: "My loop over the lights stops early: the last light never shades (form 0: i < n - \
-               1), or only the first one does (form 1).",
-    look_for: "The loop over the scene's lights: for (i = 0; i < numLights; i++), each light's \
-               diffuse and specular terms added.",
-    candidates: |line: &LineScene| {
-        let lights = line.scene.lights.len();
-        if !line.has_image() || lights == 0 {
-            return Vec::new();
-        }
-        // With two lights, only the first is the same as all but the last.
-        let forms: &[u8] = if lights >= 3 { &[0, 1] } else { &[0] };
-        Candidate::forms(
-            forms
-                .iter()
-                .map(|&form| Planted::Shading(ShadingFault::LightsSkipped(form))),
-        )
-    },
-};

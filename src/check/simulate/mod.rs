@@ -9,6 +9,7 @@ use std::sync::OnceLock;
 
 use super::cache;
 mod draws;
+mod matches;
 use super::chance::{ByChance, Drawn, Spread, depends_on_chance};
 use super::choices::{self, Acceptance};
 use super::envelope::Envelope;
@@ -24,6 +25,8 @@ use crate::scene::Scene;
 use crate::shade::Image;
 use draws::{drawn_alike, plant_spreads, seeded_spreads, slots_of};
 pub use draws::{drawn_by_chance, spreads};
+pub use matches::FaultMatch;
+use matches::matches;
 
 /// At most this many renders for one line, singles and pairs together, where the singles leave
 /// room (a course picture renders in milliseconds; every single is tried)...
@@ -39,35 +42,6 @@ const SCREENED_PAIRS: usize = 128;
 const NEARER_DRAW: f64 = 0.5;
 /// A fit measures its renders on every this many rows of a picture.
 const FIT_ROWS: usize = 3;
-
-/// Faults (one, or two planted together) whose render of a line matches a picture.
-#[derive(Debug, Clone, PartialEq)]
-pub struct FaultMatch {
-    /// The fault, or the two faults planted together.
-    pub faults: Vec<&'static Fault>,
-    /// The fitted parameters, by name.
-    pub parameters: Vec<(&'static str, f64)>,
-    /// The share of pixels by which the render and the student's picture still differ.
-    pub bad_fraction: f64,
-    /// The share of the pixels by which the student's picture differs from its reference that
-    /// the render accounts for: 1 − [`FaultMatch::bad_fraction`] / the picture's own share off
-    /// (none where the picture is graded against no single reference).
-    pub accounts_for: Option<f64>,
-    /// Whether the picture was measured against the spread of the faults' renders with several
-    /// seeds (a line drawn by chance, where the faults place its samples), not one render.
-    pub against_spread: bool,
-}
-
-impl FaultMatch {
-    /// The faults' names, joined by `+` for a pair.
-    pub fn code(&self) -> String {
-        self.faults
-            .iter()
-            .map(|f| f.name)
-            .collect::<Vec<_>>()
-            .join("+")
-    }
-}
 
 /// What simulation says of one picture of a line.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -1088,29 +1062,41 @@ fn simulate_here(
         let singles: Vec<usize> = (0..tried.len())
             .filter(|&t| tried[t].faults.len() == 1)
             .collect();
-        // Each fault's place among the closest: a pair of the two closest faults is tried
-        // before the closest fault with every render of the rest (a line of many faults can
-        // spend the budget on the first fault's pairs alone).
-        let rank = |t: usize| {
-            closest
-                .iter()
-                .position(|&c| tried[c].faults[0].name == tried[t].faults[0].name)
-                .unwrap_or(closest.len())
-        };
-        let mut order: Vec<(usize, usize)> = Vec::new();
-        for &first in closest
+        // First the closest render of each of the closest faults with the closest render of
+        // each other, the two closest faults' pair first (a line of many faults, or a fault of
+        // many renders, can spend the budget on the closest fault's pairs alone); then the
+        // closest faults with every render of the others.
+        let firsts: Vec<usize> = closest
             .iter()
-            .filter(|&&first| tried[first].error[k] < plain)
-        {
-            for &other in &singles {
+            .copied()
+            .filter(|&first| tried[first].error[k] < plain)
+            .collect();
+        let mut order: Vec<(usize, usize)> = Vec::new();
+        for &first in &firsts {
+            for &other in &closest {
                 if tried[other].faults[0].name != tried[first].faults[0].name {
                     order.push((first, other));
                 }
             }
         }
-        // Stable: among pairs of the same places, the closest first fault's, in the library's
-        // order.
+        let rank = |t: usize| {
+            closest
+                .iter()
+                .position(|&c| c == t)
+                .unwrap_or(closest.len())
+        };
+        // Stable: among pairs of the same places, the closer first fault's.
         order.sort_by_key(|&(first, other)| rank(first) + rank(other));
+        let mut seen: std::collections::HashSet<(usize, usize)> = order.iter().copied().collect();
+        for &first in &firsts {
+            for &other in &singles {
+                if tried[other].faults[0].name != tried[first].faults[0].name
+                    && seen.insert((first, other))
+                {
+                    order.push((first, other));
+                }
+            }
+        }
         // A pair screened by a few rows costs a few rows: the closest faults are paired with
         // every other.
         let budget = if renders.screen.is_some() {
@@ -1171,56 +1157,4 @@ fn account(
             super::likely::explained(fault.name);
         }
     }
-}
-
-/// The renders that pass against picture `k`, the closest of each fault (or pair, in either
-/// order), closest first; among equals, in the library's order.
-fn matches(tried: &[Tried], k: usize, rule: Rule) -> Vec<FaultMatch> {
-    let mut found: Vec<FaultMatch> = Vec::new();
-    // A pair is the same two faults whichever was planted first: named in the library's order,
-    // on every picture alike.
-    let in_library_order = |faults: &[&'static Fault]| {
-        let mut faults = faults.to_vec();
-        faults.sort_by_key(|fault| FAULTS.iter().position(|f| f.name == fault.name));
-        faults
-    };
-    for t in tried.iter().filter(|t| t.bad[k] <= rule.max_bad) {
-        let faults = in_library_order(&t.faults);
-        let names: Vec<&str> = faults.iter().map(|f| f.name).collect();
-        match found
-            .iter_mut()
-            .find(|m| m.faults.iter().map(|f| f.name).eq(names.iter().copied()))
-        {
-            Some(m) if m.bad_fraction <= t.bad[k] => {}
-            Some(m) => {
-                m.bad_fraction = t.bad[k];
-                m.parameters = t.parameters.clone();
-                m.against_spread = t.against_spread;
-            }
-            None => found.push(FaultMatch {
-                faults,
-                parameters: t.parameters.clone(),
-                bad_fraction: t.bad[k],
-                accounts_for: None,
-                against_spread: t.against_spread,
-            }),
-        }
-    }
-    // Fewer mistakes first: a match whose faults hold another match's, and more, is dropped
-    // where the other is as close (a fit may name a second fault for numbers that change
-    // nothing the picture shows).
-    let simpler = |m: &FaultMatch, other: &FaultMatch| {
-        other.faults.len() < m.faults.len()
-            && other.bad_fraction <= m.bad_fraction
-            && other.faults.iter().all(|f| m.faults.contains(f))
-    };
-    let kept: Vec<bool> = found
-        .iter()
-        .map(|m| !found.iter().any(|other| simpler(m, other)))
-        .collect();
-    let mut kept = kept.into_iter();
-    found.retain(|_| kept.next().unwrap_or(true));
-    // Stable: among equal figures, the library's order stands.
-    found.sort_by(|a, b| a.bad_fraction.total_cmp(&b.bad_fraction));
-    found
 }
