@@ -40,6 +40,9 @@ const SCREENED_PAIRS: usize = 128;
 /// render matches it only where it lies at most this share as far from it (the same draw of a
 /// fault is not a pixel off; another draw is as far as raycast's).
 const NEARER_DRAW: f64 = 0.5;
+/// Where no fault explains a picture alone, each close fault is first paired with this many of
+/// each other close fault's renders, the closest.
+const PAIRED_RENDERS: usize = 4;
 /// A fit measures its renders on every this many rows of a picture.
 const FIT_ROWS: usize = 3;
 
@@ -1062,31 +1065,40 @@ fn simulate_here(
         let singles: Vec<usize> = (0..tried.len())
             .filter(|&t| tried[t].faults.len() == 1)
             .collect();
-        // First the closest render of each of the closest faults with the closest render of
-        // each other, the two closest faults' pair first (a line of many faults, or a fault of
-        // many renders, can spend the budget on the closest fault's pairs alone); then the
+        // First the closest render of each of the closest faults with the closest few renders
+        // of each other, the two closest faults' pairs first (a line of many faults, or a fault
+        // of many renders, can spend the budget on the closest fault's pairs alone); then the
         // closest faults with every render of the others.
         let firsts: Vec<usize> = closest
             .iter()
             .copied()
             .filter(|&first| tried[first].error[k] < plain)
             .collect();
-        let mut order: Vec<(usize, usize)> = Vec::new();
-        for &first in &firsts {
-            for &other in &closest {
-                if tried[other].faults[0].name != tried[first].faults[0].name {
-                    order.push((first, other));
+        let renders_of = |fault: &str| {
+            let mut them: Vec<usize> = singles
+                .iter()
+                .copied()
+                .filter(|&t| tried[t].faults[0].name == fault)
+                .collect();
+            them.sort_by(|&a, &b| tried[a].error[k].total_cmp(&tried[b].error[k]));
+            them.truncate(PAIRED_RENDERS);
+            them
+        };
+        let mut ranked: Vec<((usize, usize), (usize, usize))> = Vec::new();
+        for (first_rank, &first) in firsts.iter().enumerate() {
+            for (other_rank, &other) in closest.iter().enumerate() {
+                let name = tried[other].faults[0].name;
+                if name == tried[first].faults[0].name {
+                    continue;
+                }
+                for (nearness, render) in renders_of(name).into_iter().enumerate() {
+                    ranked.push(((first_rank + other_rank, nearness), (first, render)));
                 }
             }
         }
-        let rank = |t: usize| {
-            closest
-                .iter()
-                .position(|&c| c == t)
-                .unwrap_or(closest.len())
-        };
         // Stable: among pairs of the same places, the closer first fault's.
-        order.sort_by_key(|&(first, other)| rank(first) + rank(other));
+        ranked.sort_by_key(|&(key, _)| key);
+        let mut order: Vec<(usize, usize)> = ranked.into_iter().map(|(_, pair)| pair).collect();
         let mut seen: std::collections::HashSet<(usize, usize)> = order.iter().copied().collect();
         for &first in &firsts {
             for &other in &singles {
