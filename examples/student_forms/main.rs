@@ -221,6 +221,12 @@ enum Form {
     /// The loop over the lights returns once the first light's terms are added (a `return`
     /// inside the loop).
     FirstLightOnly,
+    /// The grid walked cell by cell, the walk ended at the first cell in which any object is
+    /// hit, wherever along the ray the hit lies.
+    GridTrustsFirstHit,
+    /// The grid walked with a mailbox: each object tested once per ray, its hit kept only if
+    /// it lies within the cell that tested it.
+    GridMailbox,
     /// The tent's distance `fabs(dx) + fabs(dy)`.
     TentManhattan,
     /// The tent's distance `max(fabs(dx), fabs(dy))`.
@@ -322,6 +328,8 @@ impl Form {
             "noise_from_second_octave" => Form::NoiseFromSecondOctave,
             "highlight_ungated" => Form::HighlightUngated,
             "normal_by_inverse" => Form::NormalByInverse,
+            "grid_trusts_first_hit" => Form::GridTrustsFirstHit,
+            "grid_mailbox" => Form::GridMailbox,
             "light_loop_short" => Form::LightLoopShort,
             "first_light_only" => Form::FirstLightOnly,
             "normals_never_turned" => Form::NormalsNeverTurned,

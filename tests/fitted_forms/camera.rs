@@ -349,3 +349,32 @@ fn moller_and_trumbores_test_with_an_epsilon_is_the_triangle_epsilon_with_it_fit
         1
     );
 }
+
+#[test]
+fn grid_walks_written_their_own_way_that_trust_a_hit_beyond_its_cell_are_the_grid_first_hit() {
+    if common::later_dir("the fitted forms of assignment 5").is_none() {
+        return;
+    }
+    // The walk ends at the first cell in which anything is hit: a nearer object listed in a
+    // later cell is hidden where a farther one reaches into an earlier cell.
+    assert_eq!(
+        later_named(
+            "grid_trusts_first_hit",
+            &["output6_04b.tga", "output6_11b.tga"],
+            "grid_first_hit",
+            "form 0)"
+        ),
+        2
+    );
+    // A mailbox: each object tested once per ray, its hit dropped where it lies beyond the
+    // cell that tested it; the object vanishes along those rays.
+    assert_eq!(
+        later_named(
+            "grid_mailbox",
+            &["output6_01b.tga", "output6_02b.tga"],
+            "grid_first_hit",
+            "form 1)"
+        ),
+        2
+    );
+}

@@ -7,6 +7,7 @@ use std::ops::ControlFlow;
 use glam::Vec3;
 
 use super::{Found, Hit, Item, Nearest, World, search_limit};
+use crate::accel::grid::Primitive;
 use crate::geometry::{Ray, intersect_sphere};
 
 /// The most hits one search skips before it gives up on a ray (a mesh whose every triangle
@@ -108,5 +109,57 @@ impl World {
             }
         });
         nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// The grid's search with each primitive tested once (mailboxed) and a hit beyond the cell
+    /// that tested it dropped for good (a tracer that marks a primitive as tested before it
+    /// knows whether its hit counts there): an object reaching over several cells, met beyond
+    /// the first, vanishes along those rays. Without a grid, the course's search.
+    pub fn intersect_mailboxed(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        let Some(grid) = &self.grid else {
+            return self.intersect(ray, t_min);
+        };
+        let mut nearest = self.nearest_plane(ray, t_min);
+        let mut local = None;
+        let mut tested: Vec<Primitive> = Vec::new();
+        grid.walk(ray, t_min, search_limit(&nearest), |cell| {
+            for p in cell.primitives {
+                if tested.contains(p) {
+                    continue;
+                }
+                tested.push(*p);
+                let limit = search_limit(&nearest).min(cell.t_exit);
+                if let Some(t) = self.intersect_primitive(p, ray, t_min, limit, &mut local) {
+                    Nearest::item(t, p.item, p.triangle).replaces(&mut nearest);
+                }
+            }
+            if nearest.is_some_and(|n| n.t <= cell.t_exit) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// The t of `ray`'s hit on the grid's primitive `p` within `t_min..t_max`: for a tracer that
+    /// walks the grid its own way.
+    pub fn primitive_t(&self, p: &Primitive, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
+        self.intersect_primitive(p, ray, t_min, t_max, &mut None)
+    }
+
+    /// The hit of `ray` at `t` on the grid's primitive `p`.
+    pub fn primitive_hit(&self, ray: &Ray, t: f32, p: &Primitive) -> Hit {
+        let found = Found::Item {
+            item: p.item,
+            triangle: p.triangle,
+        };
+        self.hit(ray, t, found)
+    }
+
+    /// The nearest hit of `ray` from `t_min` on among the planes, which stand outside the grid.
+    pub fn plane_hit(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        let nearest = self.nearest_plane(ray, t_min)?;
+        Some(self.hit(ray, nearest.t, nearest.found))
     }
 }

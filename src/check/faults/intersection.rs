@@ -36,6 +36,8 @@ pub enum HitFault {
     EdgeEpsilon(f32),
     /// The grid's search stopped at the first cell with any hit in it.
     FirstCellHit,
+    /// The grid's search testing each primitive once, a hit beyond its cell dropped for good.
+    Mailboxed,
     /// Normals of the length check's shading fit found: see [`normal_length`].
     NormalLength([f32; 3]),
 }
@@ -113,6 +115,7 @@ impl HitFault {
             HitFault::CameraTMin(_) => hit,
             HitFault::ObjectSpaceT => scene.world.intersect_object_space_t(ray, t_min),
             HitFault::FirstCellHit => scene.world.intersect_first_cell(ray, t_min),
+            HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
             HitFault::DeterminantEpsilon(epsilon) => {
                 scene
                     .world
@@ -362,15 +365,18 @@ pub(super) const TRIANGLE_EPSILON: Fault = Fault {
 pub(super) const GRID_FIRST_HIT: Fault = Fault {
     name: "grid_first_hit",
     assignment: 5,
-    sentence: "My grid walk returns the first hit found in a cell even when that hit lies beyond \
-               the cell, so an object listed in several cells can hide a nearer one.",
+    sentence: "My grid walk trusts a hit beyond the cell that found it: it returns it at once, so \
+               an object listed in several cells can hide a nearer one (form 0), or it marks the \
+               object as tested and drops the hit, so the object vanishes where the ray meets it \
+               in a later cell (form 1).",
     look_for: "The grid's ray march: a hit found while visiting a cell counts only if its t is \
-               within that cell (t ≤ the cell's exit); otherwise keep marching and compare with \
-               the later cells' hits.",
+               within that cell (t ≤ the cell's exit); otherwise keep marching, test the object \
+               again (or keep its hit) in the cell where the hit lies, and compare with the later \
+               cells' hits.",
     candidates: |line: &LineScene| {
         let pictures = line.has_image() || line.has_depth_or_normals();
         if line.scene.world.grid().is_some() && !line.options.trace.visualize_grid && pictures {
-            vec![Candidate::plain(Planted::Hit(HitFault::FirstCellHit))]
+            Candidate::forms([HitFault::FirstCellHit, HitFault::Mailboxed].map(Planted::Hit))
         } else {
             Vec::new()
         }
