@@ -227,6 +227,9 @@ enum Form {
     /// The grid walked with a mailbox: each object tested once per ray, its hit kept only if
     /// it lies within the cell that tested it.
     GridMailbox,
+    /// The noise's octaves summed without their weights, `noise(2^i p)` for i = 0 to
+    /// octaves - 1.
+    NoiseOctavesUnweighed,
     /// The tent's distance `fabs(dx) + fabs(dy)`.
     TentManhattan,
     /// The tent's distance `max(fabs(dx), fabs(dy))`.
@@ -328,6 +331,7 @@ impl Form {
             "noise_from_second_octave" => Form::NoiseFromSecondOctave,
             "highlight_ungated" => Form::HighlightUngated,
             "normal_by_inverse" => Form::NormalByInverse,
+            "noise_octaves_unweighed" => Form::NoiseOctavesUnweighed,
             "grid_trusts_first_hit" => Form::GridTrustsFirstHit,
             "grid_mailbox" => Form::GridMailbox,
             "light_loop_short" => Form::LightLoopShort,

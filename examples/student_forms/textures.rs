@@ -1,6 +1,7 @@
 //! Textures' weights as the forms write them.
 
 use raycast::Vec3A;
+use raycast::glam::DVec3;
 use raycast::parse::description::Pattern;
 use raycast::scene::Texture;
 use raycast::scene::perlin::{noise as perlin_noise, octave_noise};
@@ -21,32 +22,51 @@ pub(crate) fn marble_in_turns(texture: &Texture, point: Vec3A) -> f32 {
     (0.5 * ((turns + amplitude * noise).sin() + 1.0)) as f32
 }
 
-/// Where `point` falls between a texture's materials, its noise summed from the second octave.
+/// Where `point` falls between a texture's materials, its noise summed from the second octave:
+/// `noise(2^i p) / 2^i` for i = 1 to octaves.
 pub(crate) fn noise_from_second_octave(texture: &Texture, point: Vec3A) -> f32 {
-    let p = texture.to_texture.transform_point3(point.as_dvec3());
-    let noise = |octaves: u32| {
+    with_noise(texture, point, |p, octaves| {
         (1..=octaves)
             .map(|i| {
                 let scale = f64::from(1u32 << i);
                 perlin_noise(p.x * scale, p.y * scale, p.z * scale) / scale
             })
-            .sum::<f64>()
-    };
+            .sum()
+    })
+}
+
+/// Where `point` falls between a texture's materials, its octaves summed unweighed:
+/// `noise(2^i p)` for i = 0 to octaves - 1.
+pub(crate) fn noise_octaves_unweighed(texture: &Texture, point: Vec3A) -> f32 {
+    with_noise(texture, point, |p, octaves| {
+        (0..octaves)
+            .map(|i| {
+                let scale = f64::from(1u32 << i);
+                perlin_noise(p.x * scale, p.y * scale, p.z * scale)
+            })
+            .sum()
+    })
+}
+
+/// Where `point` falls between a texture's materials, with `noise(p, octaves)` the student's
+/// sum of octaves at the texture's point p.
+fn with_noise(texture: &Texture, point: Vec3A, noise: impl Fn(DVec3, u32) -> f64) -> f32 {
+    let p = texture.to_texture.transform_point3(point.as_dvec3());
     let weight = match texture.pattern {
         Pattern::Checkerboard => return texture.weight(point),
-        Pattern::Noise { octaves } => 0.5 * (noise(octaves) + 1.0),
+        Pattern::Noise { octaves } => 0.5 * (noise(p, octaves) + 1.0),
         Pattern::Marble {
             octaves,
             frequency,
             amplitude,
-        } => 0.5 * ((frequency * p.x + amplitude * noise(octaves)).sin() + 1.0),
+        } => 0.5 * ((frequency * p.x + amplitude * noise(p, octaves)).sin() + 1.0),
         Pattern::Wood {
             octaves,
             frequency,
             amplitude,
         } => {
             let radius = (p.x * p.x + p.z * p.z).sqrt();
-            let ring = 0.5 * ((frequency * radius + amplitude * noise(octaves)).sin() + 1.0);
+            let ring = 0.5 * ((frequency * radius + amplitude * noise(p, octaves)).sin() + 1.0);
             ring * ring * ring
         }
     };

@@ -17,7 +17,9 @@ use raycast::scene::{
 use raycast::trace::{BackFace, TraceSeam};
 
 use crate::Form;
-use crate::textures::{checker, marble_in_turns, noise_from_second_octave};
+use crate::textures::{
+    checker, marble_in_turns, noise_from_second_octave, noise_octaves_unweighed,
+};
 
 impl TraceSeam for Form {
     fn camera_t_min(&self, camera: &Camera) -> f32 {
@@ -67,6 +69,7 @@ impl TraceSeam for Form {
         match self {
             Form::MarbleInTurns => surface.weigh(point, marble_in_turns),
             Form::NoiseFromSecondOctave => surface.weigh(point, noise_from_second_octave),
+            Form::NoiseOctavesUnweighed => surface.weigh(point, noise_octaves_unweighed),
             Form::TextureMatrixInverted => {
                 surface.weigh(point, |texture, point| {
                     let inverse = texture.to_texture.inverse();

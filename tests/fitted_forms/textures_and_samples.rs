@@ -196,3 +196,21 @@ fn filters_of_another_distance_written_their_own_way_are_the_filter_shape() {
         1
     );
 }
+
+#[test]
+fn octaves_summed_unweighed_are_the_noise_constants_with_the_octaves_weight() {
+    if common::later_dir("the fitted forms of assignment 6").is_none() {
+        return;
+    }
+    // noise(2^i p) summed for i = 0 to octaves - 1, without the 1 / 2^i: fitted as each
+    // octave's weight over the last's, 1 where the course's is 1/2.
+    assert_eq!(
+        later_named(
+            "noise_octaves_unweighed",
+            &["output6_15.tga", "output6_17a.tga"],
+            "noise_constants",
+            "each octave's weight over the last's 1)"
+        ),
+        2
+    );
+}

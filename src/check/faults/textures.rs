@@ -42,6 +42,9 @@ pub enum TextureFault {
         /// The frequency of the first octave summed, each octave's weight its inverse: the
         /// noise is `octave_noise(s p) / s` (2: the octaves summed from the second).
         noise_scale: f32,
+        /// Each octave's weight over the last's (the course's ½; 1: the octaves summed
+        /// unweighed).
+        octave_ratio: f32,
     },
 }
 
@@ -141,8 +144,10 @@ impl TextureFault {
                 frequency,
                 amplitude,
                 noise_scale,
+                octave_ratio,
             } => {
                 let scale = f64::from(*noise_scale);
+                let ratio = f64::from(*octave_ratio);
                 with_constants(
                     texture.pattern,
                     *octaves,
@@ -153,7 +158,8 @@ impl TextureFault {
                     texture.to_texture.transform_point3(world),
                     |q, octaves| {
                         let q = q * scale;
-                        crate::scene::perlin::octave_noise(q.x, q.y, q.z, octaves) / scale
+                        crate::scene::perlin::octave_noise_weighed(q.x, q.y, q.z, octaves, ratio)
+                            / scale
                     },
                 )
             }
@@ -256,6 +262,7 @@ pub(super) const NOISE_CONSTANTS: Fault = Fault {
                         frequency: 1.0,
                         amplitude: 1.0,
                         noise_scale: 1.0,
+                        octave_ratio: 0.5,
                     }),
                     "octaves",
                     f64::from(more),
@@ -320,6 +327,7 @@ mod tests {
             frequency: 1.0,
             amplitude: 1.0,
             noise_scale: 1.0,
+            octave_ratio: 0.5,
         };
         assert_eq!(same.weight(&course, p), course.weight(p));
         let other = TextureFault::Constants {
@@ -327,6 +335,7 @@ mod tests {
             frequency: 2.0,
             amplitude: 0.5,
             noise_scale: 1.0,
+            octave_ratio: 0.5,
         };
         assert_eq!(other.weight(&course, p), marble(2, 4.0, 0.75).weight(p));
         // No fewer than no octaves.
@@ -336,6 +345,7 @@ mod tests {
             frequency: 1.0,
             amplitude: 1.0,
             noise_scale: 1.0,
+            octave_ratio: 0.5,
         };
         assert_eq!(fewer.weight(&noise, p), noise.weight(p));
     }
@@ -355,6 +365,7 @@ mod tests {
             frequency: 1.0,
             amplitude: 1.0,
             noise_scale: 2.0,
+            octave_ratio: 0.5,
         };
         for p in [Vec3A::new(0.3, -0.7, 1.1), Vec3A::new(-2.2, 0.4, 0.05)] {
             let q = course.to_texture.transform_point3(p.as_dvec3());

@@ -12,7 +12,7 @@ use crate::camera::pixel_to_screen;
 use crate::check::faults::{FAULTS, LineScene, Planted, TextureFault};
 use crate::parse::description::Pattern;
 use crate::sample::Sampler;
-use crate::scene::perlin::octave_noise;
+use crate::scene::perlin::octave_noise_weighed;
 use crate::scene::{Material, Surface};
 use crate::shade::Image;
 use crate::trace::{Scratch, TraceSeam, Tracer};
@@ -22,10 +22,16 @@ const MAX_PIXELS: usize = 3000;
 /// A pixel's two materials must differ by this much (in a channel's 0…1) for its weight to be
 /// read.
 const APART: f32 = 0.1;
-/// The noises tried: how many octaves more than the file's, and the first octave's frequency
-/// (each octave's weight its inverse): the file's, one octave fewer and one more, and the
-/// octaves summed from the second.
-const NOISES: [(i32, f64); 4] = [(0, 1.0), (-1, 1.0), (1, 1.0), (0, 2.0)];
+/// The noises tried: how many octaves more than the file's, the first octave's frequency (its
+/// weight the frequency's inverse), and each octave's weight over the last's: the file's, one
+/// octave fewer and one more, the octaves summed from the second, and summed unweighed.
+const NOISES: [(i32, f64, f64); 5] = [
+    (0, 1.0, 0.5),
+    (-1, 1.0, 0.5),
+    (1, 1.0, 0.5),
+    (0, 2.0, 0.5),
+    (0, 1.0, 1.0),
+];
 /// The frequency's and amplitude's factors searched, evenly in their logarithm...
 const RANGE: (f64, f64) = (0.1, 10.0);
 /// ...at this many points for the frequency (a step of a quarter of a percent)...
@@ -131,13 +137,16 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
         amplitude = round;
     }
     let fault = FAULTS.iter().find(|f| f.name == "noise_constants")?;
-    let (more, noise_scale) = NOISES[octaves];
+    let (more, noise_scale, octave_ratio) = NOISES[octaves];
     let mut numbers = Vec::new();
     if more != 0 {
         numbers.push(("octaves", f64::from(more)));
     }
     if noise_scale != 1.0 {
         numbers.push(("first octave's frequency", noise_scale));
+    }
+    if octave_ratio != 0.5 {
+        numbers.push(("each octave's weight over the last's", octave_ratio));
     }
     if frequency != 1.0 {
         numbers.push(("frequency", frequency));
@@ -153,6 +162,7 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
         frequency: frequency as f32,
         amplitude: amplitude as f32,
         noise_scale: noise_scale as f32,
+        octave_ratio: octave_ratio as f32,
     });
     Some((plant, (vec![fault], numbers)))
 }
@@ -245,9 +255,10 @@ fn read_weights(line: &LineScene, shaded: &Image) -> Vec<Read> {
             weight: f64::from(weight),
             phase: frequency * along,
             amplitude,
-            noise: NOISES.map(|(more, scale)| {
+            noise: NOISES.map(|(more, scale, ratio)| {
                 let q = p * scale;
-                octave_noise(q.x, q.y, q.z, octaves.saturating_add_signed(more)) / scale
+                let octaves = octaves.saturating_add_signed(more);
+                octave_noise_weighed(q.x, q.y, q.z, octaves, ratio) / scale
             }),
         });
     }
