@@ -45,7 +45,7 @@ impl TraceSeam for Form {
         match self {
             Form::WeightByMeanChannel => weight * colour.element_sum() / 3.0,
             Form::WeightByGreatestChannel => weight * colour.max_element(),
-            _ => weight * colour.length(),
+            _ => raycast::trace::ray_weight(weight, colour),
         }
     }
 

@@ -97,13 +97,8 @@ pub fn noise(x: f64, y: f64, z: f64) -> f64 {
 /// The handout's sum over octaves: N = noise(p) + noise(2p)/2 + noise(4p)/4 + … (`octaves`
 /// terms; 0 octaves is 0).
 pub fn octave_noise(x: f64, y: f64, z: f64, octaves: u32) -> f64 {
-    let mut sum = 0.0;
-    let mut scale = 1.0;
-    for _ in 0..octaves {
-        sum += noise(x * scale, y * scale, z * scale) / scale;
-        scale *= 2.0;
-    }
-    sum
+    // Each octave weighed ½^i: the same bits as dividing by 2^i.
+    octave_noise_weighed(x, y, z, octaves, 0.5)
 }
 
 /// The sum of `octaves` octaves of noise at (x, y, z), each at twice the frequency of the

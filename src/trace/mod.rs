@@ -121,7 +121,7 @@ pub trait TraceSeam: Copy + Send + Sync {
     /// or transparent colour) from a ray of `weight`.
     #[inline(always)]
     fn ray_weight(&self, weight: f32, colour: Vec3A) -> f32 {
-        spawned(weight, Vec3A::ONE, colour).0
+        ray_weight(weight, colour)
     }
 
     /// The weight below which no mirror or glass ray is traced, given `-weight`.
@@ -685,7 +685,14 @@ pub fn grid_palette(count: usize) -> Vec3A {
 /// from a ray of `weight` and `throughput`.
 #[inline]
 pub fn spawned(weight: f32, throughput: Vec3A, colour: Vec3A) -> (f32, Vec3A) {
-    (weight * colour.length(), throughput * colour)
+    (ray_weight(weight, colour), throughput * colour)
+}
+
+/// The course's weight of a mirror or glass ray spawned with `colour` from a ray of `weight`:
+/// the product of the colours' magnitudes on the way.
+#[inline]
+pub fn ray_weight(weight: f32, colour: Vec3A) -> f32 {
+    weight * colour.length()
 }
 
 /// Whether a spawned ray is traced: its weight at least the cut-off (`-weight`), and its colour

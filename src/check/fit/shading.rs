@@ -176,16 +176,8 @@ pub fn fit_shading(
             rest: Vec3A::ZERO,
         };
         let colour = tracer.colour(&ray, Some(&hit), &mut scratch);
-        let course_highlight = HighlightForm::default();
-        one.rest = colour
-            - shade(
-                &one,
-                &course,
-                false,
-                course_highlight,
-                scene.lights.len(),
-                settings.specular,
-            );
+        let (highlight, count) = (HighlightForm::default(), scene.lights.len());
+        one.rest = colour - shade(&one, &course, false, highlight, count, settings.specular);
         seen.push(one);
     }
     if seen.is_empty() {

@@ -1074,24 +1074,30 @@ fn simulate_here(
             .copied()
             .filter(|&first| tried[first].error[k] < plain)
             .collect();
-        let renders_of = |fault: &str| {
-            let mut them: Vec<usize> = singles
-                .iter()
-                .copied()
-                .filter(|&t| tried[t].faults[0].name == fault)
-                .collect();
-            them.sort_by(|&a, &b| tried[a].error[k].total_cmp(&tried[b].error[k]));
-            them.truncate(PAIRED_RENDERS);
-            them
-        };
+        // Each close fault's nearest renders, once.
+        let nearest_renders: Vec<Vec<usize>> = closest
+            .iter()
+            .map(|&c| {
+                let fault = tried[c].faults[0].name;
+                let mut them: Vec<usize> = singles
+                    .iter()
+                    .copied()
+                    .filter(|&t| tried[t].faults[0].name == fault)
+                    .collect();
+                them.sort_by(|&a, &b| tried[a].error[k].total_cmp(&tried[b].error[k]));
+                them.truncate(PAIRED_RENDERS);
+                them
+            })
+            .collect();
+        // `closest` holds each fault once, sorted, and `firsts` is its head: the same place is
+        // the same fault.
         let mut ranked: Vec<((usize, usize), (usize, usize))> = Vec::new();
         for (first_rank, &first) in firsts.iter().enumerate() {
-            for (other_rank, &other) in closest.iter().enumerate() {
-                let name = tried[other].faults[0].name;
-                if name == tried[first].faults[0].name {
+            for (other_rank, renders) in nearest_renders.iter().enumerate() {
+                if other_rank == first_rank {
                     continue;
                 }
-                for (nearness, render) in renders_of(name).into_iter().enumerate() {
+                for (nearness, &render) in renders.iter().enumerate() {
                     ranked.push(((first_rank + other_rank, nearness), (first, render)));
                 }
             }
