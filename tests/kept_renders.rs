@@ -1,6 +1,7 @@
 //! What check keeps between runs, and what it says while it runs: a fault's render of a line is
 //! kept beside raycast's references and read, not rendered, the next time (a student's next
-//! run, a class's next student); the folder is bounded, least recently used first, and
+//! run, a class's next student), and so is the diagnosis of each picture, told again without a
+//! search wherever the same picture comes back; the folder is bounded, least recently used first, and
 //! `raycast check cache` shows and clears it; a run without a terminal says how far it has come
 //! every few seconds.
 
@@ -139,6 +140,11 @@ fn a_faults_render_is_kept_and_read_the_next_time() {
         let file = std::fs::File::options().append(true).open(path).unwrap();
         file.set_modified(long_ago).unwrap();
     }
+    // The diagnosis of this very picture forgotten (as for a class's next student whose
+    // picture differs), the search runs again, on the kept renders.
+    for record in diagnoses(&cache) {
+        std::fs::remove_file(record).unwrap();
+    }
     let second = check(&suite, &renderer, &cache, None);
     assert_eq!(
         String::from_utf8_lossy(&first.stdout),
@@ -151,6 +157,75 @@ fn a_faults_render_is_kept_and_read_the_next_time() {
         assert_eq!(inode, inode_after, "{path:?} was written again");
         assert!(*modified > long_ago, "{path:?} was not read");
     }
+}
+
+/// The kept diagnoses of the line (the faults, the allowed answers).
+fn diagnoses(cache: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(cache.join("references"))
+        .map(|entries| {
+            entries
+                .flatten()
+                .map(|e| e.path())
+                .filter(|path| path.extension().is_some_and(|x| x == "diagnosis"))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+#[test]
+fn a_pictures_diagnosis_is_kept_and_told_again_without_a_search() {
+    let Some(conformance) = conformance() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let suite = suite(dir.path(), &conformance);
+    let cache = dir.path().join("cache");
+    let corner = renderer(dir.path(), "fault-pixel_corner.sh", "");
+    let first = check(&suite, &corner, &cache, None);
+    assert!(text(&first).contains(": pixel_corner"), "{}", text(&first));
+    let records = diagnoses(&cache);
+    let named: Vec<&PathBuf> = records
+        .iter()
+        .filter(|path| {
+            std::fs::read_to_string(path)
+                .unwrap()
+                .contains("\"pixel_corner\"")
+        })
+        .collect();
+    assert_eq!(named.len(), 1, "{records:?}");
+    // What the next run over the same picture tells is the kept diagnosis, not a new search:
+    // a record changed by hand is told as it reads.
+    let kept = std::fs::read_to_string(named[0]).unwrap();
+    std::fs::write(
+        named[0],
+        kept.replace("\"pixel_corner\"", "\"shadow_acne\""),
+    )
+    .unwrap();
+    let second = check(&suite, &corner, &cache, None);
+    assert!(
+        text(&second).contains("FAIL   a, ") && text(&second).contains(": shadow_acne"),
+        "{}",
+        text(&second)
+    );
+    // A record that does not read back as a diagnosis is searched again and replaced.
+    for record in &records {
+        std::fs::write(record, "[[{\"faults\": [\"no_such_fault\"").unwrap();
+    }
+    let third = check(&suite, &corner, &cache, None);
+    assert_eq!(
+        String::from_utf8_lossy(&first.stdout),
+        String::from_utf8_lossy(&third.stdout)
+    );
+    assert_eq!(std::fs::read_to_string(named[0]).unwrap(), kept);
+    // Another picture of the same line is another diagnosis.
+    let other = renderer(dir.path(), "fault-pixel_corner:2.sh", "");
+    let fourth = check(&suite, &other, &cache, None);
+    assert!(
+        text(&fourth).contains(": pixel_corner"),
+        "{}",
+        text(&fourth)
+    );
+    assert!(diagnoses(&cache).len() > records.len());
 }
 
 #[test]

@@ -5,7 +5,8 @@
 //! pins its open questions to (a pinned answer's render is the reference).
 //!
 //! The renders of the faults check simulates are kept the same way, keyed by the fault as
-//! planted (its parameters with it) instead of the pinned answers.
+//! planted (its parameters with it) instead of the pinned answers; and so are a line's
+//! diagnoses, keyed by the student's pictures themselves (see [`KeptDiagnosis`]).
 //!
 //! The folder: `RAYCAST_CACHE_DIR`, or `$XDG_CACHE_HOME/raycast`, or `~/.cache/raycast`; set
 //! `RAYCAST_CACHE_DIR=off` to keep nothing. After each run it is trimmed to
@@ -16,6 +17,7 @@ use std::hash::{DefaultHasher, Hasher};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+use super::rule::Rule;
 use super::run::line_files;
 use super::suite::{Line, Pin};
 use crate::image_io::{self, ImageFormat};
@@ -152,6 +154,40 @@ impl LineRenders {
         }
     }
 
+    /// The diagnosis `asked` (which question: the faults, the allowed answers) of the student's
+    /// `pictures` of the line (each image's index among the line's outputs, the student's
+    /// picture and its reference) under `rule`, kept or to keep. It depends on raycast's
+    /// program, the line and those pictures alone, so it is found again by their bytes.
+    pub fn diagnosis(
+        &self,
+        asked: &str,
+        pictures: &[(usize, &Image, Option<&Image>)],
+        rule: Rule,
+    ) -> KeptDiagnosis {
+        let mut hasher = self.line.clone();
+        hasher.write(b"diagnosis");
+        hasher.write(asked.as_bytes());
+        hasher.write_u8(rule.tolerance);
+        hasher.write_u64(rule.max_bad.to_bits());
+        for &(image, actual, reference) in pictures {
+            hasher.write_usize(image);
+            for picture in std::iter::once(Some(actual)).chain([reference]) {
+                match picture {
+                    Some(picture) => {
+                        hasher.write_u32(picture.width);
+                        hasher.write_u32(picture.height);
+                        hasher.write(picture.pixels.as_flattened());
+                    }
+                    None => hasher.write_u8(0),
+                }
+            }
+        }
+        let key = format!("{}-{:016x}", env!("CARGO_PKG_VERSION"), hasher.finish());
+        KeptDiagnosis {
+            place: self.folder.clone().map(|folder| (folder, key)),
+        }
+    }
+
     fn kept_or<E>(
         &self,
         key: &str,
@@ -183,6 +219,35 @@ impl LineRenders {
             }
         }
         Ok(pictures)
+    }
+}
+
+/// A line's diagnosis of a student's pictures, kept in the folder (or nowhere, with
+/// `RAYCAST_CACHE_DIR=off`) as the text its asker wrote.
+pub struct KeptDiagnosis {
+    place: Option<(PathBuf, String)>,
+}
+
+impl KeptDiagnosis {
+    /// The text kept, where a run before this one kept it.
+    pub fn read(&self) -> Option<String> {
+        let (folder, key) = self.place.as_ref()?;
+        let path = folder.join(format!("{key}.diagnosis"));
+        let text = std::fs::read_to_string(&path).ok()?;
+        used(&path);
+        Some(text)
+    }
+
+    /// Keeps `text`: written aside and renamed, so that a run beside this one reads all of it
+    /// or none.
+    pub fn keep(&self, text: &str) {
+        let Some((folder, key)) = &self.place else {
+            return;
+        };
+        let aside = folder.join(format!(".{key}.diagnosis.{}", std::process::id()));
+        if std::fs::create_dir_all(folder).is_ok() && std::fs::write(&aside, text).is_ok() {
+            let _ = std::fs::rename(&aside, folder.join(format!("{key}.diagnosis")));
+        }
     }
 }
 
@@ -239,7 +304,8 @@ pub fn usage() -> (usize, u64) {
     (pictures, entries.iter().map(|e| e.1).sum())
 }
 
-/// Every kept picture: its path, bytes and last use.
+/// Every kept file (pictures, records of renders alike, diagnoses): its path, bytes and last
+/// use.
 fn pictures_kept() -> Vec<(PathBuf, u64, std::time::SystemTime)> {
     let Some(folder) = folder() else {
         return Vec::new();
@@ -251,7 +317,10 @@ fn pictures_kept() -> Vec<(PathBuf, u64, std::time::SystemTime)> {
         .flatten()
         .filter(|entry| {
             let name = entry.file_name().to_string_lossy().into_owned();
-            !name.starts_with('.') && (name.ends_with(".png") || name.ends_with(".same"))
+            !name.starts_with('.')
+                && [".png", ".same", ".diagnosis"]
+                    .iter()
+                    .any(|kind| name.ends_with(kind))
         })
         .filter_map(|entry| {
             let metadata = entry.metadata().ok()?;

@@ -493,6 +493,21 @@ pub fn bounded() -> impl Iterator<Item = (&'static Choice, &'static Answer)> {
     })
 }
 
+/// The allowed answer named `name` (listed or bounded), with its question.
+pub fn answer_named(name: &str) -> Option<(&'static Choice, &'static Answer)> {
+    answers()
+        .chain(bounded())
+        .find(|(_, answer)| answer.name == name)
+}
+
+/// The reason a question the course leaves free gives, where it is `why`.
+pub fn reason_named(why: &str) -> Option<&'static str> {
+    CHOICES.iter().find_map(|choice| match choice.accepted {
+        Accepted::Anything { why: reason, .. } if reason == why => Some(reason),
+        _ => None,
+    })
+}
+
 /// Every allowed answer besides raycast's, with its question.
 pub fn answers() -> impl Iterator<Item = (&'static Choice, &'static Answer)> {
     CHOICES.iter().flat_map(|choice| {

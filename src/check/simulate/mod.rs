@@ -8,10 +8,12 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use super::cache;
+mod allowed;
 mod draws;
+mod likely_pairs;
 mod matches;
+mod remembered;
 use super::chance::{ByChance, Drawn, Spread, depends_on_chance};
-use super::choices::{self, Acceptance};
 use super::envelope::Envelope;
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
 use super::fit::{Named, Picture, Trial, fit_line};
@@ -23,6 +25,7 @@ use crate::parse::read_scene;
 use crate::render::StopFlag;
 use crate::scene::Scene;
 use crate::shade::Image;
+pub use allowed::accepted;
 use draws::{drawn_alike, plant_spreads, seeded_spreads, slots_of};
 pub use draws::{drawn_by_chance, spreads};
 pub use matches::FaultMatch;
@@ -72,97 +75,6 @@ impl Prepared {
             .map(|&slot| pictures[slot].clone())
             .collect()
     }
-}
-
-/// For each of `failing` (the index of an image among the line's outputs, whether it is the
-/// shaded picture, the student's picture of it, and its reference), how the course's open
-/// questions not `pinned` by the suite accept it: the first other allowed answer whose render
-/// of the line matches it under `rule`, or, for a shaded picture of a line that shows something
-/// the course leaves free, why it is informational. Each allowed answer that can change the
-/// line is screened by a few rows, and rendered whole (or read from the cache) where it might
-/// match.
-pub fn accepted(
-    line: &Line,
-    scenes: &Path,
-    pinned: &[Pin],
-    failing: &[(usize, bool, &Image, Option<&Image>)],
-    rule: Rule,
-    stop: &'static StopFlag,
-) -> Result<Vec<Option<Acceptance>>, Unfinished> {
-    on_every_core(|| accepted_here(line, scenes, pinned, failing, rule, stop))
-}
-
-fn accepted_here(
-    line: &Line,
-    scenes: &Path,
-    pinned: &[Pin],
-    failing: &[(usize, bool, &Image, Option<&Image>)],
-    rule: Rule,
-    stop: &'static StopFlag,
-) -> Result<Vec<Option<Acceptance>>, Unfinished> {
-    let prepared = prepare(line, scenes).map_err(Unfinished::Failed)?;
-    let mut accepted: Vec<Option<Acceptance>> = vec![None; failing.len()];
-    let informational = choices::informational(&prepared.line);
-    // A line whose every failing picture is shown, not graded, needs no answer rendered.
-    if let Some(why) = informational
-        && failing.iter().all(|&(_, shaded, _, _)| shaded)
-    {
-        return Ok(vec![Some(Acceptance::Informational(why)); failing.len()]);
-    }
-    let pictures: Vec<(usize, &Image, Option<&Image>)> = failing
-        .iter()
-        .map(|&(image, _, actual, reference)| (image, actual, reference))
-        .collect();
-    let renders = Renders::new(line, scenes, &prepared, &pictures, rule, stop)?;
-    // A question the suite pins accepts its pinned answer alone, which is the reference.
-    let open = choices::answers()
-        .filter(|(choice, _)| !pinned.iter().any(|pin| pin.choice.name == choice.name));
-    for (choice, answer) in open {
-        if accepted.iter().all(Option::is_some) {
-            break;
-        }
-        for candidate in (answer.candidates)(&prepared.line) {
-            let plant = Plant::one(candidate.planted);
-            if renders.ruled_out(plant)? {
-                continue;
-            }
-            let rendered = renders.whole(plant)?;
-            for (k, &(image, _, actual, _)) in failing.iter().enumerate() {
-                let matches = renders.passes(k, rendered.get(image), actual);
-                if accepted[k].is_none() && matches {
-                    accepted[k] = Some(Acceptance::Answer(choice, answer));
-                }
-            }
-        }
-    }
-    // A picture that differs from raycast's only where a ray's colour turns on its last
-    // digits (a picture drawn by chance has its spread, which holds those too).
-    if !renders.by_chance() {
-        for (choice, answer) in choices::bounded() {
-            let waiting: Vec<usize> = (0..failing.len())
-                .filter(|&k| accepted[k].is_none())
-                .collect();
-            let plants: Vec<Plant> = (answer.candidates)(&prepared.line)
-                .into_iter()
-                .map(|candidate| Plant::one(candidate.planted))
-                .collect();
-            if waiting.is_empty() || plants.is_empty() {
-                continue;
-            }
-            let references: Vec<Option<&Image>> = failing.iter().map(|f| f.3).collect();
-            for k in renders.between(&plants, &waiting, &references)? {
-                accepted[k] = Some(Acceptance::Answer(choice, answer));
-            }
-        }
-    }
-    if let Some(why) = informational {
-        for (k, &(_, shaded, _, _)) in failing.iter().enumerate() {
-            if shaded && accepted[k].is_none() {
-                accepted[k] = Some(Acceptance::Informational(why));
-            }
-        }
-    }
-    Ok(accepted)
 }
 
 /// A line's renders under plants (faults, allowed answers), for its failing pictures: each
@@ -681,7 +593,17 @@ pub fn simulate(
     rule: Rule,
     stop: &'static StopFlag,
 ) -> Result<Vec<Simulated>, Unfinished> {
-    on_every_core(|| simulate_here(line, scenes, failing, rule, stop))
+    let kept = cache::LineRenders::of(line, scenes).diagnosis("faults", failing, rule);
+    if let Some(simulated) = kept
+        .read()
+        .and_then(|text| remembered::simulated_from(&text, failing.len()))
+    {
+        simulated.iter().for_each(count_explained);
+        return Ok(simulated);
+    }
+    let simulated = on_every_core(|| simulate_here(line, scenes, failing, rule, stop))?;
+    kept.keep(&remembered::simulated_text(&simulated));
+    Ok(simulated)
 }
 
 fn simulate_here(
@@ -917,6 +839,14 @@ fn simulate_here(
         }
         explained = explained_by(&singles);
     }
+    let likely = likely_pairs::likely_pairs(
+        &candidates,
+        &singles,
+        &mut explained,
+        rule,
+        renders.screen.as_ref(),
+        &look,
+    )?;
     // The fits, for the pictures no listed fault explains: a mistake written in a form the
     // library does not list is named by where the fit's numbers land.
     if explained.iter().any(|e| !e) {
@@ -974,6 +904,7 @@ fn simulate_here(
             permuted[k].push(pair);
         }
     }
+    tried.extend(likely);
     let mut results: Vec<Simulated> = (0..failing.len())
         .map(|k| Simulated {
             matches: matches(&tried, k, rule),
@@ -1171,8 +1102,13 @@ fn account(
                     (off > 0.0).then(|| ((off - m.bad_fraction) / off).clamp(0.0, 1.0));
             }
         }
-        for fault in result.matches.first().map_or(&[][..], |m| &m.faults[..]) {
-            super::likely::explained(fault.name);
-        }
+        count_explained(result);
+    }
+}
+
+/// The faults named first for a picture explained it: the likely first for the next line.
+fn count_explained(result: &Simulated) {
+    for fault in result.matches.first().map_or(&[][..], |m| &m.faults[..]) {
+        super::likely::explained(fault.name);
     }
 }
