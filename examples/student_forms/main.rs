@@ -227,6 +227,12 @@ enum Form {
     /// The grid walked with a mailbox: each object tested once per ray, its hit kept only if
     /// it lies within the cell that tested it.
     GridMailbox,
+    /// A grid walk that tests only what its cells list: the planes, which have no box, are
+    /// never tested.
+    GridWithoutPlanes,
+    /// The planes put in the grid's cells they cross: a plane's hit counts only where it lies
+    /// inside the grid's box.
+    PlanesInGridCells,
     /// The noise's octaves summed without their weights, `noise(2^i p)` for i = 0 to
     /// octaves - 1.
     NoiseOctavesUnweighed,
@@ -334,6 +340,8 @@ impl Form {
             "noise_octaves_unweighed" => Form::NoiseOctavesUnweighed,
             "grid_trusts_first_hit" => Form::GridTrustsFirstHit,
             "grid_mailbox" => Form::GridMailbox,
+            "grid_without_planes" => Form::GridWithoutPlanes,
+            "planes_in_grid_cells" => Form::PlanesInGridCells,
             "light_loop_short" => Form::LightLoopShort,
             "first_light_only" => Form::FirstLightOnly,
             "normals_never_turned" => Form::NormalsNeverTurned,

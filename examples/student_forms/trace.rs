@@ -276,6 +276,10 @@ impl TraceSeam for Form {
                 return walk_grid(scene, ray, t_min, matches!(self, Form::GridMailbox))
                     .unwrap_or(Some(hit));
             }
+            Form::GridWithoutPlanes | Form::PlanesInGridCells => {
+                let clipped = matches!(self, Form::PlanesInGridCells);
+                return walk_grid_planes(scene, ray, t_min, clipped).unwrap_or(Some(hit));
+            }
             Form::NearestWithinTwenty if hit.t * ray.direction.length() > 20.0 => return None,
             Form::NormalByInverse | Form::NormalByTranspose => {
                 let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
@@ -421,6 +425,36 @@ fn walk_grid(scene: &Scene, ray: &Ray, t_min: f32, mailbox: bool) -> Option<Opti
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
+        }
+    });
+    Some(match nearest {
+        Some((t, p)) if t < beyond => Some(scene.world.primitive_hit(ray, t, &p)),
+        _ => plane,
+    })
+}
+
+/// A grid walk whose planes are in no cell (never tested), or in the cells they cross
+/// (`clipped`: a plane's hit counts only inside the grid's box); the walk itself stops at the
+/// first cell whose nearest hit lies within it. `None` without a grid.
+fn walk_grid_planes(scene: &Scene, ray: &Ray, t_min: f32, clipped: bool) -> Option<Option<Hit>> {
+    let grid = scene.world.grid()?;
+    let plane = scene.world.plane_hit(ray, t_min).filter(|hit| {
+        let (low, high) = (grid.bounds().min, grid.bounds().max);
+        let point = ray.origin + ray.direction * hit.t;
+        clipped && (0..3).all(|axis| low[axis] <= point[axis] && point[axis] <= high[axis])
+    });
+    let beyond = plane.map_or(f32::INFINITY, |h| h.t);
+    let mut nearest: Option<(f32, Primitive)> = None;
+    grid.walk(ray, t_min, beyond, |cell| {
+        for p in cell.primitives {
+            let reach = nearest.map_or(beyond, |(t, _)| t);
+            if let Some(t) = scene.world.primitive_t(p, ray, t_min, reach) {
+                nearest = Some((t, *p));
+            }
+        }
+        match nearest {
+            Some((t, _)) if t <= cell.t_exit => ControlFlow::Break(()),
+            _ => ControlFlow::Continue(()),
         }
     });
     Some(match nearest {

@@ -48,6 +48,11 @@ impl Aabb {
         }
     }
 
+    /// Whether `p` lies inside the box or on its sides.
+    pub fn contains(&self, p: Vec3A) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+
     /// Whether the box holds no point (min above max on some axis), as [`Aabb::EMPTY`] does.
     pub fn is_empty(&self) -> bool {
         self.min.cmpgt(self.max).any()

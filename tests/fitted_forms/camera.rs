@@ -378,3 +378,31 @@ fn grid_walks_written_their_own_way_that_trust_a_hit_beyond_its_cell_are_the_gri
         2
     );
 }
+
+#[test]
+fn grid_walks_written_their_own_way_that_lose_the_planes_are_the_grid_planes() {
+    if common::later_dir("the fitted forms of assignment 5").is_none() {
+        return;
+    }
+    // A plane has no box, so it is in no cell, and a walk that tests only what its cells list
+    // never meets the floor.
+    assert_eq!(
+        later_named(
+            "grid_without_planes",
+            &["output6_03b.tga", "output6_03d.tga"],
+            "grid_planes",
+            "form 0)"
+        ),
+        2
+    );
+    // The floor listed in the cells it crosses: met only inside the grid's box.
+    assert_eq!(
+        later_named(
+            "planes_in_grid_cells",
+            &["output6_03b.tga", "output6_03d.tga"],
+            "grid_planes",
+            "form 1)"
+        ),
+        2
+    );
+}

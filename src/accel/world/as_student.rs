@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::{Found, Hit, Item, Nearest, World, search_limit};
 use crate::accel::grid::Primitive;
-use crate::geometry::{Ray, intersect_sphere};
+use crate::geometry::{Aabb, Ray, intersect_plane, intersect_sphere};
 
 /// The most hits one search skips before it gives up on a ray (a mesh whose every triangle
 /// along the ray is refused).
@@ -139,6 +139,33 @@ impl World {
                 ControlFlow::Continue(())
             }
         });
+        nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// The nearest hit with the planes seen only where they lie inside `within` (a grid that
+    /// lists a plane in the cells it crosses: it is met only inside the grid's box), or nowhere
+    /// (`None`: a grid walk that never tests the planes, which have no box and are in no cell).
+    pub fn intersect_planes_within(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        within: Option<Aabb>,
+    ) -> Option<Hit> {
+        let mut nearest = None;
+        if let Some(within) = within {
+            for (i, (plane, _)) in self.planes.iter().enumerate() {
+                let t_max = search_limit(&nearest);
+                if let Some(t) = intersect_plane(ray, plane, t_min, t_max)
+                    && within.contains(ray.at(t))
+                {
+                    Nearest::plane(t, i as u32).replaces(&mut nearest);
+                }
+            }
+        }
+        match &self.grid {
+            Some(grid) => self.grid_nearest(grid, ray, t_min, &mut nearest, &mut ()),
+            None => self.nearest_item(ray, t_min, &mut nearest, &mut ()),
+        }
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 

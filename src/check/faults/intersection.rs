@@ -38,6 +38,10 @@ pub enum HitFault {
     FirstCellHit,
     /// The grid's search testing each primitive once, a hit beyond its cell dropped for good.
     Mailboxed,
+    /// With a grid, the planes never tested (they have no box, so they are in no cell).
+    PlanesUntested,
+    /// With a grid, the planes listed in the cells they cross: met only inside the grid's box.
+    PlanesInGridBox,
     /// Normals of the length check's shading fit found: see [`normal_length`].
     NormalLength([f32; 3]),
 }
@@ -116,6 +120,11 @@ impl HitFault {
             HitFault::ObjectSpaceT => scene.world.intersect_object_space_t(ray, t_min),
             HitFault::FirstCellHit => scene.world.intersect_first_cell(ray, t_min),
             HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
+            HitFault::PlanesUntested => scene.world.intersect_planes_within(ray, t_min, None),
+            HitFault::PlanesInGridBox => {
+                let within = scene.world.grid().map(|grid| grid.bounds());
+                scene.world.intersect_planes_within(ray, t_min, within)
+            }
             HitFault::DeterminantEpsilon(epsilon) => {
                 scene
                     .world
@@ -383,6 +392,32 @@ pub(super) const GRID_FIRST_HIT: Fault = Fault {
     },
 };
 
+pub(super) const GRID_PLANES: Fault = Fault {
+    name: "grid_planes",
+    assignment: 5,
+    sentence: "With the grid on, my planes go missing: they have no box, so they are in no cell \
+               and my grid walk never tests them (form 0); or I list them in the cells they \
+               cross, so they show only inside the grid's box (form 1).",
+    look_for: "Planes have no bounding box: they stay out of the grid and out of the scene's box, \
+               and every ray tests them besides the grid's march, as it does without a grid \
+               (the nearer of the plane's hit and the march's wins).",
+    candidates: |line: &LineScene| {
+        let pictures = line.has_image() || line.has_depth_or_normals();
+        let world = &line.scene.world;
+        if world.grid().is_some()
+            && world.stats().planes > 0
+            && !line.options.trace.visualize_grid
+            && pictures
+        {
+            Candidate::forms(
+                [HitFault::PlanesUntested, HitFault::PlanesInGridBox].map(Planted::Hit),
+            )
+        } else {
+            Vec::new()
+        }
+    },
+};
+
 #[cfg(test)]
 mod tests {
     use std::path::Path;
@@ -407,6 +442,31 @@ mod tests {
     fn found(fault: HitFault, scene: &Scene, ray: &Ray) -> Option<Hit> {
         let hit = scene.world.intersect(ray, 0.0);
         fault.found(scene, ray, 0.0, hit)
+    }
+
+    #[test]
+    fn planes_with_a_grid_untested_or_only_inside_its_box() {
+        let mut scene = scene(
+            "Group { numObjects 2
+                 MaterialIndex 0 Sphere { center 0 0 0 radius 1 }
+                 MaterialIndex 1 Plane { normal 0 1 0 offset -1 } }",
+        );
+        scene.world.use_grid(UVec3::splat(2)).unwrap();
+        let down = |x: f32, z: f32| Ray::new(Vec3A::new(x, 5.0, z), -Vec3A::Y);
+        // Beside the sphere, over the grid's box and beyond it: the course meets the floor.
+        for ray in [down(0.5, 0.9), down(3.0, 0.0)] {
+            let hit = scene.world.intersect(&ray, 0.0).unwrap();
+            assert_eq!((hit.t, hit.material), (6.0, 1));
+            assert!(found(HitFault::PlanesUntested, &scene, &ray).is_none());
+        }
+        let inside = found(HitFault::PlanesInGridBox, &scene, &down(0.5, 0.9)).unwrap();
+        assert_eq!((inside.t, inside.material), (6.0, 1));
+        assert!(found(HitFault::PlanesInGridBox, &scene, &down(3.0, 0.0)).is_none());
+        // The sphere as the course's.
+        for fault in [HitFault::PlanesUntested, HitFault::PlanesInGridBox] {
+            let hit = found(fault, &scene, &down(0.0, 0.0)).unwrap();
+            assert_eq!((hit.t, hit.material), (4.0, 0));
+        }
     }
 
     #[test]

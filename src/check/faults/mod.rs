@@ -195,6 +195,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::OBJECT_SPACE_T,
     intersection::TRIANGLE_EPSILON,
     intersection::GRID_FIRST_HIT,
+    intersection::GRID_PLANES,
 ];
 
 /// The fault of `name`.
