@@ -151,6 +151,11 @@ enum Form {
     JitterAnywhere,
     /// The filter's weighted sum divided by the number of samples it weighed.
     WeightsOverCount,
+    /// The filter weighs the pixel's own samples alone: a neighbour's sample weighs nothing.
+    FilterOwnPixel,
+    /// The neighbours gathered by `for (d = -r; d < r; d++)`: the samples of the last
+    /// neighbour on each axis weigh nothing.
+    NeighboursLoopShort,
     /// The perspective camera's rays take hits from minus infinity on: behind the eye too.
     HitsBehindTheEye,
     /// Textures evaluated at the world point, the texture's own Transform never applied.
@@ -322,6 +327,8 @@ impl Form {
             "every_ray_traced" => Form::EveryRayTraced,
             "jitter_anywhere" => Form::JitterAnywhere,
             "weights_over_count" => Form::WeightsOverCount,
+            "filter_own_pixel" => Form::FilterOwnPixel,
+            "neighbours_loop_short" => Form::NeighboursLoopShort,
             "hits_behind_the_eye" => Form::HitsBehindTheEye,
             "texture_matrix_ignored" => Form::TextureMatrixIgnored,
             "normal_by_object_matrix" => Form::NormalByObjectMatrix,

@@ -66,6 +66,20 @@ impl SampleSeam for Form {
             }
             (Form::TentChebyshev, Filter::Tent(r)) => (1.0 - dx.max(dy) / r).max(0.0),
             (Form::BoxDisc, Filter::Box(r)) => f32::from(u8::from(dx * dx + dy * dy <= r * r)),
+            // A sample at (x, y) from the centre lies in the pixel's own square where both are
+            // in [-1/2, 1/2).
+            (Form::FilterOwnPixel, _) if !(-0.5..0.5).contains(&x) || !(-0.5..0.5).contains(&y) => {
+                0.0
+            }
+            // The last neighbour r pixels on, whose samples lie from r - 1/2 on.
+            (Form::NeighboursLoopShort, _) => {
+                let last = filter.support_radius() as f32 - 0.5;
+                if x >= last || y >= last {
+                    0.0
+                } else {
+                    filter.weight(x, y)
+                }
+            }
             _ => filter.weight(x, y),
         }
     }

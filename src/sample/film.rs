@@ -65,9 +65,10 @@ impl Film {
         let mut sum = Vec3A::ZERO;
         let mut total = 0.0;
         let mut count = 0;
-        let rows = (j as i64 - reach).max(0)..=(j as i64 + reach).min(self.height as i64 - 1);
+        let (low, high) = variant.neighbours(reach);
+        let rows = (j as i64 + low).max(0)..=(j as i64 + high).min(self.height as i64 - 1);
         for pj in rows {
-            let columns = (i as i64 - reach).max(0)..=(i as i64 + reach).min(self.width as i64 - 1);
+            let columns = (i as i64 + low).max(0)..=(i as i64 + high).min(self.width as i64 - 1);
             for pi in columns {
                 let first = (pj as usize * self.width as usize + pi as usize) * n;
                 for sample in &self.entries[first..first + n] {

@@ -45,6 +45,14 @@ pub trait SampleSeam: Copy + Send + Sync {
         filter.weight(x, y)
     }
 
+    /// The pixels whose samples a pixel's filter gathers, as offsets from it along each axis
+    /// (from the first to the second, both included), for a filter that reaches `reach` pixels
+    /// beyond the pixel itself.
+    #[inline(always)]
+    fn neighbours(&self, reach: i64) -> (i64, i64) {
+        (-reach, reach)
+    }
+
     /// A pixel's value from the `count` samples its filter weighs: their weighted `sum`, and
     /// the sum of their weights `total` (positive).
     #[inline(always)]

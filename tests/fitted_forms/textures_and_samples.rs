@@ -214,3 +214,30 @@ fn octaves_summed_unweighed_are_the_noise_constants_with_the_octaves_weight() {
         2
     );
 }
+
+#[test]
+fn filters_that_gather_the_wrong_pixels_samples_are_the_filter_neighbours() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    // A weight of nothing for every sample outside the pixel's own square.
+    assert_eq!(
+        later_named(
+            "filter_own_pixel",
+            &["output7_01e_low_res.tga", "output7_01f_low_res.tga"],
+            "filter_neighbours",
+            "form 0)"
+        ),
+        2
+    );
+    // The neighbours' loop stopping one short: the last neighbour's samples weigh nothing.
+    assert_eq!(
+        later_named(
+            "neighbours_loop_short",
+            &["output7_01e_low_res.tga", "output7_01f_low_res.tga"],
+            "filter_neighbours",
+            "form 1)"
+        ),
+        2
+    );
+}

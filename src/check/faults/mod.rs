@@ -186,6 +186,7 @@ pub static FAULTS: &[Fault] = &[
     samples::FILTER_RADIUS,
     samples::FILTER_WEIGHTS,
     samples::FILTER_SHAPE,
+    samples::FILTER_NEIGHBOURS,
     textures::CHECKER_TRUNCATION,
     textures::TEXTURE_TRANSFORM,
     textures::NOISE_CONSTANTS,
@@ -509,6 +510,12 @@ impl SampleSeam for Plant {
 
     fn filter(&self, filter: Filter) -> Filter {
         self.samples().fold(filter, |f, s| s.filter(f))
+    }
+
+    fn neighbours(&self, reach: i64) -> (i64, i64) {
+        self.samples()
+            .find_map(|s| s.neighbours(reach))
+            .unwrap_or((-reach, reach))
     }
 
     fn weighted_mean(&self, sum: Vec3A, total: f32, count: u32) -> Vec3A {

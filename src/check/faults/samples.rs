@@ -40,6 +40,10 @@ pub enum SampleFault {
     /// The filter another shape: the tent made of two straight ones (form 0) or of another
     /// distance, |x| + |y| (1) or max(|x|, |y|) (2); the box round (0) or of |x| + |y| (1).
     Shape(u8),
+    /// The filter gathering the samples of the pixel itself alone, none of its neighbours'.
+    OwnPixelOnly,
+    /// The filter gathering its neighbours by a loop that stops one short: from −r to r − 1.
+    NeighboursShort,
 }
 
 impl SampleFault {
@@ -76,6 +80,16 @@ impl SampleFault {
                 uniform_grid(n, out, |centre| centre + by / n.isqrt().max(1) as f32);
             }
             _ => sampler.positions(seed, pixel, out),
+        }
+    }
+
+    /// The pixels the filter gathers, where the fault changes them (see
+    /// [`SampleSeam::neighbours`](crate::sample::SampleSeam::neighbours)).
+    pub(super) fn neighbours(&self, reach: i64) -> Option<(i64, i64)> {
+        match *self {
+            SampleFault::OwnPixelOnly => Some((0, 0)),
+            SampleFault::NeighboursShort => Some((-reach, reach - 1)),
+            _ => None,
         }
     }
 
@@ -264,6 +278,25 @@ pub(super) const FILTER_WEIGHTS: Fault = Fault {
                 SampleFault::DividedByPixelSamples(per_pixel),
             ]
             .map(Planted::Sample),
+        )
+    },
+};
+
+pub(super) const FILTER_NEIGHBOURS: Fault = Fault {
+    name: "filter_neighbours",
+    assignment: 7,
+    sentence: "My filter gathers the samples of the wrong pixels: the pixel's own alone (form 0), \
+               or its neighbours by a loop that stops one short, from −r to r − 1 (form 1).",
+    look_for: "Film::getColor(i, j) with a filter: the samples of every pixel from i − r to i + r \
+               and from j − r to j + r, both ends included, r the filter's support radius in \
+               pixels, each weighed by the filter at its distance from the pixel's centre.",
+    candidates: |line: &LineScene| {
+        let sampling = &line.options.sampling;
+        if sampling.is_plain() || sampling.filter.support_radius() == 0 {
+            return Vec::new();
+        }
+        Candidate::forms(
+            [SampleFault::OwnPixelOnly, SampleFault::NeighboursShort].map(Planted::Sample),
         )
     },
 };
