@@ -235,6 +235,8 @@ enum Form {
     /// A grid walk that tests only what its cells list: the planes, which have no box, are
     /// never tested.
     GridWithoutPlanes,
+    /// The plane's equation written n·P + d = 0: t = -(d + n·O) / (n·D).
+    PlanePlusOffset,
     /// The planes put in the grid's cells they cross: a plane's hit counts only where it lies
     /// inside the grid's box.
     PlanesInGridCells,
@@ -348,6 +350,7 @@ impl Form {
             "grid_trusts_first_hit" => Form::GridTrustsFirstHit,
             "grid_mailbox" => Form::GridMailbox,
             "grid_without_planes" => Form::GridWithoutPlanes,
+            "plane_plus_offset" => Form::PlanePlusOffset,
             "planes_in_grid_cells" => Form::PlanesInGridCells,
             "light_loop_short" => Form::LightLoopShort,
             "first_light_only" => Form::FirstLightOnly,

@@ -258,6 +258,10 @@ impl TraceSeam for Form {
     }
 
     fn found(&self, scene: &Scene, ray: &Ray, t_min: f32, hit: Option<Hit>) -> Option<Hit> {
+        // (A plane met where the course's rays meet nothing.)
+        if let Form::PlanePlusOffset = self {
+            return plane_plus_offset(scene, ray, t_min);
+        }
         let hit = hit?;
         match self {
             Form::FarthestFifty if hit.t * ray.direction.length() > 50.0 => return None,
@@ -461,4 +465,24 @@ fn walk_grid_planes(scene: &Scene, ray: &Ray, t_min: f32, clipped: bool) -> Opti
         Some((t, p)) if t < beyond => Some(scene.world.primitive_hit(ray, t, &p)),
         _ => plane,
     })
+}
+
+/// The nearest hit with the planes by the student's own equation, n·P + d = 0, and everything
+/// else as the course's.
+fn plane_plus_offset(scene: &Scene, ray: &Ray, t_min: f32) -> Option<Hit> {
+    let mut nearest = scene
+        .world
+        .intersect_planes_by(ray, t_min, |_, _, _, _| None);
+    for &(plane, material) in scene.world.planes() {
+        let (n, d) = (plane.normal, plane.offset);
+        let t = -(d + n.dot(ray.origin)) / n.dot(ray.direction);
+        if t.is_finite() && t >= t_min && nearest.is_none_or(|h| t < h.t) {
+            nearest = Some(Hit {
+                t,
+                normal: n,
+                material,
+            });
+        }
+    }
+    nearest
 }

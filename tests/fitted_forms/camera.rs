@@ -406,3 +406,30 @@ fn grid_walks_written_their_own_way_that_lose_the_planes_are_the_grid_planes() {
         2
     );
 }
+
+#[test]
+fn a_plane_equation_written_with_the_offset_added_is_the_plane_offset_sign() {
+    // n·P + d = 0: the floor stands as far on the other side of the origin, in the shaded,
+    // depth and normals pictures alike.
+    assert_eq!(
+        conformance_named(
+            "plane_plus_offset",
+            &["scene2_06_plane.txt"],
+            "plane_offset_sign",
+            ""
+        ),
+        3
+    );
+    if common::later_dir("the fitted forms of assignments 4 to 6").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "plane_plus_offset",
+            &["scene6_03_sphere_plane.txt"],
+            "plane_offset_sign",
+            ""
+        ),
+        4
+    );
+}

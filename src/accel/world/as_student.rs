@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::{Found, Hit, Item, Nearest, World, search_limit};
 use crate::accel::grid::Primitive;
-use crate::geometry::{Aabb, Ray, intersect_plane, intersect_sphere};
+use crate::geometry::{Plane, Ray, intersect_sphere};
 
 /// The most hits one search skips before it gives up on a ray (a mesh whose every triangle
 /// along the ray is refused).
@@ -142,24 +142,19 @@ impl World {
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
-    /// The nearest hit with the planes seen only where they lie inside `within` (a grid that
-    /// lists a plane in the cells it crosses: it is met only inside the grid's box), or nowhere
-    /// (`None`: a grid walk that never tests the planes, which have no box and are in no cell).
-    pub fn intersect_planes_within(
+    /// The nearest hit with each plane met where `plane_t` says (the ray, the plane, and the
+    /// range of t searched; `None` for no hit): a tracer whose planes are tested another way,
+    /// or not at all. Everything else is searched as the course's.
+    pub fn intersect_planes_by(
         &self,
         ray: &Ray,
         t_min: f32,
-        within: Option<Aabb>,
+        plane_t: impl Fn(&Ray, &Plane, f32, f32) -> Option<f32>,
     ) -> Option<Hit> {
         let mut nearest = None;
-        if let Some(within) = within {
-            for (i, (plane, _)) in self.planes.iter().enumerate() {
-                let t_max = search_limit(&nearest);
-                if let Some(t) = intersect_plane(ray, plane, t_min, t_max)
-                    && within.contains(ray.at(t))
-                {
-                    Nearest::plane(t, i as u32).replaces(&mut nearest);
-                }
+        for (i, (plane, _)) in self.planes.iter().enumerate() {
+            if let Some(t) = plane_t(ray, plane, t_min, search_limit(&nearest)) {
+                Nearest::plane(t, i as u32).replaces(&mut nearest);
             }
         }
         match &self.grid {
@@ -167,6 +162,11 @@ impl World {
             None => self.nearest_item(ray, t_min, &mut nearest, &mut ()),
         }
         nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// The scene's planes, each with its material: for a tracer that tests them its own way.
+    pub fn planes(&self) -> &[(Plane, u32)] {
+        &self.planes
     }
 
     /// The t of `ray`'s hit on the grid's primitive `p` within `t_min..t_max`: for a tracer that

@@ -3,7 +3,7 @@
 use super::{Candidate, Fault, LineScene, Planted};
 use crate::accel::Hit;
 use crate::camera::Camera;
-use crate::geometry::{Ray, Transform};
+use crate::geometry::{Plane, Ray, Transform, intersect_plane};
 use crate::parse::description::Projection;
 use crate::scene::Scene;
 use glam::Vec3A;
@@ -42,6 +42,8 @@ pub enum HitFault {
     PlanesUntested,
     /// With a grid, the planes listed in the cells they cross: met only inside the grid's box.
     PlanesInGridBox,
+    /// Each plane met where n·P + d = 0, not n·P = d: as far on the other side of the origin.
+    PlaneOffsetNegated,
     /// Normals of the length check's shading fit found: see [`normal_length`].
     NormalLength([f32; 3]),
 }
@@ -120,10 +122,32 @@ impl HitFault {
             HitFault::ObjectSpaceT => scene.world.intersect_object_space_t(ray, t_min),
             HitFault::FirstCellHit => scene.world.intersect_first_cell(ray, t_min),
             HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
-            HitFault::PlanesUntested => scene.world.intersect_planes_within(ray, t_min, None),
+            HitFault::PlanesUntested => {
+                scene
+                    .world
+                    .intersect_planes_by(ray, t_min, |_, _, _, _| None)
+            }
             HitFault::PlanesInGridBox => {
                 let within = scene.world.grid().map(|grid| grid.bounds());
-                scene.world.intersect_planes_within(ray, t_min, within)
+                scene
+                    .world
+                    .intersect_planes_by(ray, t_min, |ray, plane, t_min, t_max| {
+                        let t = intersect_plane(ray, plane, t_min, t_max)?;
+                        within
+                            .is_some_and(|within| within.contains(ray.at(t)))
+                            .then_some(t)
+                    })
+            }
+            HitFault::PlaneOffsetNegated => {
+                scene
+                    .world
+                    .intersect_planes_by(ray, t_min, |ray, plane, t_min, t_max| {
+                        let moved = Plane {
+                            offset: -plane.offset,
+                            ..*plane
+                        };
+                        intersect_plane(ray, &moved, t_min, t_max)
+                    })
             }
             HitFault::DeterminantEpsilon(epsilon) => {
                 scene
@@ -392,6 +416,29 @@ pub(super) const GRID_FIRST_HIT: Fault = Fault {
     },
 };
 
+pub(super) const PLANE_OFFSET_SIGN: Fault = Fault {
+    name: "plane_offset_sign",
+    assignment: 2,
+    sentence: "My plane test takes the offset with the wrong sign, n·P + d = 0 where the course \
+               means n·P = d: the plane stands as far on the other side of the origin.",
+    look_for: "Plane { normal n offset d } is the points P with n·P = d: the ray O + tD meets it \
+               at t = (d − n·O) / (n·D).",
+    candidates: |line: &LineScene| {
+        let pictures = line.has_image() || line.has_depth_or_normals();
+        let moved = line
+            .scene
+            .world
+            .planes()
+            .iter()
+            .any(|(plane, _)| plane.offset != 0.0);
+        if pictures && moved {
+            vec![Candidate::plain(Planted::Hit(HitFault::PlaneOffsetNegated))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
 pub(super) const GRID_PLANES: Fault = Fault {
     name: "grid_planes",
     assignment: 5,
@@ -445,7 +492,7 @@ mod tests {
     }
 
     #[test]
-    fn planes_with_a_grid_untested_or_only_inside_its_box() {
+    fn planes_untested_met_only_inside_the_grids_box_or_on_the_other_side() {
         let mut scene = scene(
             "Group { numObjects 2
                  MaterialIndex 0 Sphere { center 0 0 0 radius 1 }
@@ -462,6 +509,12 @@ mod tests {
         let inside = found(HitFault::PlanesInGridBox, &scene, &down(0.5, 0.9)).unwrap();
         assert_eq!((inside.t, inside.material), (6.0, 1));
         assert!(found(HitFault::PlanesInGridBox, &scene, &down(3.0, 0.0)).is_none());
+        // n·P + d = 0: the floor at y = 1, over the sphere's top.
+        let negated = found(HitFault::PlaneOffsetNegated, &scene, &down(3.0, 0.0)).unwrap();
+        assert_eq!(
+            (negated.t, negated.material, negated.normal),
+            (4.0, 1, Vec3A::Y)
+        );
         // The sphere as the course's.
         for fault in [HitFault::PlanesUntested, HitFault::PlanesInGridBox] {
             let hit = found(fault, &scene, &down(0.0, 0.0)).unwrap();

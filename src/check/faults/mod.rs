@@ -195,6 +195,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::NORMAL_LENGTH,
     intersection::OBJECT_SPACE_T,
     intersection::TRIANGLE_EPSILON,
+    intersection::PLANE_OFFSET_SIGN,
     intersection::GRID_FIRST_HIT,
     intersection::GRID_PLANES,
 ];
