@@ -280,6 +280,23 @@ impl TraceSeam for Form {
                 return walk_grid(scene, ray, t_min, matches!(self, Form::GridMailbox))
                     .unwrap_or(Some(hit));
             }
+            Form::CrossProductReversed => {
+                // The corners of the triangle hit, if a triangle is hit.
+                let corners = std::cell::Cell::new(None);
+                let again = scene.world.intersect_accepting(ray, t_min, |_, seen| {
+                    corners.set(Some(*seen));
+                    true
+                });
+                if let (Some(again), Some([a, b, c])) = (again, corners.get()) {
+                    let (student, course) = ((c - a).cross(b - a), (b - a).cross(c - a));
+                    let sign = student.dot(course).signum();
+                    return Some(Hit {
+                        normal: again.normal * sign,
+                        ..again
+                    });
+                }
+                return Some(hit);
+            }
             Form::GridWithoutPlanes | Form::PlanesInGridCells => {
                 let clipped = matches!(self, Form::PlanesInGridCells);
                 return walk_grid_planes(scene, ray, t_min, clipped).unwrap_or(Some(hit));

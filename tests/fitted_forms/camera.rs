@@ -433,3 +433,22 @@ fn a_plane_equation_written_with_the_offset_added_is_the_plane_offset_sign() {
         4
     );
 }
+
+#[test]
+fn a_triangles_normal_made_by_the_cross_product_in_the_other_order_is_the_triangle_winding() {
+    // Every triangle faces away: dark where the course lights it, on the lines without
+    // -shade_back (with it, a normal is turned toward the eye either way).
+    assert_eq!(
+        conformance_named(
+            "cross_product_reversed",
+            &[
+                "scene2_07_sphere_triangles.txt",
+                "scene2_08_cube.txt",
+                "scene2_09_bunny_200.txt"
+            ],
+            "triangle_winding",
+            ""
+        ),
+        3
+    );
+}

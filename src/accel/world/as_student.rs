@@ -164,6 +164,22 @@ impl World {
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
+    /// The course's nearest hit, and whether it lies on a triangle (of a mesh, or the scene's
+    /// loose ones): for a tracer that makes its triangles' normals another way.
+    pub fn intersect_noting_triangles(&self, ray: &Ray, t_min: f32) -> Option<(Hit, bool)> {
+        let mut nearest = self.nearest_plane(ray, t_min);
+        match &self.grid {
+            Some(grid) => self.grid_nearest(grid, ray, t_min, &mut nearest, &mut ()),
+            None => self.nearest_item(ray, t_min, &mut nearest, &mut ()),
+        }
+        let Nearest { t, found, .. } = nearest?;
+        let on_triangle = match found {
+            Found::Item { item, .. } => matches!(self.items[item as usize], Item::Mesh { .. }),
+            _ => false,
+        };
+        Some((self.hit(ray, t, found), on_triangle))
+    }
+
     /// The scene's planes, each with its material: for a tracer that tests them its own way.
     pub fn planes(&self) -> &[(Plane, u32)] {
         &self.planes

@@ -44,6 +44,8 @@ pub enum HitFault {
     PlanesInGridBox,
     /// Each plane met where n·P + d = 0, not n·P = d: as far on the other side of the origin.
     PlaneOffsetNegated,
+    /// Every triangle's normal turned the other way: (c − a) × (b − a).
+    TriangleNormalTurned,
     /// Normals of the length check's shading fit found: see [`normal_length`].
     NormalLength([f32; 3]),
 }
@@ -137,6 +139,14 @@ impl HitFault {
                             .is_some_and(|within| within.contains(ray.at(t)))
                             .then_some(t)
                     })
+            }
+            HitFault::TriangleNormalTurned => {
+                let (hit, on_triangle) = scene.world.intersect_noting_triangles(ray, t_min)?;
+                let turned = if on_triangle { -hit.normal } else { hit.normal };
+                Some(Hit {
+                    normal: turned,
+                    ..hit
+                })
             }
             HitFault::PlaneOffsetNegated => {
                 scene
@@ -439,6 +449,24 @@ pub(super) const PLANE_OFFSET_SIGN: Fault = Fault {
     },
 };
 
+pub(super) const TRIANGLE_WINDING: Fault = Fault {
+    name: "triangle_winding",
+    assignment: 2,
+    sentence: "My triangle's normal is the cross product in the other order, (c − a) × (b − a): \
+               every triangle faces the other way.",
+    look_for: "Triangle a, b, c: its normal is (b − a) × (c − a), made unit length (the corners \
+               counter-clockwise seen from its front).",
+    candidates: |line: &LineScene| {
+        if has_triangles(line) && line.has_image() {
+            vec![Candidate::plain(Planted::Hit(
+                HitFault::TriangleNormalTurned,
+            ))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
 pub(super) const GRID_PLANES: Fault = Fault {
     name: "grid_planes",
     assignment: 5,
@@ -516,7 +544,11 @@ mod tests {
             (4.0, 1, Vec3A::Y)
         );
         // The sphere as the course's.
-        for fault in [HitFault::PlanesUntested, HitFault::PlanesInGridBox] {
+        for fault in [
+            HitFault::PlanesUntested,
+            HitFault::PlanesInGridBox,
+            HitFault::TriangleNormalTurned,
+        ] {
             let hit = found(fault, &scene, &down(0.0, 0.0)).unwrap();
             assert_eq!((hit.t, hit.material), (4.0, 0));
         }

@@ -196,6 +196,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::OBJECT_SPACE_T,
     intersection::TRIANGLE_EPSILON,
     intersection::PLANE_OFFSET_SIGN,
+    intersection::TRIANGLE_WINDING,
     intersection::GRID_FIRST_HIT,
     intersection::GRID_PLANES,
 ];
