@@ -237,6 +237,8 @@ enum Form {
     GridWithoutPlanes,
     /// The plane's equation written n·P + d = 0: t = -(d + n·O) / (n·D).
     PlanePlusOffset,
+    /// The shading sums `kd * max(N.L, 0)` for each light, the light's colour left out.
+    LightColourLeftOut,
     /// The triangle's normal made as (c − a) × (b − a).
     CrossProductReversed,
     /// The planes put in the grid's cells they cross: a plane's hit counts only where it lies
@@ -353,6 +355,7 @@ impl Form {
             "grid_mailbox" => Form::GridMailbox,
             "grid_without_planes" => Form::GridWithoutPlanes,
             "plane_plus_offset" => Form::PlanePlusOffset,
+            "light_colour_left_out" => Form::LightColourLeftOut,
             "cross_product_reversed" => Form::CrossProductReversed,
             "planes_in_grid_cells" => Form::PlanesInGridCells,
             "light_loop_short" => Form::LightLoopShort,

@@ -111,6 +111,10 @@ impl TraceSeam for Form {
                 colour: *colour / (q + l * lit.distance + c * lit.distance * lit.distance),
                 ..lit
             }),
+            (Form::LightColourLeftOut, _) => Some(Illumination {
+                colour: Vec3A::new(1.0, 1.0, 1.0),
+                ..lit
+            }),
             _ => Some(lit),
         }
     }

@@ -303,3 +303,33 @@ fn a_loop_over_the_lights_that_stops_early_is_the_lights_skipped() {
         2
     );
 }
+
+#[test]
+fn a_shading_that_leaves_out_the_lights_colour_is_the_light_colour_ignored() {
+    // The course's coloured lights, and its weird lighting of assignment 3 (diffuse and
+    // specular), shine white.
+    assert_eq!(
+        conformance_named(
+            "light_colour_left_out",
+            &["scene2_03_colored_lights.txt"],
+            "light_colour_ignored",
+            ""
+        ),
+        1
+    );
+    if common::later_dir("the fitted forms of assignment 3").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "light_colour_left_out+rounded",
+            &[
+                "scene3_11_weird_lighting_diffuse.txt",
+                "scene3_12_weird_lighting_specular.txt"
+            ],
+            "light_colour_ignored",
+            ""
+        ),
+        2
+    );
+}

@@ -169,6 +169,7 @@ pub static FAULTS: &[Fault] = &[
     shading::SPECULAR_FIX,
     shading::SPECULAR_UNCLAMPED,
     shading::HALF_VECTOR,
+    shading::LIGHT_COLOUR_IGNORED,
     shading::ATTENUATION,
     shading::LIGHTS_SKIPPED,
     rays::SHADOW_ACNE,
@@ -397,6 +398,16 @@ impl TraceSeam for Plant {
     }
 
     fn illuminate(&self, light: &Light, point: Vec3A) -> Option<Illumination> {
+        if self
+            .shadings()
+            .any(|s| s == ShadingFault::LightColourIgnored)
+        {
+            let course = light.illuminate(point)?;
+            return Some(Illumination {
+                colour: Vec3A::ONE,
+                ..course
+            });
+        }
         match self.shadings().find_map(|s| s.attenuation()) {
             Some(way) => way.illuminate(light, point),
             None => light.illuminate(point),

@@ -35,6 +35,9 @@ pub enum ShadingFault {
     /// The loop over the lights stopped early: before the last (form 0), or after the first
     /// (form 1).
     LightsSkipped(u8),
+    /// Each light's colour (with a point light's dimming, which the course's light folds into
+    /// it) left out of the shading: every light white.
+    LightColourIgnored,
     /// The terms weighed by numbers check's shading fit found.
     Weighed {
         /// What the ambient term is multiplied by.
@@ -382,6 +385,31 @@ pub(super) const HALF_VECTOR: Fault = Fault {
             ]
             .map(|h| Planted::Shading(ShadingFault::Highlight(h))),
         )
+    },
+};
+
+pub(super) const LIGHT_COLOUR_IGNORED: Fault = Fault {
+    name: "light_colour_ignored",
+    assignment: 2,
+    sentence: "My shading leaves out the light's colour (the `col` getIllumination returns): \
+               every light shines white at full strength, coloured or dim, near or far.",
+    look_for: "Each light's diffuse (and, from assignment 3, specular) term is multiplied by the \
+               colour getIllumination returns for the point, which holds a point light's \
+               attenuation too.",
+    candidates: |line: &LineScene| {
+        let shows = line.description.lights.iter().any(|light| match light {
+            LightSpec::Directional { colour, .. } => *colour != glam::Vec3::ONE,
+            LightSpec::Point {
+                colour,
+                attenuation,
+                ..
+            } => *colour != glam::Vec3::ONE || *attenuation != [1.0, 0.0, 0.0],
+        });
+        if line.has_image() && shows {
+            only(ShadingFault::LightColourIgnored)
+        } else {
+            Vec::new()
+        }
     },
 };
 
