@@ -84,10 +84,7 @@ impl LineRenders {
     /// The key of raycast's render with the answers `pinned`, or of a fault's, as planted.
     fn key(&self, pinned: &[Pin], planted: Option<&str>) -> String {
         let mut hasher = self.line.clone();
-        for pin in pinned {
-            hasher.write(pin.choice.name.as_bytes());
-            hasher.write(pin.answer.map_or("raycast", |a| a.name).as_bytes());
-        }
+        write_pins(&mut hasher, pinned);
         if let Some(planted) = planted {
             hasher.write(b"planted");
             hasher.write(planted.as_bytes());
@@ -154,19 +151,22 @@ impl LineRenders {
         }
     }
 
-    /// The diagnosis `asked` (which question: the faults, the allowed answers) of the student's
-    /// `pictures` of the line (each image's index among the line's outputs, the student's
-    /// picture and its reference) under `rule`, kept or to keep. It depends on raycast's
-    /// program, the line and those pictures alone, so it is found again by their bytes.
+    /// The diagnosis `asked` (which question: the faults, the allowed answers with the suite's
+    /// `pinned` ones) of the student's `pictures` of the line (each image's index among the
+    /// line's outputs, the student's picture and its reference) under `rule`, kept or to keep.
+    /// It depends on raycast's program, the line and those pictures alone, so it is found again
+    /// by their bytes.
     pub fn diagnosis(
         &self,
         asked: &str,
+        pinned: &[Pin],
         pictures: &[(usize, &Image, Option<&Image>)],
         rule: Rule,
     ) -> KeptDiagnosis {
         let mut hasher = self.line.clone();
         hasher.write(b"diagnosis");
         hasher.write(asked.as_bytes());
+        write_pins(&mut hasher, pinned);
         hasher.write_u8(rule.tolerance);
         hasher.write_u64(rule.max_bad.to_bits());
         for &(image, actual, reference) in pictures {
@@ -219,6 +219,14 @@ impl LineRenders {
             }
         }
         Ok(pictures)
+    }
+}
+
+/// The answers the suite pins its open questions to, into a key.
+fn write_pins(hasher: &mut DefaultHasher, pinned: &[Pin]) {
+    for pin in pinned {
+        hasher.write(pin.choice.name.as_bytes());
+        hasher.write(pin.answer.map_or("raycast", |a| a.name).as_bytes());
     }
 }
 

@@ -65,10 +65,7 @@ impl World {
         let mut from = t_min;
         for _ in 0..MOST_REFUSED {
             let mut nearest = self.nearest_plane(ray, from);
-            match &self.grid {
-                Some(grid) => self.grid_nearest(grid, ray, from, &mut nearest, &mut ()),
-                None => self.nearest_item(ray, from, &mut nearest, &mut ()),
-            }
+            self.nearest_beyond_planes(ray, from, &mut nearest, &mut ());
             let Nearest { t, found, .. } = nearest?;
             if let Found::Item { item, triangle } = found {
                 let item = &self.items[item as usize];
@@ -157,10 +154,7 @@ impl World {
                 Nearest::plane(t, i as u32).replaces(&mut nearest);
             }
         }
-        match &self.grid {
-            Some(grid) => self.grid_nearest(grid, ray, t_min, &mut nearest, &mut ()),
-            None => self.nearest_item(ray, t_min, &mut nearest, &mut ()),
-        }
+        self.nearest_beyond_planes(ray, t_min, &mut nearest, &mut ());
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
@@ -168,10 +162,7 @@ impl World {
     /// loose ones): for a tracer that makes its triangles' normals another way.
     pub fn intersect_noting_triangles(&self, ray: &Ray, t_min: f32) -> Option<(Hit, bool)> {
         let mut nearest = self.nearest_plane(ray, t_min);
-        match &self.grid {
-            Some(grid) => self.grid_nearest(grid, ray, t_min, &mut nearest, &mut ()),
-            None => self.nearest_item(ray, t_min, &mut nearest, &mut ()),
-        }
+        self.nearest_beyond_planes(ray, t_min, &mut nearest, &mut ());
         let Nearest { t, found, .. } = nearest?;
         let on_triangle = match found {
             Found::Item { item, .. } => matches!(self.items[item as usize], Item::Mesh { .. }),

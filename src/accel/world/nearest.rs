@@ -18,12 +18,24 @@ impl World {
     pub fn intersect_with<T: Tally>(&self, ray: &Ray, t_min: f32, tally: &mut T) -> Option<Hit> {
         tally.tested(self.planes.len() as u32);
         let mut nearest = self.nearest_plane(ray, t_min);
-        if let Some(grid) = &self.grid {
-            self.grid_nearest(grid, ray, t_min, &mut nearest, tally);
-            return nearest.map(|n| self.hit(ray, n.t, n.found));
-        }
-        self.nearest_item(ray, t_min, &mut nearest, tally);
+        self.nearest_beyond_planes(ray, t_min, &mut nearest, tally);
         nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// Everything but the planes, through the course's grid where one is in use, else the
+    /// top-level tree: replaces `nearest` with a nearer hit.
+    #[inline(always)]
+    pub(super) fn nearest_beyond_planes<T: Tally>(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        nearest: &mut Option<Nearest>,
+        tally: &mut T,
+    ) {
+        match &self.grid {
+            Some(grid) => self.grid_nearest(grid, ray, t_min, nearest, tally),
+            None => self.nearest_item(ray, t_min, nearest, tally),
+        }
     }
 
     /// The items' part of [`World::intersect_with`]: replaces `nearest` with a nearer item hit.

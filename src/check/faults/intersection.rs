@@ -417,7 +417,7 @@ pub(super) const GRID_FIRST_HIT: Fault = Fault {
                again (or keep its hit) in the cell where the hit lies, and compare with the later \
                cells' hits.",
     candidates: |line: &LineScene| {
-        let pictures = line.has_image() || line.has_depth_or_normals();
+        let pictures = line.has_traced_picture();
         if line.scene.world.grid().is_some() && !line.options.trace.visualize_grid && pictures {
             Candidate::forms([HitFault::FirstCellHit, HitFault::Mailboxed].map(Planted::Hit))
         } else {
@@ -434,7 +434,7 @@ pub(super) const PLANE_OFFSET_SIGN: Fault = Fault {
     look_for: "Plane { normal n offset d } is the points P with n·P = d: the ray O + tD meets it \
                at t = (d − n·O) / (n·D).",
     candidates: |line: &LineScene| {
-        let pictures = line.has_image() || line.has_depth_or_normals();
+        let pictures = line.has_traced_picture();
         let moved = line
             .scene
             .world
@@ -477,7 +477,7 @@ pub(super) const GRID_PLANES: Fault = Fault {
                and every ray tests them besides the grid's march, as it does without a grid \
                (the nearer of the plane's hit and the march's wins).",
     candidates: |line: &LineScene| {
-        let pictures = line.has_image() || line.has_depth_or_normals();
+        let pictures = line.has_traced_picture();
         let world = &line.scene.world;
         if world.grid().is_some()
             && world.stats().planes > 0

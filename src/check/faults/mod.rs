@@ -81,6 +81,11 @@ impl LineScene {
     pub fn has_depth_or_normals(&self) -> bool {
         self.options.depth.is_some() || self.options.normals.is_some()
     }
+
+    /// Whether the line makes a picture traced from its rays: shaded, depth or normals.
+    pub fn has_traced_picture(&self) -> bool {
+        self.has_image() || self.has_depth_or_normals()
+    }
 }
 
 /// One render to try: a fault planted, with its parameters fitted to this value.

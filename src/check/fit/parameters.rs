@@ -46,7 +46,7 @@ const FAMILIES: [Family; 13] = [
         parameter: "limit",
         range: (0.5, 1e5),
         course: |_| None,
-        applies: |line| line.has_image() || line.has_depth_or_normals(),
+        applies: |line| line.has_traced_picture(),
         plant: |limit| Planted::Hit(HitFault::Limit(limit)),
     },
     Family {

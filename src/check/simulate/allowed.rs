@@ -32,27 +32,27 @@ pub fn accepted(
         .map(|&(image, _, actual, reference)| (image, actual, reference))
         .collect();
     // The pins say which questions are open.
-    let asked = pinned.iter().fold(String::from("accepted"), |asked, pin| {
-        let answer = pin.answer.map_or("raycast", |a| a.name);
-        format!("{asked} {}={answer}", pin.choice.name)
-    });
-    let kept = cache::LineRenders::of(line, scenes).diagnosis(&asked, &pictures, rule);
+    let kept = cache::LineRenders::of(line, scenes).diagnosis("accepted", pinned, &pictures, rule);
     if let Some(accepted) = kept
         .read()
         .and_then(|text| remembered::accepted_from(&text, failing.len()))
     {
         return Ok(accepted);
     }
-    let accepted = on_every_core(|| accepted_here(line, scenes, pinned, failing, rule, stop))?;
+    let accepted =
+        on_every_core(|| accepted_here(line, scenes, pinned, failing, &pictures, rule, stop))?;
     kept.keep(&remembered::accepted_text(&accepted));
     Ok(accepted)
 }
 
+/// [`accepted`], with `pictures` the failing pictures as the renders take them (without
+/// whether each is the shaded one).
 fn accepted_here(
     line: &Line,
     scenes: &Path,
     pinned: &[Pin],
     failing: &[(usize, bool, &Image, Option<&Image>)],
+    pictures: &[(usize, &Image, Option<&Image>)],
     rule: Rule,
     stop: &'static StopFlag,
 ) -> Result<Vec<Option<Acceptance>>, Unfinished> {
@@ -65,11 +65,7 @@ fn accepted_here(
     {
         return Ok(vec![Some(Acceptance::Informational(why)); failing.len()]);
     }
-    let pictures: Vec<(usize, &Image, Option<&Image>)> = failing
-        .iter()
-        .map(|&(image, _, actual, reference)| (image, actual, reference))
-        .collect();
-    let renders = Renders::new(line, scenes, &prepared, &pictures, rule, stop)?;
+    let renders = Renders::new(line, scenes, &prepared, pictures, rule, stop)?;
     // A question the suite pins accepts its pinned answer alone, which is the reference.
     let open = choices::answers()
         .filter(|(choice, _)| !pinned.iter().any(|pin| pin.choice.name == choice.name));

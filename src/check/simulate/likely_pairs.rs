@@ -55,11 +55,8 @@ pub(super) fn likely_pairs(
             for &second in &likely[rank + 1..] {
                 for a in nearest(first) {
                     for b in nearest(second) {
-                        let (one, other) = (&singles[a].tried, &singles[b].tried);
-                        let plant = Plant::two(one.plant.first(), other.plant.first());
-                        let mut parameters = one.parameters.clone();
-                        parameters.extend(other.parameters.iter().copied());
-                        let faults = [one.faults[0], other.faults[0]];
+                        let (plant, faults, parameters) =
+                            singles[a].tried.paired_with(&singles[b].tried);
                         let pair = look(plant, &faults, &parameters, screen)?.tried;
                         let matched: Vec<usize> = (0..explained.len())
                             .filter(|&j| !explained[j] && pair.bad[j] <= rule.max_bad)

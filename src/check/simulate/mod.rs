@@ -583,6 +583,20 @@ struct Tried {
     against_spread: bool,
 }
 
+impl Tried {
+    /// This single fault's render planted with `second`'s: the pair's plant, faults and
+    /// parameters.
+    fn paired_with(&self, second: &Tried) -> (Plant, [&'static Fault; 2], Parameters) {
+        let plant = Plant::two(self.plant.first(), second.plant.first());
+        let mut parameters = self.parameters.clone();
+        parameters.extend(second.parameters.iter().copied());
+        (plant, [self.faults[0], second.faults[0]], parameters)
+    }
+}
+
+/// Fitted parameters, by name.
+type Parameters = Vec<(&'static str, f64)>;
+
 /// For each of `failing` (the index of an image among the line's outputs, and the student's
 /// picture of it), the faults whose render matches it. Ends between renders, and within one,
 /// once `stop` is set.
@@ -593,7 +607,7 @@ pub fn simulate(
     rule: Rule,
     stop: &'static StopFlag,
 ) -> Result<Vec<Simulated>, Unfinished> {
-    let kept = cache::LineRenders::of(line, scenes).diagnosis("faults", failing, rule);
+    let kept = cache::LineRenders::of(line, scenes).diagnosis("faults", &[], failing, rule);
     if let Some(simulated) = kept
         .read()
         .and_then(|text| remembered::simulated_from(&text, failing.len()))
@@ -1071,10 +1085,7 @@ fn simulate_here(
                 .find(|(i, _)| *i == first_index)
                 .and_then(|(_, residual)| residual.as_ref())
                 .or(renders.screen.as_ref());
-            let plant = Plant::two(first.plant.first(), second.plant.first());
-            let mut parameters = first.parameters.clone();
-            parameters.extend(second.parameters.iter().copied());
-            let faults = vec![first.faults[0], second.faults[0]];
+            let (plant, faults, parameters) = first.paired_with(second);
             pairs.push(look(plant, &faults, &parameters, screen)?.tried);
         }
         results[k].matches = matches(&pairs, k, rule);

@@ -47,12 +47,8 @@ pub(super) fn simulated_text(simulated: &[Simulated]) -> String {
 
 /// The faults that match each of `pictures` failing pictures, read back from `text`.
 pub(super) fn simulated_from(text: &str, pictures: usize) -> Option<Vec<Simulated>> {
-    let value: Value = serde_json::from_str(text).ok()?;
-    let read = value.as_array()?;
-    if read.len() != pictures {
-        return None;
-    }
-    read.iter()
+    each_picture(text, pictures)?
+        .iter()
         .map(|matches| {
             let matches = matches
                 .as_array()?
@@ -103,12 +99,8 @@ pub(super) fn accepted_text(accepted: &[Option<Acceptance>]) -> String {
 
 /// How each of `pictures` failing pictures was accepted, read back from `text`.
 pub(super) fn accepted_from(text: &str, pictures: usize) -> Option<Vec<Option<Acceptance>>> {
-    let value: Value = serde_json::from_str(text).ok()?;
-    let read = value.as_array()?;
-    if read.len() != pictures {
-        return None;
-    }
-    read.iter()
+    each_picture(text, pictures)?
+        .iter()
         .map(|acceptance| {
             if acceptance.is_null() {
                 return Some(None);
@@ -121,6 +113,15 @@ pub(super) fn accepted_from(text: &str, pictures: usize) -> Option<Vec<Option<Ac
             Some(Some(Acceptance::Informational(why)))
         })
         .collect()
+}
+
+/// The record of each of `pictures` pictures that `text` keeps: `None` where it is not JSON
+/// or keeps another number of pictures.
+fn each_picture(text: &str, pictures: usize) -> Option<Vec<Value>> {
+    match serde_json::from_str(text).ok()? {
+        Value::Array(read) if read.len() == pictures => Some(read),
+        _ => None,
+    }
 }
 
 fn number(value: &Value) -> Option<f64> {
