@@ -39,6 +39,15 @@ impl CameraSeam for Form {
                 let across = width as f32 / (width.max(2) - 1) as f32;
                 film_to_screen(i as f32 * across, j as f32 + 0.5, width, height)
             }
+            Form::CentredEdgeToEdge => {
+                let centred = |k: u32, n: u32| match n {
+                    1 => 0.0,
+                    _ => 2.0 * k as f32 / (n - 1) as f32 - 1.0,
+                };
+                // Back from [-1, 1] to the film's pixels, 0 to the width.
+                let film = |k: u32, n: u32| (centred(k, n) + 1.0) / 2.0 * n as f32;
+                film_to_screen(film(i, width), film(j, height), width, height)
+            }
             Form::FarCorner => film_to_screen(i as f32 + 1.0, j as f32 + 1.0, width, height),
             Form::VFromTheTop | Form::UMirrored => {
                 let (u, v) = film_to_screen(i as f32 + 0.5, j as f32 + 0.5, width, height);

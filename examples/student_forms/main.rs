@@ -9,6 +9,7 @@
 
 mod camera;
 mod picture;
+mod reading;
 mod sample;
 mod textures;
 mod trace;
@@ -261,6 +262,37 @@ enum Form {
     NearestWithinTwenty,
     /// The diffuse term `kd * fabs(N.L)`; the highlight as the course's.
     DiffuseAbsolute,
+    /// Screen coordinates centred on the view, `x = 2 i / (width - 1) - 1` and likewise for the
+    /// rows: each runs from edge to edge of the view.
+    CentredEdgeToEdge,
+    /// Each object's t measured along its object-space ray made unit length, then carried back
+    /// by multiplying by that ray's length where it should divide.
+    ObjectTMultipliedBack,
+    /// The clamp written before the scale, `(unsigned char)(255 * fmin(fmax(c, 0), 255))`: its
+    /// bound in bytes where the value is still in [0, 1], so past 1 the byte wraps.
+    ClampBeforeScaling,
+    /// The depth picture's grey clamped the same way, to [0, 255] before it is scaled.
+    DepthClampBeforeScaling,
+    /// Every colour of the scene file read as blue, green, red.
+    ColoursReadBlueFirst,
+    /// The Background's `ambientLight` read into a local variable that hides the scene's own:
+    /// the scene's ambient light stays black.
+    AmbientNeverStored,
+    /// The plane's offset read as the distance from the plane to the origin, the other way
+    /// along the normal.
+    PlaneOffsetNegated,
+    /// The triangle's normal made from the edges leaving its second corner,
+    /// `(a - b) x (c - b)`.
+    EdgesFromTheMiddleCorner,
+    /// Each light's colour taken as one brightness, its brightest channel, the same for red,
+    /// green and blue.
+    LightAsBrightestChannel,
+    /// The highlight worked out with the diffuse term's cosine in it,
+    /// `pow(max(N.H, 0), q) * max(N.L, 0)`, on every line.
+    HighlightTimesCosine,
+    /// Hits nearer than the depth picture's near end (the command line's TMIN) thrown away
+    /// once found: what is behind them is not searched for.
+    DepthNearDropsHits(f32),
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
     /// out in double precision (`Vec3d`), each then rounded to float.
     DoublePrecision,
@@ -375,6 +407,17 @@ impl Form {
             "highlight_absolute" => Form::HighlightAbsolute,
             "half_vector_halved" => Form::HalfVectorHalved,
             "mirror_against_the_ray" => Form::MirrorAgainstTheRay,
+            "centred_edge_to_edge" => Form::CentredEdgeToEdge,
+            "object_t_multiplied_back" => Form::ObjectTMultipliedBack,
+            "clamp_before_scaling" => Form::ClampBeforeScaling,
+            "depth_clamp_before_scaling" => Form::DepthClampBeforeScaling,
+            "colours_read_blue_first" => Form::ColoursReadBlueFirst,
+            "ambient_never_stored" => Form::AmbientNeverStored,
+            "plane_offset_negated" => Form::PlaneOffsetNegated,
+            "edges_from_the_middle_corner" => Form::EdgesFromTheMiddleCorner,
+            "light_as_brightest_channel" => Form::LightAsBrightestChannel,
+            "highlight_times_cosine" => Form::HighlightTimesCosine,
+            "depth_near_drops_hits" => Form::DepthNearDropsHits(depth_near),
             _ => return None,
         })
     }
@@ -402,7 +445,8 @@ fn run(args: Vec<String>) -> Result<(), String> {
         Command::Render(options) => *options,
         _ => return Err("expected a render's command line".into()),
     };
-    let description = read_scene(&options.input).map_err(|e| e.to_string())?;
+    let mut description = read_scene(&options.input).map_err(|e| e.to_string())?;
+    reading::read_as(form, &mut description);
     let camera = description.camera;
     let raw_direction = written_direction(&options.input).unwrap_or(camera.direction.into());
     let mut scene = Scene::from_description(&description).map_err(|e| e.to_string())?;

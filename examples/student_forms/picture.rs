@@ -17,6 +17,7 @@ impl PictureSeam for Form {
         };
         let byte = |value: f32| match self {
             Form::BytesWrap => (value * 255.0 + half) as i32 as u8,
+            Form::ClampBeforeScaling => (value.clamp(0.0, 255.0) * 255.0 + half) as i32 as u8,
             _ => (value * 255.0 + half).clamp(0.0, 255.0) as u8,
         };
         let [r, g, b] = [byte(colour.x), byte(colour.y), byte(colour.z)];
@@ -49,6 +50,10 @@ impl PictureSeam for Form {
             Form::DepthWraps => {
                 let raw = 1.0 - (t - t_near) / (t_far - t_near);
                 f32::from((raw * 255.0) as i32 as u8) / 255.0
+            }
+            Form::DepthClampBeforeScaling => {
+                let raw = 1.0 - (t - t_near) / (t_far - t_near);
+                f32::from((raw.clamp(0.0, 255.0) * 255.0) as i32 as u8) / 255.0
             }
             Form::DepthToFarthest(farthest) => {
                 (1.0 - (t - t_near) / (farthest - t_near)).clamp(0.0, 1.0)

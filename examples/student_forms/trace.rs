@@ -111,6 +111,10 @@ impl TraceSeam for Form {
                 colour: *colour / (q + l * lit.distance + c * lit.distance * lit.distance),
                 ..lit
             }),
+            (Form::LightAsBrightestChannel, _) => Some(Illumination {
+                colour: Vec3A::splat(lit.colour.max_element()),
+                ..lit
+            }),
             (Form::LightColourLeftOut, _) => Some(Illumination {
                 colour: Vec3A::new(1.0, 1.0, 1.0),
                 ..lit
@@ -172,6 +176,7 @@ impl TraceSeam for Form {
             Form::HighlightAbsolute => Some(highlight_absolute as fn(&HighlightAt) -> f32),
             Form::HalfVectorHalved => Some(half_vector_halved as fn(&HighlightAt) -> f32),
             Form::MirrorAgainstTheRay => Some(mirror_against_the_ray as fn(&HighlightAt) -> f32),
+            Form::HighlightTimesCosine => Some(highlight_times_cosine as fn(&HighlightAt) -> f32),
             _ => None,
         };
         if let Some(own) = own {
@@ -284,7 +289,10 @@ impl TraceSeam for Form {
                 return walk_grid(scene, ray, t_min, matches!(self, Form::GridMailbox))
                     .unwrap_or(Some(hit));
             }
-            Form::CrossProductReversed => {
+            Form::ObjectTMultipliedBack => {
+                return scene.world.intersect_stretched_t(ray, t_min, 2.0);
+            }
+            Form::CrossProductReversed | Form::EdgesFromTheMiddleCorner => {
                 // The corners of the triangle hit, if a triangle is hit.
                 let corners = std::cell::Cell::new(None);
                 let again = scene.world.intersect_accepting(ray, t_min, |_, seen| {
@@ -292,7 +300,11 @@ impl TraceSeam for Form {
                     true
                 });
                 if let (Some(again), Some([a, b, c])) = (again, corners.get()) {
-                    let (student, course) = ((c - a).cross(b - a), (b - a).cross(c - a));
+                    let student = match self {
+                        Form::CrossProductReversed => (c - a).cross(b - a),
+                        _ => (a - b).cross(c - b),
+                    };
+                    let course = (b - a).cross(c - a);
                     let sign = student.dot(course).signum();
                     return Some(Hit {
                         normal: again.normal * sign,
@@ -320,6 +332,9 @@ impl TraceSeam for Form {
                     normal: normal.normalize(),
                     ..hit
                 });
+            }
+            Form::DepthNearDropsHits(near) if hit.t * ray.direction.length() < *near => {
+                return None;
             }
             Form::DepthNearAsStart(near) if hit.t * ray.direction.length() < *near => {
                 return scene.world.intersect(ray, near / ray.direction.length());
@@ -377,6 +392,12 @@ fn highlight_ungated(at: &HighlightAt) -> f32 {
 fn highlight_absolute(at: &HighlightAt) -> f32 {
     let half = (at.to_light + at.to_eye).normalize();
     at.normal.dot(half).abs().powf(at.exponent)
+}
+
+fn highlight_times_cosine(at: &HighlightAt) -> f32 {
+    let half = (at.to_light + at.to_eye).normalize();
+    let cosine = at.normal.dot(at.to_light).max(0.0);
+    at.normal.dot(half).max(0.0).powf(at.exponent) * cosine
 }
 
 fn half_vector_halved(at: &HighlightAt) -> f32 {

@@ -452,3 +452,69 @@ fn a_triangles_normal_made_by_the_cross_product_in_the_other_order_is_the_triang
         3
     );
 }
+
+#[test]
+fn screen_coordinates_centred_from_edge_to_edge_are_the_pixel_span() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    assert_eq!(
+        conformance_named(
+            "centred_edge_to_edge+rounded",
+            &["scene1_03.txt", "scene2_04_perspective.txt"],
+            "pixel_span_minus_one",
+            ""
+        ),
+        4
+    );
+}
+
+#[test]
+fn a_plane_offset_read_the_other_way_is_the_plane_offset_sign() {
+    assert_eq!(
+        conformance_named(
+            "plane_offset_negated+rounded",
+            &["scene2_06_plane.txt"],
+            "plane_offset_sign",
+            ""
+        ),
+        3
+    );
+}
+
+#[test]
+fn a_triangles_normal_from_the_edges_leaving_its_second_corner_is_the_triangle_winding() {
+    assert_eq!(
+        conformance_named(
+            "edges_from_the_middle_corner+rounded",
+            &[
+                "scene2_07_sphere_triangles.txt",
+                "scene2_08_cube.txt",
+                "scene2_09_bunny_200.txt"
+            ],
+            "triangle_winding",
+            ""
+        ),
+        3
+    );
+}
+
+#[test]
+fn an_object_space_t_carried_back_the_wrong_way_is_the_object_space_t_with_its_power() {
+    // t measured along the object's ray made unit, then multiplied by that ray's length where
+    // it should be divided: the stretch to the power 2, where the listed form's is 1. The
+    // shaded picture draws as either; the depth picture is fitted.
+    let failing = all_named(
+        "object_t_multiplied_back+rounded",
+        &["scene2_16_t_scale.txt"],
+        "object_space_t",
+    );
+    assert_eq!(failing.len(), 2, "{}", failing.join("\n"));
+    assert!(
+        failing
+            .iter()
+            .any(|l| l.contains("depth2_16") && l.contains("power of the object's stretch")),
+        "{}",
+        failing.join("\n")
+    );
+}

@@ -333,3 +333,66 @@ fn a_shading_that_leaves_out_the_lights_colour_is_the_light_colour_ignored() {
         2
     );
 }
+
+#[test]
+fn a_light_taken_as_one_brightness_is_the_light_colour_ignored_with_its_form() {
+    // scene2_03's lights are 0.8 of one primary each: greys of 0.8, not white.
+    assert_eq!(
+        conformance_named(
+            "light_as_brightest_channel+rounded",
+            &["scene2_03_colored_lights.txt"],
+            "light_colour_ignored",
+            "form 1)"
+        ),
+        1
+    );
+    if common::later_dir("the fitted forms of assignment 3").is_none() {
+        return;
+    }
+    // The weird lighting's lights are white already at their brightest: a grey of 1 is white.
+    assert_eq!(
+        later_named(
+            "light_as_brightest_channel",
+            &[
+                "scene3_11_weird_lighting_diffuse.txt",
+                "scene3_12_weird_lighting_specular.txt"
+            ],
+            "light_colour_ignored",
+            ""
+        ),
+        2
+    );
+}
+
+#[test]
+fn an_ambient_light_the_reader_never_stores_is_the_ambient_missing() {
+    assert_eq!(
+        conformance_named(
+            "ambient_never_stored+rounded",
+            &[
+                "scene2_02_ambient.txt",
+                "scene2_06_plane.txt",
+                "scene2_08_cube.txt"
+            ],
+            "ambient_missing",
+            ""
+        ),
+        3
+    );
+}
+
+#[test]
+fn a_highlight_worked_out_with_the_diffuse_cosine_in_it_is_the_specular_fix() {
+    if common::later_dir("the fitted forms of assignment 3").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "highlight_times_cosine+rounded",
+            &["output3_09.tga", "output3_12.tga"],
+            "specular_fix",
+            ""
+        ),
+        2
+    );
+}

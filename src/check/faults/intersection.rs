@@ -27,8 +27,9 @@ pub enum HitFault {
     NormalByTranspose,
     /// Normals carried by the inverse transpose but not made unit length again.
     NormalNotUnit,
-    /// Each object's t measured along its own space's ray made unit length.
-    ObjectSpaceT,
+    /// Each object's t measured along its own space's ray made unit length (1), or the world's
+    /// t times another power of that space's stretch along the ray (the fit's number).
+    ObjectSpaceT(f32),
     /// Triangles refused where the determinant of the handout's system is below this in
     /// magnitude.
     DeterminantEpsilon(f32),
@@ -121,7 +122,7 @@ impl HitFault {
         let length = ray.direction.length();
         match *self {
             HitFault::CameraTMin(_) => hit,
-            HitFault::ObjectSpaceT => scene.world.intersect_object_space_t(ray, t_min),
+            HitFault::ObjectSpaceT(power) => scene.world.intersect_stretched_t(ray, t_min, power),
             HitFault::FirstCellHit => scene.world.intersect_first_cell(ray, t_min),
             HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
             HitFault::PlanesUntested => {
@@ -342,7 +343,7 @@ pub(super) const DEPTH_TMIN: Fault = Fault {
 };
 
 /// Whether the line's scene places something under a Transform that changes lengths.
-fn lengths_change(line: &LineScene) -> bool {
+pub(crate) fn lengths_change(line: &LineScene) -> bool {
     line.description.objects.iter().any(|o| {
         o.transform.is_some_and(|t| {
             let m = glam::DMat3::from_mat4(line.description.transforms[t as usize]);
@@ -362,7 +363,7 @@ pub(super) const OBJECT_SPACE_T: Fault = Fault {
                back by the direction's length.",
     candidates: |line: &LineScene| {
         if lengths_change(line) {
-            vec![Candidate::plain(Planted::Hit(HitFault::ObjectSpaceT))]
+            vec![Candidate::plain(Planted::Hit(HitFault::ObjectSpaceT(1.0)))]
         } else {
             Vec::new()
         }
@@ -568,11 +569,11 @@ mod tests {
         assert_eq!(scene.world.intersect(&ray, 0.0).unwrap().t, 5.5);
         // In object space the ray's direction has length 0.5: made unit, the big sphere's hit
         // is at t = 8 × 0.5 = 4, which beats 5.5.
-        let hit = found(HitFault::ObjectSpaceT, &scene, &ray).unwrap();
+        let hit = found(HitFault::ObjectSpaceT(1.0), &scene, &ray).unwrap();
         assert_eq!((hit.t, hit.material, hit.normal), (4.0, 0, Vec3A::Z));
         // t_min bounds the measured t: from 4.5 on, the big sphere's far side is at 12 × 0.5 =
         // 6, and the small sphere's 5.5 wins.
-        let later = HitFault::ObjectSpaceT
+        let later = HitFault::ObjectSpaceT(1.0)
             .found(&scene, &ray, 4.5, None)
             .unwrap();
         assert_eq!((later.t, later.material), (5.5, 1));

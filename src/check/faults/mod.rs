@@ -29,13 +29,13 @@ use crate::shade::PictureSeam;
 use crate::trace::{BackFace, TraceSeam};
 
 pub use camera::{CameraFault, Mapping, RayForm};
-pub(crate) use intersection::has_triangles;
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
+pub(crate) use intersection::{has_triangles, lengths_change};
 pub use pictures::PictureFault;
 pub use rays::{CriticalAngle, RayFault};
 pub(crate) use rays::{bounces, glass_index, has_material, has_tinted_material};
 pub use samples::{SampleFault, gaussian_radius};
-pub use shading::{Attenuation, ShadingFault};
+pub use shading::{Attenuation, LightGrey, ShadingFault};
 pub use textures::TextureFault;
 pub(crate) use textures::shows_veins;
 
@@ -403,13 +403,14 @@ impl TraceSeam for Plant {
     }
 
     fn illuminate(&self, light: &Light, point: Vec3A) -> Option<Illumination> {
-        if self
-            .shadings()
-            .any(|s| s == ShadingFault::LightColourIgnored)
-        {
+        let grey = self.shadings().find_map(|s| match s {
+            ShadingFault::LightColourIgnored(grey) => Some(grey),
+            _ => None,
+        });
+        if let Some(grey) = grey {
             let course = light.illuminate(point)?;
             return Some(Illumination {
-                colour: Vec3A::ONE,
+                colour: grey.colour(course.colour),
                 ..course
             });
         }

@@ -14,14 +14,26 @@ pub enum PictureFault {
     ChannelSwap,
     /// Colours past 1 (or below 0) wrap around a byte instead of clamping.
     Wrap,
-    /// The depth picture's grey not clamped to [0, 1] before the byte, so it wraps.
-    DepthWrap,
+    /// The depth picture's grey not clamped to [0, 1] before the byte, so it wraps: past
+    /// both ends, or clamped at one end only and wrapping past the other.
+    DepthWrap(Unclamped),
     /// The depth and normals pictures show the scene's background where nothing is hit.
     Background,
     /// The normals picture shows the signed normal (negative components clamped to 0).
     SignedNormals,
     /// The normals picture shows (n + 1) / 2.
     HalvedNormals,
+}
+
+/// Which ends of the depth picture's range a student's grey wraps past.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Unclamped {
+    /// Both: no clamp at all.
+    Both,
+    /// Past the near end (the grey clamped at 0 alone, `max(grey, 0)`).
+    Near,
+    /// Past the far end (the grey clamped at 1 alone, `min(grey, 1)`).
+    Far,
 }
 
 /// A student's byte: the value times 255, truncated, wrapping around 256.
@@ -58,8 +70,13 @@ impl PictureFault {
             // Left unclamped: the byte then wraps (to_byte clamps, a student's cast does not),
             // which the caller's byte conversion shows as a value outside [0, 1]: fold it here.
             PictureFault::DepthRange(near, far) => Some(crate::shade::depth_grey(t, *near, *far)),
-            PictureFault::DepthWrap => {
+            PictureFault::DepthWrap(unclamped) => {
                 let grey = (t_far - t) / (t_far - t_near);
+                let grey = match unclamped {
+                    Unclamped::Both => grey,
+                    Unclamped::Near => grey.max(0.0),
+                    Unclamped::Far => grey.min(1.0),
+                };
                 Some(f32::from(wrapped(grey)) / 255.0 + 0.5 / 255.0)
             }
             _ => None,
@@ -105,12 +122,16 @@ pub(super) const DEPTH_CLAMP: Fault = Fault {
     name: "depth_clamp",
     assignment: 2,
     sentence: "My depth picture is not clamped: what is nearer than TMIN or farther than TMAX \
-               wraps around.",
+               wraps around (form 0), or it is clamped at one end only, and what is nearer than \
+               TMIN (form 1) or farther than TMAX (form 2) wraps.",
     look_for: "The depth picture's grey, (TMAX - t) / (TMAX - TMIN): clamp it to [0, 1], so that \
                nearer is white and farther is black.",
     candidates: |line: &LineScene| {
         if line.options.depth.is_some() {
-            only(PictureFault::DepthWrap)
+            Candidate::forms(
+                [Unclamped::Both, Unclamped::Near, Unclamped::Far]
+                    .map(|ends| Planted::Picture(PictureFault::DepthWrap(ends))),
+            )
         } else {
             Vec::new()
         }

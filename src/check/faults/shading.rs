@@ -7,6 +7,28 @@ use crate::parse::description::{LightSpec, MaterialSpec};
 use crate::scene::{Highlight, HighlightForm, Illumination, Light, SpecularFalloff};
 use crate::trace::BackFace;
 
+/// The one brightness a student's tracer gives a light in place of its colour.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LightGrey {
+    /// White at full strength, whatever the colour and, for a point light, the distance.
+    White,
+    /// The brightest channel of the colour as it arrives.
+    Brightest,
+    /// The mean of the colour's channels as it arrives.
+    Mean,
+}
+
+impl LightGrey {
+    /// The light's colour as it arrives, as the student's tracer has it.
+    pub(super) fn colour(self, arriving: Vec3A) -> Vec3A {
+        match self {
+            LightGrey::White => Vec3A::ONE,
+            LightGrey::Brightest => Vec3A::splat(arriving.max_element()),
+            LightGrey::Mean => Vec3A::splat(arriving.element_sum() / 3.0),
+        }
+    }
+}
+
 /// How a student's tracer shades a hit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ShadingFault {
@@ -35,9 +57,10 @@ pub enum ShadingFault {
     /// The loop over the lights stopped early: before the last (form 0), or after the first
     /// (form 1).
     LightsSkipped(u8),
-    /// Each light's colour (with a point light's dimming, which the course's light folds into
-    /// it) left out of the shading: every light white.
-    LightColourIgnored,
+    /// Each light's colour left out of the shading: every light white (with a point light's
+    /// dimming, which the course's light folds into its colour), or a grey as bright as the
+    /// colour's brightest channel or its channels' mean.
+    LightColourIgnored(LightGrey),
     /// The terms weighed by numbers check's shading fit found.
     Weighed {
         /// What the ambient term is multiplied by.
@@ -392,7 +415,9 @@ pub(super) const LIGHT_COLOUR_IGNORED: Fault = Fault {
     name: "light_colour_ignored",
     assignment: 2,
     sentence: "My shading leaves out the light's colour (the `col` getIllumination returns): \
-               every light shines white at full strength, coloured or dim, near or far.",
+               every light shines white at full strength, coloured or dim, near or far (form 0), \
+               or grey, as bright as its colour's brightest channel (form 1) or the mean of its \
+               channels (form 2).",
     look_for: "Each light's diffuse (and, from assignment 3, specular) term is multiplied by the \
                colour getIllumination returns for the point, which holds a point light's \
                attenuation too.",
@@ -406,7 +431,10 @@ pub(super) const LIGHT_COLOUR_IGNORED: Fault = Fault {
             } => *colour != glam::Vec3::ONE || *attenuation != [1.0, 0.0, 0.0],
         });
         if line.has_image() && shows {
-            only(ShadingFault::LightColourIgnored)
+            Candidate::forms(
+                [LightGrey::White, LightGrey::Brightest, LightGrey::Mean]
+                    .map(|grey| Planted::Shading(ShadingFault::LightColourIgnored(grey))),
+            )
         } else {
             Vec::new()
         }

@@ -4,8 +4,9 @@
 //! to the course's largest allowed epsilon: nearer shadows and reflects the surface itself),
 //! glass's index, the weight below which rays are cut off, the mirror direction's factor, the
 //! power of the material's colour a mirror or glass ray's colour is weighed by, how far the
-//! filter reaches, and the epsilons by which a triangle test refuses hits (on the barycentric
-//! coordinates, or on the determinant). Each family is one number searched over its range by
+//! filter reaches, the epsilons by which a triangle test refuses hits (on the barycentric
+//! coordinates, or on the determinant), and the power of a transformed object's stretch along
+//! the ray that its t is measured with (0 the world's t; 1 the object space's, made unit). Each family is one number searched over its range by
 //! the render's distance from the student's pictures; where it lands names its fault with the
 //! number (an epsilon of 1e-6 is `shadow_acne` at 1e-6, whatever the formula that put it
 //! there).
@@ -13,7 +14,7 @@
 use super::camera::Named;
 use crate::check::faults::{
     FAULTS, HitFault, LineScene, Plant, Planted, RayFault, SampleFault, bounces, glass_index,
-    has_material, has_tinted_material, has_triangles,
+    has_material, has_tinted_material, has_triangles, lengths_change,
 };
 use crate::sample::Sampler;
 
@@ -40,7 +41,7 @@ fn leaves_surfaces(line: &LineScene) -> bool {
     line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0)
 }
 
-const FAMILIES: [Family; 13] = [
+const FAMILIES: [Family; 14] = [
     Family {
         fault: "t_limit",
         parameter: "limit",
@@ -146,6 +147,14 @@ const FAMILIES: [Family; 13] = [
         course: |_| None,
         applies: has_triangles,
         plant: |epsilon| Planted::Hit(HitFault::DeterminantEpsilon(epsilon)),
+    },
+    Family {
+        fault: "object_space_t",
+        parameter: "power of the object's stretch",
+        range: (-2.0, 4.0),
+        course: |_| Some(0.0),
+        applies: |line| line.has_traced_picture() && lengths_change(line),
+        plant: |power| Planted::Hit(HitFault::ObjectSpaceT(power)),
     },
     Family {
         fault: "filter_radius",

@@ -1,0 +1,48 @@
+//! The forms whose mistake is made while the scene file is read.
+
+use raycast::parse::description::{LightSpec, MaterialSpec, SceneDescription, Shape};
+
+/// The description as the student's reader leaves it, for the form named `form`.
+pub(crate) fn read_as(form: &str, description: &mut SceneDescription) {
+    match form {
+        "colours_read_blue_first" => {
+            let swap = |colour: &mut raycast::Vec3| {
+                *colour = raycast::Vec3::new(colour.z, colour.y, colour.x)
+            };
+            swap(&mut description.background);
+            swap(&mut description.ambient);
+            for light in &mut description.lights {
+                match light {
+                    LightSpec::Directional { colour, .. } | LightSpec::Point { colour, .. } => {
+                        swap(colour)
+                    }
+                }
+            }
+            for material in &mut description.materials {
+                if let MaterialSpec::Phong(phong) = material {
+                    for colour in [
+                        &mut phong.diffuse,
+                        &mut phong.specular,
+                        &mut phong.reflective,
+                        &mut phong.transparent,
+                    ] {
+                        swap(colour);
+                    }
+                }
+            }
+        }
+        // (A scene without lights has its flat colours from a white ambient light the reader
+        // sets itself.)
+        "ambient_never_stored" if !description.lights.is_empty() => {
+            description.ambient = raycast::Vec3::ZERO;
+        }
+        "plane_offset_negated" => {
+            for object in &mut description.objects {
+                if let Shape::Plane { offset, .. } = &mut object.shape {
+                    *offset = -*offset;
+                }
+            }
+        }
+        _ => {}
+    }
+}
