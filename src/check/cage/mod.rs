@@ -36,6 +36,7 @@ use crate::render::StopFlag;
 use std::io::Read;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
+use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
 
 pub use system::{SYSTEM, Wall, is_root, stage, supervise, unprivileged_user};
@@ -462,6 +463,13 @@ const SAID_TAIL: usize = 64 * 1024;
 /// deadline itself, before it kills the supervisor.
 const SUPERVISOR_GRACE: Duration = Duration::from_secs(3);
 
+/// How often check looks at a running supervisor (whether it was asked to stop, or is past
+/// its deadline); its report wakes the wait at once.
+const SUPERVISOR_POLL: Duration = Duration::from_millis(20);
+
+/// How often check looks for the end of a supervisor whose report has come.
+const EXITING_POLL: Duration = Duration::from_micros(200);
+
 /// Runs `request` under a supervisor and waits for its report. `stop` asks for the run to end
 /// early (check was interrupted): the supervisor is told, and ends the renderer's tree.
 pub fn run(request: &Request, stop: &StopFlag) -> Ran {
@@ -495,6 +503,9 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
     let report = child.stdout.take().map(|pipe| read_tail(pipe, SAID_TAIL));
     let backstop = request.limit + SUPERVISOR_GRACE;
     let mut told = false;
+    // The report, once its pipe has closed: the supervisor's last act, so the wait for its
+    // end is woken by it rather than by the next of a round of polls.
+    let mut reported: Option<Vec<u8>> = None;
     let status = loop {
         match child.try_wait() {
             Ok(Some(status)) => break Some(status),
@@ -504,7 +515,16 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
                     system::ask_to_stop(&mut child);
                     told = true;
                 }
-                std::thread::sleep(Duration::from_millis(5));
+                match (&report, &reported) {
+                    (Some(pipe), None) => match pipe.recv_timeout(SUPERVISOR_POLL) {
+                        Ok(bytes) => reported = Some(bytes),
+                        Err(RecvTimeoutError::Timeout) => {}
+                        Err(RecvTimeoutError::Disconnected) => {
+                            reported = Some(Vec::new());
+                        }
+                    },
+                    _ => std::thread::sleep(EXITING_POLL),
+                }
             }
             Err(e) => return not_started(e.to_string()),
         }
@@ -521,8 +541,8 @@ pub fn run(request: &Request, stop: &StopFlag) -> Ran {
     let left = backstop
         .saturating_sub(start.elapsed())
         .max(Duration::from_millis(100));
-    let report = report
-        .and_then(|r| r.recv_timeout(left).ok())
+    let report = reported
+        .or_else(|| report.and_then(|r| r.recv_timeout(left).ok()))
         .unwrap_or_default();
     let stderr = said
         .and_then(|s| s.recv_timeout(Duration::from_millis(100)).ok())

@@ -16,6 +16,13 @@ use super::Limits;
 
 const ROOT: &str = "/sys/fs/cgroup";
 
+/// How the single-threaded supervisor moves itself between v1 groups: its own thread ("0" is the
+/// writer) through `tasks`, which the kernel does without the lock on every thread group that
+/// a move through `cgroup.procs` takes; that lock waits for an RCU grace period, about 10 ms a
+/// move on a machine busy with the lines before (four moves a line). Its children are born in
+/// the group of the thread that forks them.
+const V1_MOVE: (&str, &str) = ("tasks", "0");
+
 /// The line's groups, with the supervisor in them.
 #[derive(Debug)]
 pub struct LineGroup {
@@ -23,6 +30,8 @@ pub struct LineGroup {
     groups: Vec<(PathBuf, PathBuf)>,
     /// The file that counts the line's kills for memory, and whether it is v2's.
     memory_events: Option<(PathBuf, bool)>,
+    /// Whether the groups are v2's (one hierarchy), not v1's.
+    v2: bool,
 }
 
 /// Where this process's group of `controller` is (v1), or its one group (v2, `None`).
@@ -53,15 +62,16 @@ impl LineGroup {
         let me = std::process::id();
         let name = format!("raycast-line-{me}");
         let processes = limits.processes + 2;
+        let pure_v2 = Path::new(ROOT).join("cgroup.controllers").is_file();
         let mut made = LineGroup {
             groups: Vec::new(),
             memory_events: None,
+            v2: pure_v2,
         };
-        let pure_v2 = Path::new(ROOT).join("cgroup.controllers").is_file();
         let attempt = if pure_v2 {
             made.join_v2(&name, limits.memory, processes, me)
         } else {
-            made.join_v1(&name, limits.memory, processes, me)
+            made.join_v1(&name, limits.memory, processes)
         };
         match attempt {
             Ok(()) => Ok(made),
@@ -84,7 +94,7 @@ impl LineGroup {
         Ok(())
     }
 
-    fn join_v1(&mut self, name: &str, memory: u64, processes: u64, me: u32) -> Result<(), String> {
+    fn join_v1(&mut self, name: &str, memory: u64, processes: u64) -> Result<(), String> {
         for (controller, limit_file, limit) in [
             ("memory", "memory.limit_in_bytes", memory),
             ("pids", "pids.max", processes),
@@ -95,7 +105,7 @@ impl LineGroup {
             std::fs::create_dir(&group).map_err(|e| format!("{}: {e}", group.display()))?;
             self.groups.push((group.clone(), parent));
             write(&group.join(limit_file), limit)?;
-            write(&group.join("cgroup.procs"), me)?;
+            write(&group.join(V1_MOVE.0), V1_MOVE.1)?;
         }
         let memory = &self.groups[0].0;
         // Swap counted too, where the kernel accounts for it.
@@ -129,7 +139,10 @@ impl LineGroup {
     pub fn leave(self) {
         let me = std::process::id();
         for (group, parent) in self.groups.iter().rev() {
-            let _ = write(&parent.join("cgroup.procs"), me);
+            let _ = match self.v2 {
+                true => write(&parent.join("cgroup.procs"), me),
+                false => write(&parent.join(V1_MOVE.0), V1_MOVE.1),
+            };
             for _ in 0..50 {
                 let left: Vec<i32> = std::fs::read_to_string(group.join("cgroup.procs"))
                     .unwrap_or_default()

@@ -2,9 +2,11 @@
 //! tree, so every orphan (setsid, double forks) becomes the supervisor's child, and killing its
 //! children until it has none ends the whole tree.
 
+use std::os::fd::OwnedFd;
 use std::time::{Duration, Instant};
 
-use rustix::process::{Pid, Signal, WaitOptions};
+use rustix::event::{PollFd, PollFlags, Timespec};
+use rustix::process::{Pid, PidfdFlags, Signal, WaitOptions};
 
 /// How long the supervisor keeps killing: a tree that still forks faster than it is killed
 /// after this long is left to the PID namespace (where there is one) and reported by check's
@@ -73,5 +75,34 @@ pub fn end_namespace() {
             Ok(None) if start.elapsed() > AT_MOST => return,
             Ok(None) => std::thread::sleep(Duration::from_millis(1)),
         }
+    }
+}
+
+/// A child's end to wait for: woken the moment it ends (a pidfd, where the kernel gives one:
+/// Linux 5.3 on), or by short sleeps where it does not.
+pub struct ChildEnd(Option<OwnedFd>);
+
+/// The sleep between looks where there is no pidfd.
+const WITHOUT_PIDFD: Duration = Duration::from_millis(2);
+
+impl ChildEnd {
+    pub fn of(child: Option<Pid>) -> ChildEnd {
+        ChildEnd(
+            child.and_then(|child| rustix::process::pidfd_open(child, PidfdFlags::empty()).ok()),
+        )
+    }
+
+    /// Returns when the child has ended, a signal arrives, or `most` has passed.
+    pub fn wait(&self, most: Duration) {
+        let Some(pidfd) = &self.0 else {
+            return std::thread::sleep(WITHOUT_PIDFD.min(most));
+        };
+        let timeout = Timespec {
+            tv_sec: most.as_secs() as _,
+            tv_nsec: most.subsec_nanos() as _,
+        };
+        let mut fds = [PollFd::new(pidfd, PollFlags::IN)];
+        // An error (EINTR: a signal) ends the wait early, as a signal should.
+        let _ = rustix::event::poll(&mut fds, Some(&timeout));
     }
 }

@@ -41,9 +41,10 @@ fn run(request: &Request) -> (Ending, Confinement) {
     cage.landlock = confine::landlock_state(request);
     // Before the namespaces (a user namespace would hide the groups' files): the supervisor
     // joins the line's groups, and the init and the renderer are born in them.
+    // Single-threaded first: the supervisor moves its one thread into the groups.
+    until_single_threaded();
     let group = cgroup::LineGroup::join(&request.limits);
     cage.line_group = group.as_ref().map(|_| ()).map_err(Clone::clone);
-    until_single_threaded();
     let namespaces = confine::enter_namespaces();
     cage.network_namespace = namespaces.network;
     cage.ipc_namespace = namespaces.ipc;
@@ -93,6 +94,7 @@ fn run(request: &Request) -> (Ending, Confinement) {
     // The init keeps the line's deadline; this one, a little later, holds if the init cannot.
     let backstop = request.limit + INIT_GRACE;
     let mut ended_here = None;
+    let init_end = reap::ChildEnd::of(Some(init));
     loop {
         match rustix::process::waitpid(Some(init), WaitOptions::NOHANG) {
             Ok(Some(_)) | Err(_) => break,
@@ -112,7 +114,7 @@ fn run(request: &Request) -> (Ending, Confinement) {
             ended_here = Some(why);
             break;
         }
-        std::thread::sleep(Duration::from_millis(2));
+        init_end.wait(LOOK_EVERY.min(backstop.saturating_sub(start.elapsed())));
     }
     reap::end_descendants();
     if let Ok(group) = group {
@@ -155,6 +157,11 @@ fn until_single_threaded() {
         std::thread::sleep(Duration::from_micros(200));
     }
 }
+
+/// How often the supervisor and the init look up from waiting for their child: whether they
+/// were told to stop, the supervisor's parent is gone, or a deadline has passed (a signal, and
+/// the child's end, wake them at once).
+const LOOK_EVERY: Duration = Duration::from_millis(10);
 
 /// How long past the line's deadline the supervisor waits for the line's init, which keeps the
 /// deadline itself and then gives back the pictures.
@@ -221,6 +228,7 @@ fn init(
     // missed setsid orphans), which also reaps the orphans the init adopts; `child` is never
     // waited on.
     drop(child);
+    let renderer_end = reap::ChildEnd::of(renderer);
     let ending = loop {
         match rustix::process::wait(WaitOptions::NOHANG) {
             Ok(Some((pid, status))) if Some(pid) == renderer => {
@@ -236,7 +244,8 @@ fn init(
         if start.elapsed() >= request.limit {
             break Ending::TimedOut(request.limit);
         }
-        std::thread::sleep(Duration::from_millis(2));
+        // Woken by the renderer's end; between, the orphans the init adopts are reaped.
+        renderer_end.wait(LOOK_EVERY.min(request.limit.saturating_sub(start.elapsed())));
     };
     if let Some(renderer) = renderer {
         let _ = rustix::process::kill_process(renderer, Signal::KILL);
