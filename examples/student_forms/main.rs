@@ -293,6 +293,12 @@ enum Form {
     /// Hits nearer than the depth picture's near end (the command line's TMIN) thrown away
     /// once found: what is behind them is not searched for.
     DepthNearDropsHits(f32),
+    /// The highlight added for the scene's first light alone (its term written outside the
+    /// loop over the lights, for `lights[0]`).
+    HighlightFirstLightOnly,
+    /// The highlight added after the loop over the lights with the loop's last light, the one
+    /// its variable was left at.
+    HighlightAfterTheLoop,
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
     /// out in double precision (`Vec3d`), each then rounded to float.
     DoublePrecision,
@@ -416,6 +422,8 @@ impl Form {
             "plane_offset_negated" => Form::PlaneOffsetNegated,
             "edges_from_the_middle_corner" => Form::EdgesFromTheMiddleCorner,
             "light_as_brightest_channel" => Form::LightAsBrightestChannel,
+            "highlight_first_light_only" => Form::HighlightFirstLightOnly,
+            "highlight_after_the_loop" => Form::HighlightAfterTheLoop,
             "highlight_times_cosine" => Form::HighlightTimesCosine,
             "depth_near_drops_hits" => Form::DepthNearDropsHits(depth_near),
             _ => return None,

@@ -14,7 +14,7 @@ use raycast::parse::description::Projection;
 use raycast::scene::{
     Highlight, HighlightAt, Illumination, Light, SpecularFalloff, Surface, Texture,
 };
-use raycast::trace::{BackFace, TraceSeam};
+use raycast::trace::{BackFace, LightPlace, TraceSeam};
 
 use crate::Form;
 use crate::textures::{
@@ -162,7 +162,18 @@ impl TraceSeam for Form {
         normal: Vec3A,
         to_light: Vec3A,
         falloff: SpecularFalloff,
+        place: LightPlace,
     ) -> Vec3A {
+        // (The highlight worked out once, after the loop, for lights[0]: inside the loop the
+        // other lights bring their diffuse terms alone.)
+        let highlighted = match self {
+            Form::HighlightFirstLightOnly => place.index == 0,
+            Form::HighlightAfterTheLoop => place.index + 1 == place.of,
+            _ => true,
+        };
+        if !highlighted {
+            return shade(normal, falloff, Highlight::Own(|_| 0.0));
+        }
         if let Form::NormalTurnedToTheLight = self {
             let towards = if normal.dot(to_light) < 0.0 {
                 -normal

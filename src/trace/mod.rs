@@ -24,6 +24,15 @@ use crate::geometry::Ray;
 use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surface, Texture};
 use crate::variant::Exact;
 
+/// Which of the scene's lights a light's term is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LightPlace {
+    /// Its place in the file's order, from 0.
+    pub index: usize,
+    /// How many lights the scene has.
+    pub of: usize,
+}
+
 /// How rays are traced and shaded: the seam where a render may trace as a student's tracer
 /// would (check's fault library; see [`crate::variant`]). The defaults are the course's.
 pub trait TraceSeam: Copy + Send + Sync {
@@ -85,7 +94,8 @@ pub trait TraceSeam: Copy + Send + Sync {
 
     /// One light's term (diffuse plus specular) at a hit whose normal, turned toward the ray,
     /// is `normal`, the light lying along `to_light`; `shade(n, f, h)` is the term for a
-    /// normal `n`, a highlight's fall-off `f` and its formula `h`, and `falloff` the line's.
+    /// normal `n`, a highlight's fall-off `f` and its formula `h`, `falloff` the line's, and
+    /// `place` the light's among the scene's.
     #[inline(always)]
     fn light(
         &self,
@@ -93,6 +103,7 @@ pub trait TraceSeam: Copy + Send + Sync {
         normal: Vec3A,
         _to_light: Vec3A,
         falloff: SpecularFalloff,
+        _place: LightPlace,
     ) -> Vec3A {
         shade(normal, falloff, Highlight::Course)
     }
@@ -602,6 +613,10 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 normal,
                 light.to_light,
                 self.settings.specular,
+                LightPlace {
+                    index: light_index,
+                    of: scene.lights.len(),
+                },
             );
             if self.settings.shadows {
                 // A light that adds nothing here needs no shadow ray.

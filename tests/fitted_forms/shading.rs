@@ -396,3 +396,33 @@ fn a_highlight_worked_out_with_the_diffuse_cosine_in_it_is_the_specular_fix() {
         2
     );
 }
+
+#[test]
+fn a_highlight_worked_out_for_one_light_outside_the_loop_is_the_highlight_one_light() {
+    if common::later_dir("the fitted forms of assignments 3 and 4").is_none() {
+        return;
+    }
+    // scene3_12's two lights, and the faceted gem's three point lights (six lines).
+    let lines = [
+        "scene3_12_weird_lighting_specular.txt",
+        "scene4_14_faceted_gem.txt",
+    ];
+    assert_eq!(
+        later_named(
+            "highlight_first_light_only+rounded",
+            &lines,
+            "highlight_one_light",
+            "form 0)"
+        ),
+        7
+    );
+    assert_eq!(
+        later_named(
+            "highlight_after_the_loop",
+            &lines,
+            "highlight_one_light",
+            "form 1)"
+        ),
+        7
+    );
+}

@@ -26,7 +26,7 @@ use crate::parse::description::SceneDescription;
 use crate::sample::{Filter, SampleSeam, Sampler};
 use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surface, Texture};
 use crate::shade::PictureSeam;
-use crate::trace::{BackFace, TraceSeam};
+use crate::trace::{BackFace, LightPlace, TraceSeam};
 
 pub use camera::{CameraFault, Mapping, RayForm};
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
@@ -177,6 +177,7 @@ pub static FAULTS: &[Fault] = &[
     shading::LIGHT_COLOUR_IGNORED,
     shading::ATTENUATION,
     shading::LIGHTS_SKIPPED,
+    shading::HIGHLIGHT_ONE_LIGHT,
     rays::SHADOW_ACNE,
     rays::SHADOW_PAST_LIGHT,
     rays::SHADOW_REACH,
@@ -426,18 +427,18 @@ impl TraceSeam for Plant {
         normal: Vec3A,
         to_light: Vec3A,
         falloff: SpecularFalloff,
+        place: LightPlace,
     ) -> Vec3A {
         let course = Highlight::Course;
         let mut shadings = self.shadings();
+        let which = (to_light, place);
         match (shadings.next(), shadings.next()) {
             (None, _) => shade(normal, falloff, course),
-            (Some(s), None) => s.light(&shade, normal, to_light, falloff, course),
+            (Some(s), None) => s.light(&shade, normal, which, falloff, course),
             (Some(first), Some(second)) => first.light(
-                &|n: Vec3A, f: SpecularFalloff, h: Highlight| {
-                    second.light(&shade, n, to_light, f, h)
-                },
+                &|n: Vec3A, f: SpecularFalloff, h: Highlight| second.light(&shade, n, which, f, h),
                 normal,
-                to_light,
+                which,
                 falloff,
                 course,
             ),

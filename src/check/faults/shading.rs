@@ -5,7 +5,7 @@ use glam::Vec3A;
 use super::{Candidate, Fault, LineScene, Planted};
 use crate::parse::description::{LightSpec, MaterialSpec};
 use crate::scene::{Highlight, HighlightForm, Illumination, Light, SpecularFalloff};
-use crate::trace::BackFace;
+use crate::trace::{BackFace, LightPlace};
 
 /// The one brightness a student's tracer gives a light in place of its colour.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,6 +57,9 @@ pub enum ShadingFault {
     /// The loop over the lights stopped early: before the last (form 0), or after the first
     /// (form 1).
     LightsSkipped(u8),
+    /// The highlight of one of the scene's lights alone, the first or (`true`) the last: the
+    /// others' specular terms left out.
+    HighlightOneLight(bool),
     /// Each light's colour left out of the shading: every light white (with a point light's
     /// dimming, which the course's light folds into its colour), or a grey as bright as the
     /// colour's brightest channel or its channels' mean.
@@ -170,15 +173,24 @@ impl ShadingFault {
         }
     }
 
+    /// One light's term as the student's shading makes it: the light along `to_light`, at
+    /// `place` among the scene's.
     pub(crate) fn light(
         &self,
         shade: &dyn Fn(Vec3A, SpecularFalloff, Highlight) -> Vec3A,
         normal: Vec3A,
-        to_light: Vec3A,
+        (to_light, place): (Vec3A, LightPlace),
         falloff: SpecularFalloff,
         highlight: Highlight,
     ) -> Vec3A {
         match *self {
+            ShadingFault::HighlightOneLight(last) => {
+                let lit = if last { place.of - 1 } else { 0 };
+                match place.index == lit {
+                    true => shade(normal, falloff, highlight),
+                    false => shade(normal, falloff, Highlight::Own(|_| 0.0)),
+                }
+            }
             ShadingFault::AbsoluteCosine if normal.dot(to_light) < 0.0 => {
                 shade(-normal, falloff, highlight)
             }
@@ -355,6 +367,25 @@ fn has_highlights(line: &LineScene) -> bool {
 fn highlights_show(line: &LineScene) -> bool {
     line.has_image() && has_highlights(line) && !line.scene.lights.is_empty()
 }
+
+pub(super) const HIGHLIGHT_ONE_LIGHT: Fault = Fault {
+    name: "highlight_one_light",
+    assignment: 3,
+    sentence: "My highlight comes from one light alone: the specular term is worked out once, \
+               outside the loop over the lights, for the first light (form 0) or the last, \
+               where the loop left its index (form 1).",
+    look_for: "The loop over the lights: each light's specular term, like its diffuse term, is \
+               added inside it, with that light's direction and colour.",
+    candidates: |line: &LineScene| {
+        if highlights_show(line) && line.scene.lights.len() > 1 {
+            Candidate::forms(
+                [false, true].map(|last| Planted::Shading(ShadingFault::HighlightOneLight(last))),
+            )
+        } else {
+            Vec::new()
+        }
+    },
+};
 
 pub(super) const SPECULAR_FIX: Fault = Fault {
     name: "specular_fix",

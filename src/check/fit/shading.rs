@@ -75,9 +75,9 @@ struct Seen<'a> {
     stretch: Option<(f32, f32)>,
     surface: Surface<'a>,
     ambient: Vec3A,
-    /// Each light that reaches the hit unshadowed, with the divisor the file's attenuation
-    /// gives a point light there.
-    lights: Vec<(Illumination, Option<f32>)>,
+    /// Each light that reaches the hit unshadowed, with its place among the scene's lights and
+    /// the divisor the file's attenuation gives a point light there.
+    lights: Vec<(usize, Illumination, Option<f32>)>,
     /// What mirrors and glass bring (the course's colour less the hit's own).
     rest: Vec3A,
 }
@@ -144,8 +144,9 @@ pub fn fit_shading(
         let lights = scene
             .lights
             .iter()
-            .filter_map(|light| Some((light.illuminate(point)?, light)))
-            .filter(|(lit, _)| {
+            .enumerate()
+            .filter_map(|(index, light)| Some((index, light.illuminate(point)?, light)))
+            .filter(|(_, lit, _)| {
                 let shadow = Ray::new(point, lit.to_light);
                 !settings.shadows
                     || !scene.world.occluded(
@@ -154,7 +155,7 @@ pub fn fit_shading(
                         shadow_end(lit.distance),
                     )
             })
-            .map(|(lit, light)| {
+            .map(|(index, lit, light)| {
                 let divisor = match *light {
                     Light::Point {
                         attenuation: [c, l, q],
@@ -162,7 +163,7 @@ pub fn fit_shading(
                     } => Some(c + l * lit.distance + q * lit.distance * lit.distance),
                     Light::Directional { .. } => None,
                 };
-                (lit, divisor)
+                (index, lit, divisor)
             })
             .collect();
         let mut one = Seen {
@@ -206,7 +207,7 @@ pub fn fit_shading(
     let behind = seen.iter().any(|one| {
         one.lights
             .iter()
-            .any(|(light, _)| one.normal.dot(light.to_light) < 0.0)
+            .any(|(_, light, _)| one.normal.dot(light.to_light) < 0.0)
     });
     // Each number's steps and round values: the divisor's in the file's terms' scale.
     let scale_of = |index: usize| match index {
@@ -474,7 +475,7 @@ fn shade(
     let fault = weighed(numbers, absolute, false, highlight);
     let normal = one.normal * length(one, numbers);
     let mut colour = fault.ambient(one.ambient, lights) + one.rest;
-    for &(lit, divisor) in &one.lights {
+    for &(index, lit, divisor) in &one.lights {
         // A point light as the student dims it: the file's divisor taken back, theirs applied.
         let light = match divisor {
             Some(course) => {
@@ -493,7 +494,10 @@ fn shade(
                     .shade(n, one.view, light.to_light, light.colour, f, h)
             },
             normal,
-            light.to_light,
+            (
+                light.to_light,
+                crate::trace::LightPlace { index, of: lights },
+            ),
             falloff,
             crate::scene::Highlight::Course,
         );
