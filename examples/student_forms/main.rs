@@ -299,6 +299,21 @@ enum Form {
     /// The highlight added after the loop over the lights with the loop's last light, the one
     /// its variable was left at.
     HighlightAfterTheLoop,
+    /// A directional light's direction taken as the way toward the light, not the way its
+    /// light travels: lit, and shadowed, from the other side.
+    DirectionalNotNegated,
+    /// The triangle's normal `(b - a) x (c - a)` never normalised: as long as twice the
+    /// triangle's area.
+    TriangleNormalUnnormalised,
+    /// A directional light's direction negated as the file is read (taken for the way toward
+    /// the light), and so never turned where the shading needs it turned.
+    DirectionReadReversed,
+    /// The way toward a point light left unnormalised, `position - point`, in the shading and
+    /// for the shadow ray (tested up to `t < 1 - 1e-4` along it).
+    PointDirectionUnnormalised,
+    /// The same unnormalised vector, with the shadow ray tested up to the light's distance
+    /// along it: past the light, a distance squared away.
+    PointVectorToDistance,
     /// No mistake: a correct tracer whose camera rays, mirror and glass directions are worked
     /// out in double precision (`Vec3d`), each then rounded to float.
     DoublePrecision,
@@ -424,6 +439,11 @@ impl Form {
             "light_as_brightest_channel" => Form::LightAsBrightestChannel,
             "highlight_first_light_only" => Form::HighlightFirstLightOnly,
             "highlight_after_the_loop" => Form::HighlightAfterTheLoop,
+            "directional_not_negated" => Form::DirectionalNotNegated,
+            "point_direction_unnormalised" => Form::PointDirectionUnnormalised,
+            "point_vector_to_distance" => Form::PointVectorToDistance,
+            "direction_read_reversed" => Form::DirectionReadReversed,
+            "triangle_normal_unnormalised" => Form::TriangleNormalUnnormalised,
             "highlight_times_cosine" => Form::HighlightTimesCosine,
             "depth_near_drops_hits" => Form::DepthNearDropsHits(depth_near),
             _ => return None,

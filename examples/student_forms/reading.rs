@@ -36,6 +36,13 @@ pub(crate) fn read_as(form: &str, description: &mut SceneDescription) {
         "ambient_never_stored" if !description.lights.is_empty() => {
             description.ambient = raycast::Vec3::ZERO;
         }
+        "direction_read_reversed" => {
+            for light in &mut description.lights {
+                if let LightSpec::Directional { direction, .. } = light {
+                    *direction = -*direction;
+                }
+            }
+        }
         "plane_offset_negated" => {
             for object in &mut description.objects {
                 if let Shape::Plane { offset, .. } = &mut object.shape {

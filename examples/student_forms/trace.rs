@@ -60,7 +60,11 @@ impl TraceSeam for Form {
         match self {
             Form::ShadowToInfinity => f32::INFINITY,
             Form::ShadowToDistanceSquared if distance.is_finite() => distance * distance,
-            Form::ShadowToOneMinusEpsilon if distance.is_finite() => 1.0 - 1e-4,
+            Form::ShadowToOneMinusEpsilon | Form::PointDirectionUnnormalised
+                if distance.is_finite() =>
+            {
+                1.0 - 1e-4
+            }
             _ => raycast::trace::shadow_end(distance),
         }
     }
@@ -109,6 +113,17 @@ impl TraceSeam for Form {
                 },
             ) => Some(Illumination {
                 colour: *colour / (q + l * lit.distance + c * lit.distance * lit.distance),
+                ..lit
+            }),
+            (Form::DirectionalNotNegated, Light::Directional { .. }) => Some(Illumination {
+                to_light: -lit.to_light,
+                ..lit
+            }),
+            (
+                Form::PointDirectionUnnormalised | Form::PointVectorToDistance,
+                Light::Point { .. },
+            ) => Some(Illumination {
+                to_light: lit.to_light * lit.distance,
                 ..lit
             }),
             (Form::LightAsBrightestChannel, _) => Some(Illumination {
@@ -303,7 +318,9 @@ impl TraceSeam for Form {
             Form::ObjectTMultipliedBack => {
                 return scene.world.intersect_stretched_t(ray, t_min, 2.0);
             }
-            Form::CrossProductReversed | Form::EdgesFromTheMiddleCorner => {
+            Form::CrossProductReversed
+            | Form::EdgesFromTheMiddleCorner
+            | Form::TriangleNormalUnnormalised => {
                 // The corners of the triangle hit, if a triangle is hit.
                 let corners = std::cell::Cell::new(None);
                 let again = scene.world.intersect_accepting(ray, t_min, |_, seen| {
@@ -311,11 +328,17 @@ impl TraceSeam for Form {
                     true
                 });
                 if let (Some(again), Some([a, b, c])) = (again, corners.get()) {
+                    let course = (b - a).cross(c - a);
+                    if let Form::TriangleNormalUnnormalised = self {
+                        return Some(Hit {
+                            normal: again.normal * course.length(),
+                            ..again
+                        });
+                    }
                     let student = match self {
                         Form::CrossProductReversed => (c - a).cross(b - a),
                         _ => (a - b).cross(c - b),
                     };
-                    let course = (b - a).cross(c - a);
                     let sign = student.dot(course).signum();
                     return Some(Hit {
                         normal: again.normal * sign,

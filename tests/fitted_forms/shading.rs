@@ -426,3 +426,73 @@ fn a_highlight_worked_out_for_one_light_outside_the_loop_is_the_highlight_one_li
         7
     );
 }
+
+#[test]
+fn a_directional_lights_direction_taken_toward_the_light_is_the_light_direction() {
+    // Where the light shines only on what the eye cannot see, lights_skipped draws the same,
+    // and is named beside it.
+    assert_eq!(
+        conformance_named(
+            "directional_not_negated",
+            &[
+                "scene2_01_diffuse.txt",
+                "scene2_03_colored_lights.txt",
+                "scene2_08_cube.txt"
+            ],
+            "light_direction",
+            ""
+        ),
+        3
+    );
+    if common::later_dir("the fitted forms of assignments 3 and 4").is_none() {
+        return;
+    }
+    assert_eq!(
+        later_named(
+            "direction_read_reversed+rounded",
+            &[
+                "scene3_09_exponent_variations.txt",
+                "scene4_01_sphere_shadow.txt",
+                "scene4_02_colored_shadows.txt"
+            ],
+            "light_direction",
+            ""
+        ),
+        3
+    );
+}
+
+#[test]
+fn a_vector_toward_a_point_light_left_unnormalised_is_the_light_vector() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 4") else {
+        return;
+    };
+    let lines = [
+        "scene4_10_point_light_distance.txt",
+        "scene4_11_point_light_circle.txt",
+        "scene4_12_point_light_circle_d_attenuation.txt",
+        "scene4_14_faceted_gem.txt",
+    ];
+    // The shadow ray along it tested to t < 1: at the light.
+    assert_eq!(
+        later_named(
+            "point_direction_unnormalised+rounded",
+            &lines,
+            "light_vector",
+            ""
+        ),
+        9
+    );
+    // Tested to the light's distance along it instead: past the light too, which shows where
+    // something lies beyond the light (scene4_10), named as the pair.
+    assert_eq!(
+        later_named("point_vector_to_distance", &lines[1..], "light_vector", ""),
+        8
+    );
+    let failing = failing_in(&later, "point_vector_to_distance", &lines[..1]);
+    assert!(
+        failing.len() == 1 && failing[0].contains(": light_vector+shadow_past_light: "),
+        "{}",
+        failing.join("\n")
+    );
+}

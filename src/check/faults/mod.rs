@@ -176,7 +176,11 @@ pub static FAULTS: &[Fault] = &[
     shading::HALF_VECTOR,
     shading::LIGHT_COLOUR_IGNORED,
     shading::ATTENUATION,
+    // Before lights_skipped: where a directional light shines only on what the eye cannot see,
+    // the two draw the same, and its direction's sign is the commoner mistake.
+    shading::LIGHT_DIRECTION,
     shading::LIGHTS_SKIPPED,
+    shading::LIGHT_VECTOR,
     shading::HIGHLIGHT_ONE_LIGHT,
     rays::SHADOW_ACNE,
     rays::SHADOW_PAST_LIGHT,
@@ -408,17 +412,29 @@ impl TraceSeam for Plant {
             ShadingFault::LightColourIgnored(grey) => Some(grey),
             _ => None,
         });
-        if let Some(grey) = grey {
-            let course = light.illuminate(point)?;
-            return Some(Illumination {
-                colour: grey.colour(course.colour),
-                ..course
-            });
-        }
-        match self.shadings().find_map(|s| s.attenuation()) {
-            Some(way) => way.illuminate(light, point),
-            None => light.illuminate(point),
-        }
+        let lit = match (grey, self.shadings().find_map(|s| s.attenuation())) {
+            (Some(grey), _) => {
+                let course = light.illuminate(point)?;
+                Illumination {
+                    colour: grey.colour(course.colour),
+                    ..course
+                }
+            }
+            (None, Some(way)) => way.illuminate(light, point)?,
+            (None, None) => light.illuminate(point)?,
+        };
+        let has = |fault: ShadingFault| self.shadings().any(|s| s == fault);
+        Some(match light {
+            Light::Directional { .. } if has(ShadingFault::DirectionReversed) => Illumination {
+                to_light: -lit.to_light,
+                ..lit
+            },
+            Light::Point { .. } if has(ShadingFault::PointVectorUnnormalised) => Illumination {
+                to_light: lit.to_light * lit.distance,
+                ..lit
+            },
+            _ => lit,
+        })
     }
 
     fn light(
@@ -446,6 +462,12 @@ impl TraceSeam for Plant {
     }
 
     fn shadow_end(&self, distance: f32) -> f32 {
+        // Along the unnormalised way toward a point light, the light is at t = 1.
+        let unnormalised = distance.is_finite()
+            && self
+                .shadings()
+                .any(|s| s == ShadingFault::PointVectorUnnormalised);
+        let distance = if unnormalised { 1.0 } else { distance };
         self.rays()
             .find_map(|r| r.shadow_end(distance))
             .unwrap_or_else(|| crate::trace::shadow_end(distance))

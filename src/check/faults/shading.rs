@@ -57,6 +57,11 @@ pub enum ShadingFault {
     /// The loop over the lights stopped early: before the last (form 0), or after the first
     /// (form 1).
     LightsSkipped(u8),
+    /// Each directional light's direction taken as the way toward the light.
+    DirectionReversed,
+    /// The way toward a point light, `position - point`, never normalised: in the shading,
+    /// and for the shadow ray (tested to t = 1, the light).
+    PointVectorUnnormalised,
     /// The highlight of one of the scene's lights alone, the first or (`true`) the last: the
     /// others' specular terms left out.
     HighlightOneLight(bool),
@@ -501,6 +506,50 @@ pub(super) const ATTENUATION: Fault = Fault {
         .filter(|(_, way)| terms.iter().any(|t| way.differs(*t)))
         .map(|(candidate, _)| candidate)
         .collect()
+    },
+};
+
+pub(super) const LIGHT_DIRECTION: Fault = Fault {
+    name: "light_direction",
+    assignment: 2,
+    sentence: "My directional lights shine from the wrong side: I take the file's direction, the \
+               way the light travels, as the way toward the light.",
+    look_for: "DirectionalLight::getIllumination: the direction toward the light is minus the \
+               file's direction (normalised), for the shading and for the shadow ray alike.",
+    candidates: |line: &LineScene| {
+        let directional = line
+            .scene
+            .lights
+            .iter()
+            .any(|light| matches!(light, Light::Directional { .. }));
+        if line.has_image() && directional {
+            only(ShadingFault::DirectionReversed)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const LIGHT_VECTOR: Fault = Fault {
+    name: "light_vector",
+    assignment: 4,
+    sentence: "My shading takes the vector toward a point light, its position minus the point, \
+               without normalising it: N·L, and the highlight's half vector, grow with the \
+               light's distance.",
+    look_for: "PointLight::getIllumination: the direction toward the light is (position - p) \
+               normalised; the distance, for the attenuation and the shadow ray's end, is the \
+               length before it is normalised.",
+    candidates: |line: &LineScene| {
+        let point = line
+            .scene
+            .lights
+            .iter()
+            .any(|light| matches!(light, Light::Point { .. }));
+        if line.has_image() && point {
+            only(ShadingFault::PointVectorUnnormalised)
+        } else {
+            Vec::new()
+        }
     },
 };
 
