@@ -305,6 +305,9 @@ enum Form {
     /// The triangle's normal `(b - a) x (c - a)` never normalised: as long as twice the
     /// triangle's area.
     TriangleNormalUnnormalised,
+    /// The triangle's normal made from the edges leaving its last corner, `(a - c) x (b - c)`,
+    /// and never normalised.
+    LastCornerNormalUnnormalised,
     /// A directional light's direction negated as the file is read (taken for the way toward
     /// the light), and so never turned where the shading needs it turned.
     DirectionReadReversed,
@@ -444,6 +447,7 @@ impl Form {
             "point_vector_to_distance" => Form::PointVectorToDistance,
             "direction_read_reversed" => Form::DirectionReadReversed,
             "triangle_normal_unnormalised" => Form::TriangleNormalUnnormalised,
+            "last_corner_normal_unnormalised" => Form::LastCornerNormalUnnormalised,
             "highlight_times_cosine" => Form::HighlightTimesCosine,
             "depth_near_drops_hits" => Form::DepthNearDropsHits(depth_near),
             _ => return None,

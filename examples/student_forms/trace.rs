@@ -320,7 +320,8 @@ impl TraceSeam for Form {
             }
             Form::CrossProductReversed
             | Form::EdgesFromTheMiddleCorner
-            | Form::TriangleNormalUnnormalised => {
+            | Form::TriangleNormalUnnormalised
+            | Form::LastCornerNormalUnnormalised => {
                 // The corners of the triangle hit, if a triangle is hit.
                 let corners = std::cell::Cell::new(None);
                 let again = scene.world.intersect_accepting(ray, t_min, |_, seen| {
@@ -329,9 +330,22 @@ impl TraceSeam for Form {
                 });
                 if let (Some(again), Some([a, b, c])) = (again, corners.get()) {
                     let course = (b - a).cross(c - a);
-                    if let Form::TriangleNormalUnnormalised = self {
+                    // (A Transform normalises the normal it carries.)
+                    let transformed = scene
+                        .world
+                        .normal_origin(ray, t_min)
+                        .is_some_and(|(_, transform)| transform.is_some());
+                    let unnormalised = match self {
+                        Form::TriangleNormalUnnormalised => Some(course),
+                        Form::LastCornerNormalUnnormalised => Some((a - c).cross(b - c)),
+                        _ => None,
+                    };
+                    if let Some(student) = unnormalised {
+                        if transformed {
+                            return Some(again);
+                        }
                         return Some(Hit {
-                            normal: again.normal * course.length(),
+                            normal: again.normal * student.length(),
                             ..again
                         });
                     }

@@ -518,3 +518,28 @@ fn an_object_space_t_carried_back_the_wrong_way_is_the_object_space_t_with_its_p
         failing.join("\n")
     );
 }
+
+#[test]
+fn a_triangles_normal_left_as_the_cross_product_is_the_triangle_normal_length() {
+    // Twice each triangle's area long: scene2_07's large triangles bright, the cube's faces
+    // dark (a Transform, which normalises what it carries, hides it on the bunnies).
+    let lines = ["scene2_07_sphere_triangles.txt", "scene2_08_cube.txt"];
+    assert_eq!(
+        conformance_named(
+            "triangle_normal_unnormalised",
+            &lines,
+            "triangle_normal_length",
+            ""
+        ),
+        3
+    );
+    assert_eq!(
+        conformance_named(
+            "last_corner_normal_unnormalised+rounded",
+            &lines,
+            "triangle_normal_length",
+            ""
+        ),
+        3
+    );
+}

@@ -47,6 +47,9 @@ pub enum HitFault {
     PlaneOffsetNegated,
     /// Every triangle's normal turned the other way: (c − a) × (b − a).
     TriangleNormalTurned,
+    /// A triangle's normal the cross product of its edges, never made unit: twice its area
+    /// long (a Transform, normalising what it carries, hides it).
+    TriangleNormalUnit,
     /// Normals of the length check's shading fit found: see [`normal_length`].
     NormalLength([f32; 3]),
 }
@@ -148,6 +151,25 @@ impl HitFault {
                     normal: turned,
                     ..hit
                 })
+            }
+            HitFault::TriangleNormalUnit => {
+                // The corners of the triangle hit, where a triangle is hit.
+                let corners = std::cell::Cell::new(None);
+                let hit = scene.world.intersect_accepting(ray, t_min, |_, seen| {
+                    corners.set(Some(*seen));
+                    true
+                })?;
+                let transformed = scene
+                    .world
+                    .normal_origin(ray, t_min)
+                    .is_some_and(|(_, transform)| transform.is_some());
+                match corners.get() {
+                    Some([a, b, c]) if !transformed => Some(Hit {
+                        normal: hit.normal * (b - a).cross(c - a).length(),
+                        ..hit
+                    }),
+                    _ => Some(hit),
+                }
             }
             HitFault::PlaneOffsetNegated => {
                 scene
@@ -462,6 +484,22 @@ pub(super) const TRIANGLE_WINDING: Fault = Fault {
             vec![Candidate::plain(Planted::Hit(
                 HitFault::TriangleNormalTurned,
             ))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const TRIANGLE_NORMAL_LENGTH: Fault = Fault {
+    name: "triangle_normal_length",
+    assignment: 2,
+    sentence: "My triangle's normal is the cross product of two edges, never made unit length: \
+               twice the triangle's area long, so small triangles shade dark and large ones \
+               bright.",
+    look_for: "Triangle's intersect: normalise (b − a) × (c − a) before it is used (or stored).",
+    candidates: |line: &LineScene| {
+        if has_triangles(line) && line.has_traced_picture() {
+            vec![Candidate::plain(Planted::Hit(HitFault::TriangleNormalUnit))]
         } else {
             Vec::new()
         }

@@ -208,6 +208,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::TRIANGLE_EPSILON,
     intersection::PLANE_OFFSET_SIGN,
     intersection::TRIANGLE_WINDING,
+    intersection::TRIANGLE_NORMAL_LENGTH,
     intersection::GRID_FIRST_HIT,
     intersection::GRID_PLANES,
 ];
