@@ -305,6 +305,8 @@ enum Form {
     /// The triangle's normal `(b - a) x (c - a)` never normalised: as long as twice the
     /// triangle's area.
     TriangleNormalUnnormalised,
+    /// The sphere's normal `p - c`, never divided by the radius.
+    SphereNormalNotDivided,
     /// The triangle's normal made from the edges leaving its last corner, `(a - c) x (b - c)`,
     /// and never normalised.
     LastCornerNormalUnnormalised,
@@ -447,6 +449,7 @@ impl Form {
             "point_vector_to_distance" => Form::PointVectorToDistance,
             "direction_read_reversed" => Form::DirectionReadReversed,
             "triangle_normal_unnormalised" => Form::TriangleNormalUnnormalised,
+            "sphere_normal_not_divided" => Form::SphereNormalNotDivided,
             "last_corner_normal_unnormalised" => Form::LastCornerNormalUnnormalised,
             "highlight_times_cosine" => Form::HighlightTimesCosine,
             "depth_near_drops_hits" => Form::DepthNearDropsHits(depth_near),

@@ -366,6 +366,13 @@ impl TraceSeam for Form {
                 return walk_grid_planes(scene, ray, t_min, clipped).unwrap_or(Some(hit));
             }
             Form::NearestWithinTwenty if hit.t * ray.direction.length() > 20.0 => return None,
+            Form::SphereNormalNotDivided => {
+                let radius = scene.world.nearest_sphere_radius(ray, t_min).unwrap_or(1.0);
+                return Some(Hit {
+                    normal: hit.normal * radius,
+                    ..hit
+                });
+            }
             Form::NormalByInverse | Form::NormalByTranspose => {
                 let Some((object_normal, Some(transform))) = scene.world.normal_origin(ray, t_min)
                 else {

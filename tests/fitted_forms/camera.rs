@@ -543,3 +543,22 @@ fn a_triangles_normal_left_as_the_cross_product_is_the_triangle_normal_length() 
         3
     );
 }
+
+#[test]
+fn a_spheres_normal_never_divided_by_its_radius_is_the_sphere_normal_length() {
+    // Radius 0.75 (scene2_04, scene2_06) and 6, seen from inside (scene2_05): the shaded and
+    // normals pictures; the depth pictures are right.
+    assert_eq!(
+        conformance_named(
+            "sphere_normal_not_divided+rounded",
+            &[
+                "scene2_04_perspective.txt",
+                "scene2_05_inside_sphere.txt",
+                "scene2_06_plane.txt"
+            ],
+            "sphere_normal_length",
+            ""
+        ),
+        6
+    );
+}

@@ -184,6 +184,22 @@ impl World {
         Some((self.hit(ray, t, found), on_triangle))
     }
 
+    /// The radius of the sphere the nearest hit lies on, where that is a sphere under no
+    /// Transform: for a tracer that leaves a sphere's normal as p − c.
+    pub fn nearest_sphere_radius(&self, ray: &Ray, t_min: f32) -> Option<f32> {
+        let mut nearest = self.nearest_plane(ray, t_min);
+        self.nearest_beyond_planes(ray, t_min, &mut nearest, &mut ());
+        let Found::Item { item, .. } = nearest?.found else {
+            return None;
+        };
+        match self.items[item as usize] {
+            Item::Sphere {
+                sphere, transform, ..
+            } if transform == Item::WORLD_SPACE => Some(sphere.radius),
+            _ => None,
+        }
+    }
+
     /// The scene's planes, each with its material: for a tracer that tests them its own way.
     pub fn planes(&self) -> &[(Plane, u32)] {
         &self.planes

@@ -4,7 +4,7 @@ use super::{Candidate, Fault, LineScene, Planted};
 use crate::accel::Hit;
 use crate::camera::Camera;
 use crate::geometry::{Plane, Ray, Transform, intersect_plane};
-use crate::parse::description::Projection;
+use crate::parse::description::{Projection, Shape};
 use crate::scene::Scene;
 use glam::Vec3A;
 
@@ -50,6 +50,8 @@ pub enum HitFault {
     /// A triangle's normal the cross product of its edges, never made unit: twice its area
     /// long (a Transform, normalising what it carries, hides it).
     TriangleNormalUnit,
+    /// A sphere's normal p − c, never divided by the radius (a Transform hides it too).
+    SphereNormalUnit,
     /// Normals of the length check's shading fit found: see [`normal_length`].
     NormalLength([f32; 3]),
 }
@@ -169,6 +171,16 @@ impl HitFault {
                         ..hit
                     }),
                     _ => Some(hit),
+                }
+            }
+            HitFault::SphereNormalUnit => {
+                let hit = hit?;
+                match scene.world.nearest_sphere_radius(ray, t_min) {
+                    Some(radius) => Some(Hit {
+                        normal: hit.normal * radius,
+                        ..hit
+                    }),
+                    None => Some(hit),
                 }
             }
             HitFault::PlaneOffsetNegated => {
@@ -500,6 +512,25 @@ pub(super) const TRIANGLE_NORMAL_LENGTH: Fault = Fault {
     candidates: |line: &LineScene| {
         if has_triangles(line) && line.has_traced_picture() {
             vec![Candidate::plain(Planted::Hit(HitFault::TriangleNormalUnit))]
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const SPHERE_NORMAL_LENGTH: Fault = Fault {
+    name: "sphere_normal_length",
+    assignment: 2,
+    sentence: "My sphere's normal is the point minus the centre, never divided by the radius: \
+               as long as the radius, so a large sphere shades bright and a small one dark.",
+    look_for: "Sphere's intersect: the normal is (p − center) / radius (or normalised).",
+    candidates: |line: &LineScene| {
+        let sphere_not_unit = line.description.objects.iter().any(|o| {
+            o.transform.is_none()
+                && matches!(o.shape, Shape::Sphere { radius, .. } if radius != 1.0)
+        });
+        if sphere_not_unit && line.has_traced_picture() {
+            vec![Candidate::plain(Planted::Hit(HitFault::SphereNormalUnit))]
         } else {
             Vec::new()
         }

@@ -209,6 +209,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::PLANE_OFFSET_SIGN,
     intersection::TRIANGLE_WINDING,
     intersection::TRIANGLE_NORMAL_LENGTH,
+    intersection::SPHERE_NORMAL_LENGTH,
     intersection::GRID_FIRST_HIT,
     intersection::GRID_PLANES,
 ];
