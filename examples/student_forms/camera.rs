@@ -92,6 +92,10 @@ impl CameraSeam for Form {
                 let through = direction + (x * screen) * horizontal + (y * screen) * up;
                 Ray::new(camera.center(), through)
             }
+            (Projection::Orthographic { size }, Form::OrthographicHalfSize) => Ray::new(
+                camera.center() + (x * 2.0 * size) * horizontal + (y * 2.0 * size) * up,
+                direction.normalize(),
+            ),
             (Projection::Orthographic { size }, _) => Ray::new(
                 camera.center() + (x * size) * horizontal + (y * size) * up,
                 direction.normalize(),

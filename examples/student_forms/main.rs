@@ -305,6 +305,8 @@ enum Form {
     /// The triangle's normal `(b - a) x (c - a)` never normalised: as long as twice the
     /// triangle's area.
     TriangleNormalUnnormalised,
+    /// The orthographic camera's size taken as the half-width of what it sees.
+    OrthographicHalfSize,
     /// The sphere's normal `p - c`, never divided by the radius.
     SphereNormalNotDivided,
     /// The triangle's normal made from the edges leaving its last corner, `(a - c) x (b - c)`,
@@ -449,6 +451,7 @@ impl Form {
             "point_vector_to_distance" => Form::PointVectorToDistance,
             "direction_read_reversed" => Form::DirectionReadReversed,
             "triangle_normal_unnormalised" => Form::TriangleNormalUnnormalised,
+            "orthographic_half_size" => Form::OrthographicHalfSize,
             "sphere_normal_not_divided" => Form::SphereNormalNotDivided,
             "last_corner_normal_unnormalised" => Form::LastCornerNormalUnnormalised,
             "highlight_times_cosine" => Form::HighlightTimesCosine,

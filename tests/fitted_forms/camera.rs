@@ -562,3 +562,18 @@ fn a_spheres_normal_never_divided_by_its_radius_is_the_sphere_normal_length() {
         6
     );
 }
+
+#[test]
+fn an_orthographic_size_taken_as_half_the_view_is_the_field_of_view_with_its_size() {
+    // The course's squares of 5 units seen as 10: a field of view (its size), which is also
+    // what axes twice as long draw.
+    assert_eq!(
+        conformance_named(
+            "orthographic_half_size+rounded",
+            &["scene1_01.txt", "scene1_02.txt"],
+            "field_of_view",
+            "size 10)"
+        ),
+        4
+    );
+}

@@ -263,9 +263,11 @@ fn field_of_view(line: &LineScene) -> Vec<Candidate> {
 pub(super) const FIELD_OF_VIEW: Fault = Fault {
     name: "field_of_view",
     assignment: 2,
-    sentence: "My perspective camera sees a wider or narrower view than the file's angle.",
+    sentence: "My camera sees a wider or narrower view than the file says: a perspective \
+               camera's angle, or an orthographic camera's size.",
     look_for: "The perspective camera's screen: at distance 1 it is 2·tan(angle / 2) wide, \
-               with the angle converted from degrees to radians once.",
+               with the angle converted from degrees to radians once; the orthographic \
+               camera's square is `size` wide, from the centre − size / 2 to + size / 2.",
     candidates: field_of_view,
 };
 

@@ -3,7 +3,7 @@
 //! plane, as the course does; by two turns, in either order; by a tangent per axis), the plane
 //! first, the others in the order their course numbers draw the pictures. The fitted numbers name the
 //! fault: half a pixel off is `pixel_corner`, a view w/(w-1) as wide `pixel_span_minus_one`, a
-//! wider or narrower perspective view `field_of_view` (with the angle it amounts to), axes of
+//! wider or narrower view `field_of_view` (with the angle or size it amounts to), axes of
 //! other lengths or leaning `camera_basis`, rays not through a plane `equal_angle_rays`.
 
 use super::minimise::{Start, minimise};
@@ -310,19 +310,21 @@ fn names(line: &LineScene, found: Mapping) -> Vec<Named> {
     } else if near(sx, sy) && !leans {
         let scale = f64::from(sx + sy) / 2.0;
         let basis = (fault("camera_basis"), ("scale", scale));
-        if let Projection::Perspective { angle } = line.description.camera.projection {
-            let half = f64::from(angle).to_radians() / 2.0;
-            let degrees = 2.0 * (scale * half.tan()).atan().to_degrees();
-            let mut other = (faults.clone(), numbers.clone());
-            other.0.push(basis.0);
-            other.1.push(basis.1);
-            alternatives.push(other);
-            faults.push(fault("field_of_view"));
-            numbers.push(("angle", degrees));
-        } else {
-            faults.push(basis.0);
-            numbers.push(basis.1);
-        }
+        // The view as wide as the student's: a perspective camera's angle, an orthographic
+        // camera's size.
+        let view = match line.description.camera.projection {
+            Projection::Perspective { angle } => {
+                let half = f64::from(angle).to_radians() / 2.0;
+                ("angle", 2.0 * (scale * half.tan()).atan().to_degrees())
+            }
+            Projection::Orthographic { size } => ("size", scale * f64::from(size)),
+        };
+        let mut other = (faults.clone(), numbers.clone());
+        other.0.push(basis.0);
+        other.1.push(basis.1);
+        alternatives.push(other);
+        faults.push(fault("field_of_view"));
+        numbers.push(view);
     } else {
         faults.push(fault("camera_basis"));
         numbers.push(("scale_x", f64::from(sx)));
