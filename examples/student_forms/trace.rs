@@ -5,8 +5,8 @@ use std::ops::ControlFlow;
 
 use raycast::Scene;
 use raycast::Vec3A;
-use raycast::accel::Hit;
 use raycast::accel::grid::Primitive;
+use raycast::accel::{Hit, Struck};
 use raycast::camera::Camera;
 use raycast::geometry::Ray;
 use raycast::glam::{Mat4, Vec3};
@@ -322,44 +322,34 @@ impl TraceSeam for Form {
             | Form::EdgesFromTheMiddleCorner
             | Form::TriangleNormalUnnormalised
             | Form::LastCornerNormalUnnormalised => {
-                // The corners of the triangle hit, if a triangle is hit.
-                let corners = std::cell::Cell::new(None);
-                let again = scene.world.intersect_accepting(ray, t_min, |_, seen| {
-                    corners.set(Some(*seen));
-                    true
-                });
-                if let (Some(again), Some([a, b, c])) = (again, corners.get()) {
-                    let course = (b - a).cross(c - a);
-                    // (A Transform normalises the normal it carries.)
-                    let transformed = scene
-                        .world
-                        .normal_origin(ray, t_min)
-                        .is_some_and(|(_, transform)| transform.is_some());
-                    let unnormalised = match self {
-                        Form::TriangleNormalUnnormalised => Some(course),
-                        Form::LastCornerNormalUnnormalised => Some((a - c).cross(b - c)),
-                        _ => None,
-                    };
-                    if let Some(student) = unnormalised {
-                        if transformed {
-                            return Some(again);
-                        }
-                        return Some(Hit {
-                            normal: again.normal * student.length(),
-                            ..again
-                        });
+                let Some((
+                    again,
+                    Struck::Triangle {
+                        corners: [a, b, c],
+                        transformed,
+                    },
+                )) = scene.world.intersect_noting(ray, t_min)
+                else {
+                    return Some(hit);
+                };
+                let course = (b - a).cross(c - a);
+                // The student's normal, as a factor of the course's unit one (a Transform
+                // normalises the normal it carries).
+                let factor = match self {
+                    Form::TriangleNormalUnnormalised | Form::LastCornerNormalUnnormalised
+                        if transformed =>
+                    {
+                        1.0
                     }
-                    let student = match self {
-                        Form::CrossProductReversed => (c - a).cross(b - a),
-                        _ => (a - b).cross(c - b),
-                    };
-                    let sign = student.dot(course).signum();
-                    return Some(Hit {
-                        normal: again.normal * sign,
-                        ..again
-                    });
-                }
-                return Some(hit);
+                    Form::TriangleNormalUnnormalised => course.length(),
+                    Form::LastCornerNormalUnnormalised => (a - c).cross(b - c).length(),
+                    Form::CrossProductReversed => (c - a).cross(b - a).dot(course).signum(),
+                    _ => (a - b).cross(c - b).dot(course).signum(),
+                };
+                return Some(Hit {
+                    normal: again.normal * factor,
+                    ..again
+                });
             }
             Form::GridWithoutPlanes | Form::PlanesInGridCells => {
                 let clipped = matches!(self, Form::PlanesInGridCells);
@@ -367,7 +357,16 @@ impl TraceSeam for Form {
             }
             Form::NearestWithinTwenty if hit.t * ray.direction.length() > 20.0 => return None,
             Form::SphereNormalNotDivided => {
-                let radius = scene.world.nearest_sphere_radius(ray, t_min).unwrap_or(1.0);
+                let radius = match scene.world.intersect_noting(ray, t_min) {
+                    Some((
+                        _,
+                        Struck::Sphere {
+                            radius,
+                            transformed: false,
+                        },
+                    )) => radius,
+                    _ => 1.0,
+                };
                 return Some(Hit {
                     normal: hit.normal * radius,
                     ..hit

@@ -10,6 +10,27 @@ use super::{Found, Hit, Item, Nearest, World, search_limit};
 use crate::accel::grid::Primitive;
 use crate::geometry::{Plane, Ray, intersect_sphere};
 
+/// What a hit lies on, in its object's own space, for [`World::intersect_noting`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Struck {
+    /// A plane (its normal is the world's).
+    Plane,
+    /// A sphere.
+    Sphere {
+        /// Its radius, in its own space.
+        radius: f32,
+        /// Whether a Transform places it.
+        transformed: bool,
+    },
+    /// A triangle, of a mesh or of the scene's loose ones.
+    Triangle {
+        /// Its corners, in its own space.
+        corners: [Vec3; 3],
+        /// Whether a Transform places it.
+        transformed: bool,
+    },
+}
+
 /// The most hits one search skips before it gives up on a ray (a mesh whose every triangle
 /// along the ray is refused).
 const MOST_REFUSED: usize = 64;
@@ -171,33 +192,30 @@ impl World {
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
-    /// The course's nearest hit, and whether it lies on a triangle (of a mesh, or the scene's
-    /// loose ones): for a tracer that makes its triangles' normals another way.
-    pub fn intersect_noting_triangles(&self, ray: &Ray, t_min: f32) -> Option<(Hit, bool)> {
+    /// The course's nearest hit, and what it lies on: for a tracer that makes its normals
+    /// another way (from a triangle's corners, a sphere's radius), in one search.
+    pub fn intersect_noting(&self, ray: &Ray, t_min: f32) -> Option<(Hit, Struck)> {
         let mut nearest = self.nearest_plane(ray, t_min);
         self.nearest_beyond_planes(ray, t_min, &mut nearest, &mut ());
         let Nearest { t, found, .. } = nearest?;
-        let on_triangle = match found {
-            Found::Item { item, .. } => matches!(self.items[item as usize], Item::Mesh { .. }),
-            _ => false,
+        let struck = match found {
+            Found::Plane(_) => Struck::Plane,
+            Found::Item { item, triangle } => {
+                let item = &self.items[item as usize];
+                let transformed = item.transform() != Item::WORLD_SPACE;
+                match *item {
+                    Item::Sphere { sphere, .. } => Struck::Sphere {
+                        radius: sphere.radius,
+                        transformed,
+                    },
+                    Item::Mesh { mesh, .. } => Struck::Triangle {
+                        corners: self.meshes[mesh as usize].triangles()[triangle as usize],
+                        transformed,
+                    },
+                }
+            }
         };
-        Some((self.hit(ray, t, found), on_triangle))
-    }
-
-    /// The radius of the sphere the nearest hit lies on, where that is a sphere under no
-    /// Transform: for a tracer that leaves a sphere's normal as p − c.
-    pub fn nearest_sphere_radius(&self, ray: &Ray, t_min: f32) -> Option<f32> {
-        let mut nearest = self.nearest_plane(ray, t_min);
-        self.nearest_beyond_planes(ray, t_min, &mut nearest, &mut ());
-        let Found::Item { item, .. } = nearest?.found else {
-            return None;
-        };
-        match self.items[item as usize] {
-            Item::Sphere {
-                sphere, transform, ..
-            } if transform == Item::WORLD_SPACE => Some(sphere.radius),
-            _ => None,
-        }
+        Some((self.hit(ray, t, found), struck))
     }
 
     /// The scene's planes, each with its material: for a tracer that tests them its own way.

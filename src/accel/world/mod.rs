@@ -14,6 +14,7 @@
 //! - the hit record (`Hit`): what a search's winner becomes, its normal worked out once.
 
 mod as_student;
+pub use as_student::Struck;
 mod brute_force;
 mod grid_search;
 mod nearest;
@@ -325,10 +326,7 @@ impl World {
     /// tracer transforms another way.
     pub fn normal_origin(&self, ray: &Ray, t_min: f32) -> Option<(Vec3A, Option<&Transform>)> {
         let mut nearest = self.nearest_plane(ray, t_min);
-        match &self.grid {
-            Some(grid) => self.grid_nearest(grid, ray, t_min, &mut nearest, &mut ()),
-            None => self.nearest_item(ray, t_min, &mut nearest, &mut ()),
-        }
+        self.nearest_beyond_planes(ray, t_min, &mut nearest, &mut ());
         let nearest = nearest?;
         Some(match nearest.found {
             Found::Plane(i) => (self.planes[i as usize].0.normal, None),

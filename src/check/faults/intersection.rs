@@ -1,7 +1,7 @@
 //! Faults of the search for the nearest hit: the range of t it accepts.
 
 use super::{Candidate, Fault, LineScene, Planted};
-use crate::accel::Hit;
+use crate::accel::{Hit, Struck};
 use crate::camera::Camera;
 use crate::geometry::{Plane, Ray, Transform, intersect_plane};
 use crate::parse::description::{Projection, Shape};
@@ -146,42 +146,34 @@ impl HitFault {
                             .then_some(t)
                     })
             }
-            HitFault::TriangleNormalTurned => {
-                let (hit, on_triangle) = scene.world.intersect_noting_triangles(ray, t_min)?;
-                let turned = if on_triangle { -hit.normal } else { hit.normal };
+            HitFault::TriangleNormalTurned
+            | HitFault::TriangleNormalUnit
+            | HitFault::SphereNormalUnit => {
+                let (hit, struck) = scene.world.intersect_noting(ray, t_min)?;
+                // The factor the student's normal is of the course's (a Transform normalises
+                // what it carries).
+                let factor = match (*self, struck) {
+                    (HitFault::TriangleNormalTurned, Struck::Triangle { .. }) => -1.0,
+                    (
+                        HitFault::TriangleNormalUnit,
+                        Struck::Triangle {
+                            corners: [a, b, c],
+                            transformed: false,
+                        },
+                    ) => (b - a).cross(c - a).length(),
+                    (
+                        HitFault::SphereNormalUnit,
+                        Struck::Sphere {
+                            radius,
+                            transformed: false,
+                        },
+                    ) => radius,
+                    _ => 1.0,
+                };
                 Some(Hit {
-                    normal: turned,
+                    normal: hit.normal * factor,
                     ..hit
                 })
-            }
-            HitFault::TriangleNormalUnit => {
-                // The corners of the triangle hit, where a triangle is hit.
-                let corners = std::cell::Cell::new(None);
-                let hit = scene.world.intersect_accepting(ray, t_min, |_, seen| {
-                    corners.set(Some(*seen));
-                    true
-                })?;
-                let transformed = scene
-                    .world
-                    .normal_origin(ray, t_min)
-                    .is_some_and(|(_, transform)| transform.is_some());
-                match corners.get() {
-                    Some([a, b, c]) if !transformed => Some(Hit {
-                        normal: hit.normal * (b - a).cross(c - a).length(),
-                        ..hit
-                    }),
-                    _ => Some(hit),
-                }
-            }
-            HitFault::SphereNormalUnit => {
-                let hit = hit?;
-                match scene.world.nearest_sphere_radius(ray, t_min) {
-                    Some(radius) => Some(Hit {
-                        normal: hit.normal * radius,
-                        ..hit
-                    }),
-                    None => Some(hit),
-                }
             }
             HitFault::PlaneOffsetNegated => {
                 scene

@@ -509,6 +509,11 @@ pub(super) const ATTENUATION: Fault = Fault {
     },
 };
 
+/// Whether the line has a shaded picture and a light of the kind `of` says.
+fn shines(line: &LineScene, of: impl Fn(&Light) -> bool) -> bool {
+    line.has_image() && line.scene.lights.iter().any(of)
+}
+
 pub(super) const LIGHT_DIRECTION: Fault = Fault {
     name: "light_direction",
     assignment: 2,
@@ -517,12 +522,7 @@ pub(super) const LIGHT_DIRECTION: Fault = Fault {
     look_for: "DirectionalLight::getIllumination: the direction toward the light is minus the \
                file's direction (normalised), for the shading and for the shadow ray alike.",
     candidates: |line: &LineScene| {
-        let directional = line
-            .scene
-            .lights
-            .iter()
-            .any(|light| matches!(light, Light::Directional { .. }));
-        if line.has_image() && directional {
+        if shines(line, |light| matches!(light, Light::Directional { .. })) {
             only(ShadingFault::DirectionReversed)
         } else {
             Vec::new()
@@ -540,12 +540,7 @@ pub(super) const LIGHT_VECTOR: Fault = Fault {
                normalised; the distance, for the attenuation and the shadow ray's end, is the \
                length before it is normalised.",
     candidates: |line: &LineScene| {
-        let point = line
-            .scene
-            .lights
-            .iter()
-            .any(|light| matches!(light, Light::Point { .. }));
-        if line.has_image() && point {
+        if shines(line, |light| matches!(light, Light::Point { .. })) {
             only(ShadingFault::PointVectorUnnormalised)
         } else {
             Vec::new()
