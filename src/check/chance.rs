@@ -137,6 +137,16 @@ impl Spread {
         })
     }
 
+    /// Whether pixel `i` of `actual` lies outside the spread: one pixel of [`Spread::compare`].
+    pub fn outside(&self, i: usize, actual: [u8; 3], tolerance: u8) -> bool {
+        let widen = (1.0 + 1.0 / SEEDS as f32).sqrt();
+        i < self.mean.len()
+            && (0..3).any(|c| {
+                let off = (f32::from(actual[c]) - self.mean[i][c]).abs();
+                off > self.allowed(i, c, tolerance, widen)
+            })
+    }
+
     /// Two pictures of the line against each other (a student's, and a fault's render with one
     /// seed): each drawn by chance, so twice the variance of one is allowed.
     pub fn compare_draws(

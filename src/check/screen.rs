@@ -156,6 +156,45 @@ impl Screen {
         sum as f64 / count.max(1) as f64
     }
 
+    /// The wanted rows and the rows next to them: a spread's deviation at a pixel is the
+    /// largest of its neighbourhood's, so a spread made from renders of these rows alone is
+    /// the whole spread's in the wanted rows.
+    pub fn with_neighbours(&self) -> Vec<bool> {
+        let near = |row: usize| {
+            (row.saturating_sub(1)..(row + 2).min(self.wanted.len())).any(|r| self.wanted[r])
+        };
+        (0..self.wanted.len()).map(near).collect()
+    }
+
+    /// Whether none of the `actual` pictures lies within its spread (a fault's own, made from
+    /// renders of [`Screen::with_neighbours`]' rows with several seeds): in the wanted rows
+    /// alone, each has more pixels outside it than the rule allows the whole picture. A
+    /// picture without a spread is never ruled out.
+    pub fn rules_out_spreads(&self, spreads: &[Option<&Spread>], actual: &[&Image]) -> bool {
+        actual.iter().enumerate().all(|(k, actual)| {
+            let Some(spread) = spreads.get(k).copied().flatten() else {
+                return false;
+            };
+            let width = actual.width.max(1) as usize;
+            let outside: usize = actual
+                .pixels
+                .chunks(width)
+                .zip(&self.wanted)
+                .enumerate()
+                .filter(|(_, (_, wanted))| **wanted)
+                .map(|(row, (pixels, _))| {
+                    pixels
+                        .iter()
+                        .enumerate()
+                        .filter(|&(x, &p)| spread.outside(row * width + x, p, self.rule.tolerance))
+                        .count()
+                })
+                .sum();
+            let pixels = actual.pixels.len();
+            pixels > 0 && outside as f64 / pixels as f64 > self.rule.max_bad
+        })
+    }
+
     /// Whether a render of the wanted rows (the pictures in the order of the failing ones, each
     /// `None` where the render has no such picture) matches none of the `actual` pictures: in
     /// those rows alone, each differs in more pixels than the rule allows the whole picture
@@ -357,14 +396,84 @@ mod never_rules_out_a_match {
                 rendered.pixels[at % pixels] = [value; 3];
             }
             let failing = [Failing { actual: &actual, reference: Some(&reference), traced: true, spread: None }];
-            if let Some(screen) = Screen::of(&failing, rule) {
-                let passes = compare(&rendered, &actual, tolerance)
-                    .is_some_and(|c| rule.passes(&c));
+            let passes = compare(&rendered, &actual, tolerance).is_some_and(|c| rule.passes(&c));
+            // The screen of the rows that differ most, and the second, of every third row.
+            let screens = Screen::of(&failing, rule)
+                .into_iter()
+                .chain(std::iter::once(Screen::every(3, height as usize, rule)));
+            for screen in screens {
                 if passes {
                     prop_assert!(!screen.rules_out(&[Some(&rendered)], &[&actual], &[]));
                 }
                 prop_assert!(!screen.rules_out(&[Some(&actual)], &[&actual], &[]));
             }
+        }
+
+        /// A fault's own spread made from renders of the screen's rows and their neighbours
+        /// alone (the other rows black) rules out no picture that lies within the spread of
+        /// its whole renders, and rules out one that lies outside it in the rows.
+        #[test]
+        fn a_spread_of_the_rows_rules_out_only_what_the_whole_spread_does(
+            (width, height) in (1_u32..12, 2_u32..24),
+            base in proptest::collection::vec(any::<u8>(), 1..32),
+            noise in proptest::collection::vec(proptest::collection::vec(0_u8..40, 1..32), 2..5),
+            wrong in proptest::collection::vec((0_usize..288, any::<u8>()), 0..40),
+            tolerance in 0_u8..8,
+            max_bad in 0.0_f64..0.1,
+        ) {
+            let rule = Rule { tolerance, max_bad };
+            let base = picture(width, height, &base);
+            let pixels = base.pixels.len();
+            let seeded: Vec<Image> = noise
+                .iter()
+                .map(|noise| {
+                    let mut seed = base.clone();
+                    for (i, p) in seed.pixels.iter_mut().enumerate() {
+                        *p = p.map(|c| c.saturating_add(noise[i % noise.len()]));
+                    }
+                    seed
+                })
+                .collect();
+            let mut actual = seeded[0].clone();
+            for (at, value) in wrong {
+                actual.pixels[at % pixels] = [value; 3];
+            }
+            let failing = [Failing {
+                actual: &actual,
+                reference: Some(&base),
+                traced: true,
+                spread: None,
+            }];
+            let Some(screen) = Screen::of(&failing, rule) else {
+                return Ok(());
+            };
+            let rendered = screen.with_neighbours();
+            let rows_only: Vec<Image> = seeded
+                .iter()
+                .map(|seed| {
+                    let mut rows = seed.clone();
+                    for (row, pixels) in rows.pixels.chunks_mut(width as usize).enumerate() {
+                        if !rendered[row] {
+                            pixels.fill([0; 3]);
+                        }
+                    }
+                    rows
+                })
+                .collect();
+            let whole = Spread::of(&seeded.iter().collect::<Vec<_>>()).unwrap();
+            let of_rows = Spread::of(&rows_only.iter().collect::<Vec<_>>()).unwrap();
+            // Pixel for pixel the same in the wanted rows...
+            for (i, &p) in actual.pixels.iter().enumerate() {
+                if screen.wanted()[i / width as usize] {
+                    prop_assert_eq!(of_rows.outside(i, p, tolerance), whole.outside(i, p, tolerance));
+                }
+            }
+            // ...so what the rows rule out, the whole picture fails.
+            let passes_whole = whole.compare(&actual, tolerance).is_some_and(|c| rule.passes(&c));
+            if screen.rules_out_spreads(&[Some(&of_rows)], &[&actual]) {
+                prop_assert!(!passes_whole);
+            }
+            prop_assert!(!screen.rules_out_spreads(&[None], &[&actual]));
         }
 
         /// The same for pictures drawn by chance: a render that passes as a draw of the line's

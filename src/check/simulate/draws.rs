@@ -7,9 +7,10 @@ use std::path::Path;
 use super::{Prepared, STOPPED, Unfinished, on_every_core, prepare};
 use crate::check::cache;
 use crate::check::chance::{self, ByChance, Drawn, Spread, depends_on_chance};
+use crate::check::faults::Plant;
 use crate::check::samples_picture::SamplesRule;
 use crate::check::suite::Line;
-use crate::job::{Command, Options, parse_args, render_pictures_until};
+use crate::job::{Command, Options, parse_args, render_pictures_until, render_rows_until};
 use crate::render::StopFlag;
 use crate::shade::Image;
 
@@ -62,22 +63,67 @@ pub(super) fn seeded_spreads(
 pub(super) fn plant_spreads(
     kept: &cache::LineRenders,
     prepared: &Prepared,
-    plant: crate::check::faults::Plant,
+    plant: Plant,
     stop: &'static StopFlag,
 ) -> Result<Vec<Option<Spread>>, Unfinished> {
+    let own = prepared.line.options.sampling.seed;
     let mut seeded: Vec<Vec<Image>> = Vec::new();
-    for seed in chance::seeds(prepared.line.options.sampling.seed) {
-        seeded.push(kept.fault(&format!("seed {seed} {plant:?}"), || {
-            render_seeded(prepared, seed, plant, stop)
-        })?);
+    for seed in chance::seeds(own) {
+        // The line's own seed draws the plant's render of the line, kept under its own name.
+        let name = match seed == own {
+            true => format!("{plant:?}"),
+            false => format!("seed {seed} {plant:?}"),
+        };
+        seeded.push(kept.fault(&name, || render_seeded(prepared, seed, plant, stop))?);
     }
-    Ok((0..prepared.slots.len())
+    Ok(traced_spreads(prepared, &seeded))
+}
+
+/// Whether [`plant_spreads`] has its renders kept: then they cost less to read than any rows
+/// of them to render.
+pub(super) fn plant_spreads_kept(
+    kept: &cache::LineRenders,
+    prepared: &Prepared,
+    plant: Plant,
+) -> bool {
+    let own = prepared.line.options.sampling.seed;
+    chance::seeds(own)
+        .filter(|&seed| seed != own)
+        .all(|seed| kept.has_fault(&format!("seed {seed} {plant:?}")))
+}
+
+/// [`plant_spreads`] made from renders of the rows `wanted` alone (the others black, and the
+/// spreads there meaningless), never kept: a screen's, where the rows cost a fraction of the
+/// whole. With the line's own seed's rows first.
+pub(super) fn plant_spreads_of_rows(
+    prepared: &Prepared,
+    plant: Plant,
+    wanted: &[bool],
+    stop: &'static StopFlag,
+) -> Result<(Vec<Image>, Vec<Option<Spread>>), Unfinished> {
+    let line = &prepared.line;
+    let mut seeded: Vec<Vec<Image>> = Vec::new();
+    for seed in chance::seeds(line.options.sampling.seed) {
+        let mut options = line.options.clone();
+        options.sampling.seed = seed;
+        let rows = render_rows_until(&options, &line.scene, plant, stop, wanted)
+            .ok_or(Unfinished::Stopped)?
+            .pictures;
+        seeded.push(prepared.in_line_order(&rows));
+    }
+    let spreads = traced_spreads(prepared, &seeded);
+    Ok((seeded.swap_remove(0), spreads))
+}
+
+/// For each of the line's images, the spread of its `seeded` renders where it is traced.
+fn traced_spreads(prepared: &Prepared, seeded: &[Vec<Image>]) -> Vec<Option<Spread>> {
+    (0..prepared.slots.len())
         .map(|image| {
             (prepared.slots[image] < prepared.traced)
-                .then(|| spread_of(&seeded, image))
+                .then(|| spread_of(seeded, image))
                 .flatten()
         })
-        .collect())
+        .collect()
 }
 
 /// The line's pictures under `variant` with its samples drawn from `seed`, in the line's order.

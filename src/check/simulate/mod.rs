@@ -26,7 +26,9 @@ use crate::render::StopFlag;
 use crate::scene::Scene;
 use crate::shade::Image;
 pub use allowed::accepted;
-use draws::{drawn_alike, plant_spreads, seeded_spreads, slots_of};
+use draws::{
+    drawn_alike, plant_spreads, plant_spreads_kept, plant_spreads_of_rows, seeded_spreads, slots_of,
+};
 pub use draws::{drawn_by_chance, spreads};
 pub use matches::FaultMatch;
 use matches::matches;
@@ -48,6 +50,9 @@ const NEARER_DRAW: f64 = 0.5;
 const PAIRED_RENDERS: usize = 4;
 /// A fit measures its renders on every this many rows of a picture.
 const FIT_ROWS: usize = 3;
+/// A render the screen leaves in doubt is screened again by every this many rows of a picture
+/// before it is made whole.
+const SPARSE_ROWS: usize = 8;
 
 /// What simulation says of one picture of a line.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -265,6 +270,27 @@ impl<'a> Renders<'a> {
             }
             _ => false,
         })
+    }
+
+    /// Whether `plant`'s render of every [`SPARSE_ROWS`]th row already matches none of the
+    /// failing pictures: a second screen, for a render the first leaves in doubt, before the
+    /// whole. A near miss (one of a pair's faults alone, a parameter a step off) differs from
+    /// the student's picture a little all over: too little in the first screen's few rows,
+    /// enough in a share of them all.
+    fn sparse_rows_rule_out(&self, plant: Plant) -> Result<bool, Unfinished> {
+        let line = &self.prepared.line;
+        let sparse = Screen::every(SPARSE_ROWS, line.options.height as usize, self.rule);
+        let rows = render_rows_until(
+            &line.options,
+            &line.scene,
+            plant,
+            self.stop,
+            sparse.wanted(),
+        )
+        .ok_or(Unfinished::Stopped)?
+        .pictures;
+        let rows = self.prepared.in_line_order(&rows);
+        Ok(sparse.rules_out(&self.in_order(&rows), &self.actuals(), &self.spread_refs()))
     }
 
     /// `plant`'s render of the screened rows (the others black), in the order of the line's
@@ -694,9 +720,36 @@ fn simulate_here(
             Some(screen) if !redrawn => renders.rows_for(plant, screen)?,
             _ => None,
         };
+        // Redrawn, by the rows: the plant's own spread made of them and their neighbours (a
+        // screen's rows of eight renders cost less than one whole render).
+        if let Some(screen) =
+            screen.filter(|_| redrawn && !plant_spreads_kept(&renders.kept, &prepared, plant))
+        {
+            let (own_rows, spreads) =
+                plant_spreads_of_rows(&prepared, plant, &screen.with_neighbours(), stop)?;
+            let spreads: Vec<Option<&Spread>> = failing
+                .iter()
+                .map(|&(image, _, _)| spreads.get(image).and_then(Option::as_ref))
+                .collect();
+            if screen.rules_out_spreads(&spreads, &renders.actuals()) {
+                for (picture, &(_, actual, _)) in
+                    renders.in_order(&own_rows).into_iter().zip(failing)
+                {
+                    tried.bad.push(1.0);
+                    tried.error.push(renders.difference(picture, actual));
+                }
+                return Ok(Look {
+                    tried,
+                    permuted: Vec::new(),
+                    rows: None,
+                });
+            }
+        }
         if let (Some(screen), Some(seen)) = (screen, &rows) {
             let rendered = renders.in_order(seen);
-            if screen.rules_out(&rendered, &renders.actuals(), &renders.spread_refs()) {
+            if screen.rules_out(&rendered, &renders.actuals(), &renders.spread_refs())
+                || renders.sparse_rows_rule_out(plant)?
+            {
                 for (picture, &(_, actual, _)) in rendered.into_iter().zip(failing) {
                     tried.bad.push(1.0);
                     tried.error.push(renders.difference(picture, actual));
@@ -848,7 +901,8 @@ fn simulate_here(
             let plant = Plant::one(candidate.planted);
             if redraws(plant) {
                 let parameters: Vec<_> = candidate.parameter.into_iter().collect();
-                singles[index] = look_drawn(plant, &[fault], &parameters, None, true)?;
+                singles[index] =
+                    look_drawn(plant, &[fault], &parameters, renders.screen.as_ref(), true)?;
             }
         }
         explained = explained_by(&singles);
