@@ -178,6 +178,12 @@ enum Form {
     UniformUpperCorners,
     /// The filter's weighted sum divided by the pixel's own number of samples.
     WeightsOverPixelSamples,
+    /// The filter weighs a sample by its distance from the pixel's lower-left corner, `(i, j)`,
+    /// not from its centre, `(i + 0.5, j + 0.5)`.
+    FilterFromCorner,
+    /// The same with the rows counted from the picture's top: the distance from the pixel's
+    /// upper-left corner.
+    FilterFromTopCorner,
     /// The texture's point taken through the inverse of its Transform.
     TextureMatrixInverted,
     /// Shadow rays toward point lights made with the unnormalised `light - point` and tested
@@ -377,6 +383,8 @@ impl Form {
             "one_bounce_more" => Form::OneBounceMore,
             "uniform_upper_corners" => Form::UniformUpperCorners,
             "weights_over_pixel_samples" => Form::WeightsOverPixelSamples,
+            "filter_from_corner" => Form::FilterFromCorner,
+            "filter_from_top_corner" => Form::FilterFromTopCorner,
             "texture_matrix_inverted" => Form::TextureMatrixInverted,
             "shadow_to_distance_squared" => Form::ShadowToDistanceSquared,
             "blue_green_red" => Form::BlueGreenRed,

@@ -80,6 +80,9 @@ impl SampleSeam for Form {
                     filter.weight(x, y)
                 }
             }
+            (Form::FilterFromCorner, _) => filter.weight(x + 0.5, y + 0.5),
+            // Rows counted down from the top: the pixel's corner above its centre.
+            (Form::FilterFromTopCorner, _) => filter.weight(x + 0.5, y - 0.5),
             _ => filter.weight(x, y),
         }
     }

@@ -241,3 +241,26 @@ fn filters_that_gather_the_wrong_pixels_samples_are_the_filter_neighbours() {
         2
     );
 }
+
+#[test]
+fn a_filter_centred_on_a_pixel_corner_is_the_filter_centre() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    // The filter's distance from the pixel's corner, not its centre: the picture shifted by
+    // half a pixel, and blurred to one side.
+    let low_res = ["output7_01c_low_res.tga", "output7_01f_low_res.tga"];
+    assert_eq!(
+        later_named("filter_from_corner", &low_res, "filter_centre", "form 0)"),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "filter_from_top_corner",
+            &low_res,
+            "filter_centre",
+            "form 1)"
+        ),
+        2
+    );
+}

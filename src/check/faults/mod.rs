@@ -198,6 +198,7 @@ pub static FAULTS: &[Fault] = &[
     samples::FILTER_WEIGHTS,
     samples::FILTER_SHAPE,
     samples::FILTER_NEIGHBOURS,
+    samples::FILTER_CENTRE,
     textures::CHECKER_TRUNCATION,
     textures::TEXTURE_TRANSFORM,
     textures::NOISE_CONSTANTS,
@@ -562,6 +563,12 @@ impl SampleSeam for Plant {
         self.samples()
             .find_map(|s| s.neighbours(reach))
             .unwrap_or((-reach, reach))
+    }
+
+    fn weight(&self, filter: Filter, x: f32, y: f32) -> f32 {
+        self.samples()
+            .find_map(|s| s.weight(filter, x, y))
+            .unwrap_or_else(|| filter.weight(x, y))
     }
 
     fn weighted_mean(&self, sum: Vec3A, total: f32, count: u32) -> Vec3A {

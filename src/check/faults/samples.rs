@@ -44,6 +44,10 @@ pub enum SampleFault {
     OwnPixelOnly,
     /// The filter gathering its neighbours by a loop that stops one short: from −r to r − 1.
     NeighboursShort,
+    /// The filter weighing each sample by its distance from a corner of the pixel, not from
+    /// its centre: (i, j) with j counted up, as the course's film counts it (form 0), or down,
+    /// from the picture's top (form 1).
+    FilterFromCorner(u8),
 }
 
 impl SampleFault {
@@ -89,6 +93,19 @@ impl SampleFault {
         match *self {
             SampleFault::OwnPixelOnly => Some((0, 0)),
             SampleFault::NeighboursShort => Some((-reach, reach - 1)),
+            _ => None,
+        }
+    }
+
+    /// The weight of a sample `(x, y)` from the pixel's centre, where this fault weighs it
+    /// otherwise.
+    pub(super) fn weight(&self, filter: Filter, x: f32, y: f32) -> Option<f32> {
+        match *self {
+            // The distance from (i, j): the centre's half pixel left out of the sample's offset.
+            SampleFault::FilterFromCorner(form) => {
+                let up = if form == 0 { 0.5 } else { -0.5 };
+                Some(filter.weight(x + 0.5, y + up))
+            }
             _ => None,
         }
     }
@@ -298,6 +315,24 @@ pub(super) const FILTER_NEIGHBOURS: Fault = Fault {
         Candidate::forms(
             [SampleFault::OwnPixelOnly, SampleFault::NeighboursShort].map(Planted::Sample),
         )
+    },
+};
+
+pub(super) const FILTER_CENTRE: Fault = Fault {
+    name: "filter_centre",
+    assignment: 7,
+    sentence: "My filter weighs each sample by its distance from a corner of the pixel, (i, j), \
+               not from its centre, (i + ½, j + ½): the corner below (form 0) or above (form 1, \
+               rows counted from the top).",
+    look_for: "Film::getColor(i, j): a sample at p within pixel (pi, pj) lies at (pi + p.x − (i + \
+               0.5), pj + p.y − (j + 0.5)) from the pixel's centre, and the filter weighs it at \
+               that offset; without the ½ the whole picture shifts by half a pixel and blurs to \
+               one side.",
+    candidates: |line: &LineScene| {
+        if line.options.sampling.is_plain() {
+            return Vec::new();
+        }
+        Candidate::forms([0, 1].map(|form| Planted::Sample(SampleFault::FilterFromCorner(form))))
     },
 };
 

@@ -4,6 +4,7 @@
 //! their family proposes; when no fault matches alone but the closest removes at least half of
 //! the differing pixels, it is tried in pairs.
 
+use rayon::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -878,12 +879,17 @@ fn simulate_here(
         account(&mut results, failing, &renders);
         return Ok(results);
     }
-    let mut singles: Vec<Look> = Vec::with_capacity(candidates.len());
-    for &(fault, candidate) in &candidates {
-        let parameters: Vec<_> = candidate.parameter.into_iter().collect();
-        let plant = Plant::one(candidate.planted);
-        singles.push(look(plant, &[fault], &parameters, renders.screen.as_ref())?);
-    }
+    // Side by side: a screen's render of a few rows leaves most of the machine's threads idle
+    // (three rows on two threads), so the candidates share the threads instead. Each look is
+    // its own render; their order in `singles` is the candidates'.
+    let mut singles: Vec<Look> = candidates
+        .par_iter()
+        .map(|&(fault, candidate)| {
+            let parameters: Vec<_> = candidate.parameter.into_iter().collect();
+            let plant = Plant::one(candidate.planted);
+            look(plant, &[fault], &parameters, renders.screen.as_ref())
+        })
+        .collect::<Result<_, _>>()?;
     let explained_by = |singles: &[Look]| -> Vec<bool> {
         (0..failing.len())
             .map(|k| {
