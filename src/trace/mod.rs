@@ -174,9 +174,12 @@ impl TraceSeam for Exact {}
 
 /// How light comes through the glass between a point and a light, in the handout's optional
 /// transparent shadows ("the attenuation depends on the distance traveled in the transparent
-/// object"; it gives no formula): an opaque object still blocks it.
+/// object"; it gives no formula), or as a student's mistake lets it: an opaque object still
+/// blocks it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ThroughGlass {
+    /// Whole, as if the glass were not there: check's fault `shadow_skips_glass`, no answer.
+    Whole,
     /// Times the transparent colour at each glass surface the shadow ray crosses.
     EachSurface,
     /// Times the transparent colour once for each glass object, where the ray enters it.
@@ -450,7 +453,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                     let inside = hit.t - entered.take().unwrap_or(0.0);
                     light *= transparent.powf(inside * shadow.direction.length());
                 }
-                ThroughGlass::EachObject => {}
+                ThroughGlass::EachObject | ThroughGlass::Whole => {}
             }
             from = hit.t + clearance(point, shadow.origin);
         }

@@ -185,6 +185,7 @@ pub static FAULTS: &[Fault] = &[
     rays::SHADOW_ACNE,
     rays::SHADOW_PAST_LIGHT,
     rays::SHADOW_REACH,
+    rays::SHADOW_SKIPS_GLASS,
     rays::REFLECTION_DIRECTION,
     rays::REFRACTION_INDEX,
     rays::TOTAL_INTERNAL_REFLECTION,

@@ -64,8 +64,8 @@ pub enum RayFault {
     },
     /// Shadow rays toward a point light stop at another t than the light's distance.
     ShadowReach(ShadowReach),
-    /// An allowed answer: glass lets light through to what it shadows, in this way (the
-    /// handout's optional transparent shadows).
+    /// Glass lets light through to what it shadows, in this way: an allowed answer (the
+    /// handout's optional transparent shadows), or, `Whole`, the fault `shadow_skips_glass`.
     ThroughGlass(crate::trace::ThroughGlass),
 }
 
@@ -344,6 +344,24 @@ pub(super) const SHADOW_PAST_LIGHT: Fault = Fault {
     candidates: |line: &LineScene| {
         if line.has_image() && line.options.trace.shadows && has_point_light(line) {
             only(RayFault::PastLight)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const SHADOW_SKIPS_GLASS: Fault = Fault {
+    name: "shadow_skips_glass",
+    assignment: 4,
+    sentence: "My shadow rays pass through glass as if it were not there, so glass casts no \
+               shadow.",
+    look_for: "The shadow test: every object between the point and the light blocks it, \
+               glass too (the course's shadows are opaque; the handout's optional transparent \
+               shadows let through the light times the glass's transparent colour, never all \
+               of it).",
+    candidates: |line: &LineScene| {
+        if line.has_image() && line.options.trace.shadows && has_material(line, true) {
+            only(RayFault::ThroughGlass(crate::trace::ThroughGlass::Whole))
         } else {
             Vec::new()
         }
