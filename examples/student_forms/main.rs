@@ -184,6 +184,10 @@ enum Form {
     /// The same with the rows counted from the picture's top: the distance from the pixel's
     /// upper-left corner.
     FilterFromTopCorner,
+    /// The Gaussian written `exp(-d² / σ²)`, the 2 left out, still cut at 2σ.
+    GaussianWithoutTwo,
+    /// The Gaussian written `exp(-d² / (2σ))`, σ not squared, still cut at 2σ.
+    GaussianSigmaUnsquared,
     /// The texture's point taken through the inverse of its Transform.
     TextureMatrixInverted,
     /// Shadow rays toward point lights made with the unnormalised `light - point` and tested
@@ -385,6 +389,8 @@ impl Form {
             "weights_over_pixel_samples" => Form::WeightsOverPixelSamples,
             "filter_from_corner" => Form::FilterFromCorner,
             "filter_from_top_corner" => Form::FilterFromTopCorner,
+            "gaussian_without_two" => Form::GaussianWithoutTwo,
+            "gaussian_sigma_unsquared" => Form::GaussianSigmaUnsquared,
             "texture_matrix_inverted" => Form::TextureMatrixInverted,
             "shadow_to_distance_squared" => Form::ShadowToDistanceSquared,
             "blue_green_red" => Form::BlueGreenRed,

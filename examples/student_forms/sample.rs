@@ -83,6 +83,18 @@ impl SampleSeam for Form {
             (Form::FilterFromCorner, _) => filter.weight(x + 0.5, y + 0.5),
             // Rows counted down from the top: the pixel's corner above its centre.
             (Form::FilterFromTopCorner, _) => filter.weight(x + 0.5, y - 0.5),
+            (Form::GaussianWithoutTwo | Form::GaussianSigmaUnsquared, Filter::Gaussian(s)) => {
+                let d2 = x * x + y * y;
+                let spread = match self {
+                    Form::GaussianWithoutTwo => s * s,
+                    _ => 2.0 * s,
+                };
+                if d2 < 4.0 * s * s {
+                    (-d2 / spread).exp()
+                } else {
+                    0.0
+                }
+            }
             _ => filter.weight(x, y),
         }
     }

@@ -36,6 +36,23 @@ pub enum Filter {
     TentSquare(f32),
     /// A mistake of check's library: the box of the points with |x| + |y| < r.
     BoxDiamond(f32),
+    /// A mistake of check's library: the Gaussian written without its 2, e^(−d²/σ²), still
+    /// cut at 2σ.
+    GaussianNarrow(f32),
+    /// A mistake of check's library: the Gaussian with σ not squared, e^(−d²/2σ), still cut at
+    /// 2σ.
+    GaussianSigmaUnsquared(f32),
+}
+
+/// e^(−d²/`divisor`) nearer than 2σ to the centre, 0 from there on.
+#[inline]
+fn cut_gaussian(sigma: f32, x: f32, y: f32, divisor: f32) -> f32 {
+    let d2 = x * x + y * y;
+    if d2 >= 4.0 * sigma * sigma {
+        0.0
+    } else {
+        (-d2 / divisor).exp()
+    }
 }
 
 impl Filter {
@@ -74,14 +91,9 @@ impl Filter {
                 }
             }
             Filter::GaussianUncut { sigma, .. } => (-(x * x + y * y) / (2.0 * sigma * sigma)).exp(),
-            Filter::Gaussian(sigma) => {
-                let d2 = x * x + y * y;
-                if d2 >= 4.0 * sigma * sigma {
-                    0.0
-                } else {
-                    (-d2 / (2.0 * sigma * sigma)).exp()
-                }
-            }
+            Filter::Gaussian(sigma) => cut_gaussian(sigma, x, y, 2.0 * sigma * sigma),
+            Filter::GaussianNarrow(sigma) => cut_gaussian(sigma, x, y, sigma * sigma),
+            Filter::GaussianSigmaUnsquared(sigma) => cut_gaussian(sigma, x, y, 2.0 * sigma),
         }
     }
 
@@ -98,7 +110,9 @@ impl Filter {
             | Filter::BoxRound(r) => r,
             // Its edge's samples weigh 1: the support takes the next pixel where one lies there.
             Filter::BoxClosed(r) => r + f32::EPSILON * r.max(1.0),
-            Filter::Gaussian(sigma) => 2.0 * sigma,
+            Filter::Gaussian(sigma)
+            | Filter::GaussianNarrow(sigma)
+            | Filter::GaussianSigmaUnsquared(sigma) => 2.0 * sigma,
             Filter::GaussianUncut { radius, .. } => radius as f32,
         }
     }

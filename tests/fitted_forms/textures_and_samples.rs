@@ -264,3 +264,30 @@ fn a_filter_centred_on_a_pixel_corner_is_the_filter_centre() {
         2
     );
 }
+
+#[test]
+fn a_gaussian_written_otherwise_is_the_filter_shape() {
+    if common::later_dir("the fitted forms of assignment 7").is_none() {
+        return;
+    }
+    // e^(-d²/σ²): the 2 left out, the cut at 2σ kept (not a filter reaching less far).
+    assert_eq!(
+        later_named(
+            "gaussian_without_two",
+            &["output7_01f_low_res.tga", "output7_02f.tga"],
+            "filter_shape",
+            "form 0)"
+        ),
+        2
+    );
+    // e^(-d²/2σ): σ not squared (where σ is 1 the two agree, so a line of another σ).
+    assert_eq!(
+        later_named(
+            "gaussian_sigma_unsquared",
+            &["output7_02f.tga"],
+            "filter_shape",
+            "form 1)"
+        ),
+        1
+    );
+}

@@ -131,6 +131,8 @@ impl SampleFault {
                 Filter::TentSquare(r) => Filter::TentSquare(r * by),
                 Filter::BoxDiamond(r) => Filter::BoxDiamond(r * by),
                 Filter::Gaussian(s) => Filter::Gaussian(s * by),
+                Filter::GaussianNarrow(s) => Filter::GaussianNarrow(s * by),
+                Filter::GaussianSigmaUnsquared(s) => Filter::GaussianSigmaUnsquared(s * by),
                 Filter::GaussianUncut { sigma, radius } => Filter::GaussianUncut {
                     sigma: sigma * by,
                     radius,
@@ -157,6 +159,8 @@ impl SampleFault {
                 (Filter::Tent(r), _) => Filter::TentSquare(r),
                 (Filter::Box(r), 0) => Filter::BoxRound(r),
                 (Filter::Box(r), _) => Filter::BoxDiamond(r),
+                (Filter::Gaussian(sigma), 0) => Filter::GaussianNarrow(sigma),
+                (Filter::Gaussian(sigma), _) => Filter::GaussianSigmaUnsquared(sigma),
                 (other, _) => other,
             },
             _ => filter,
@@ -255,13 +259,18 @@ pub(super) const FILTER_SHAPE: Fault = Fault {
     assignment: 7,
     sentence: "My filter has another shape: a tent made of two straight ones, (1 - |x|/r)(1 - \
                |y|/r) (form 0), or of another distance, |x| + |y| (1) or max(|x|, |y|) (2); a \
-               box round, taking the samples nearer than r (0), or of |x| + |y| < r (1).",
+               box round, taking the samples nearer than r (0), or of |x| + |y| < r (1); a \
+               Gaussian written e^(-d²/σ²), the 2 left out (0), or e^(-d²/2σ), σ not squared \
+               (1).",
     look_for: "The filter's weight of a sample at (x, y) from the pixel's centre: the tent is 1 \
                - d/r with d the distance sqrt(x² + y²); the box is 1 where both |x| and |y| are \
-               below r (a square), 0 elsewhere.",
+               below r (a square), 0 elsewhere; the Gaussian is e^(-d²/(2σ²)).",
     candidates: |line: &LineScene| {
         let sampling = &line.options.sampling;
-        let shaped = matches!(sampling.filter, Filter::Tent(_) | Filter::Box(_));
+        let shaped = matches!(
+            sampling.filter,
+            Filter::Tent(_) | Filter::Box(_) | Filter::Gaussian(_)
+        );
         if sampling.is_plain() || !shaped {
             return Vec::new();
         }
