@@ -232,3 +232,34 @@ fn a_suite_pins_a_question_to_one_answer() {
         "{said}"
     );
 }
+
+/// A tracer that answers two open questions otherwise at once (a scene of Noise and Marble,
+/// each clamped to [0, 1]: the student form `noise_unmapped`, not the library's code) passes,
+/// and the report names both answers.
+#[test]
+fn two_questions_answered_otherwise_together_pass_and_are_both_named() {
+    let Some(later) = common::later_dir("the open questions' suite") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let lines = &LINES[4..6];
+    let suite = suite(dir.path(), &later, lines);
+    let report = dir.path().join("report");
+    let renderer = format!("{} noise_unmapped", common::open_example("student_forms"));
+    let output = check(&suite, &renderer, &report);
+    let out = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(0), "{out}");
+    let both = "allowed: your Noise clamps its sum to [0, 1]; and your Marble clamps its sine to \
+                [0, 1]";
+    assert_eq!(out.matches(both).count(), 2, "{out}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(report.join("summary.json")).unwrap())
+            .unwrap();
+    for image in summary["images"].as_array().unwrap() {
+        assert_eq!(image["status"], "pass");
+        assert_eq!(image["accepted"]["answer"], "noise_clamped");
+        assert_eq!(image["accepted"]["also"]["answer"], "marble_clamped");
+        let read = Acceptance::from_json(&image["accepted"]).unwrap();
+        assert!(matches!(read, Acceptance::Answers(_)), "{read:?}");
+    }
+}

@@ -184,6 +184,8 @@ enum Form {
     /// The same with the rows counted from the picture's top: the distance from the pixel's
     /// upper-left corner.
     FilterFromTopCorner,
+    /// Noise's and Marble's values taken as the weight itself, not mapped by (1 + x) / 2.
+    NoiseUnmapped,
     /// The Gaussian written `exp(-d² / σ²)`, the 2 left out, still cut at 2σ.
     GaussianWithoutTwo,
     /// The Gaussian written `exp(-d² / (2σ))`, σ not squared, still cut at 2σ.
@@ -390,6 +392,7 @@ impl Form {
             "filter_from_corner" => Form::FilterFromCorner,
             "filter_from_top_corner" => Form::FilterFromTopCorner,
             "gaussian_without_two" => Form::GaussianWithoutTwo,
+            "noise_unmapped" => Form::NoiseUnmapped,
             "gaussian_sigma_unsquared" => Form::GaussianSigmaUnsquared,
             "texture_matrix_inverted" => Form::TextureMatrixInverted,
             "shadow_to_distance_squared" => Form::ShadowToDistanceSquared,

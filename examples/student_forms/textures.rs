@@ -73,6 +73,22 @@ fn with_noise(texture: &Texture, point: Vec3A, noise: impl Fn(DVec3, u32) -> f64
     weight.clamp(0.0, 1.0) as f32
 }
 
+/// Where `point` falls between a texture's materials, its noise and marble sine taken as the
+/// weight itself, not mapped from [-1, 1] onto [0, 1] by (1 + x) / 2 (clamped as a weight is).
+pub(crate) fn noise_unmapped(texture: &Texture, point: Vec3A) -> f32 {
+    let p = texture.to_texture.transform_point3(point.as_dvec3());
+    let weight = match texture.pattern {
+        Pattern::Noise { octaves } => octave_noise(p.x, p.y, p.z, octaves),
+        Pattern::Marble {
+            octaves,
+            frequency,
+            amplitude,
+        } => (frequency * p.x + amplitude * octave_noise(p.x, p.y, p.z, octaves)).sin(),
+        _ => return texture.weight(point),
+    };
+    weight.clamp(0.0, 1.0) as f32
+}
+
 /// A checkerboard whose cell along each axis is `cell(x)` (1 or 0), their parities added.
 pub(crate) fn checker(texture: &Texture, point: Vec3A, cell: impl Fn(f64) -> f64) -> f32 {
     let Pattern::Checkerboard = texture.pattern else {

@@ -18,7 +18,7 @@ use raycast::trace::{BackFace, LightPlace, TraceSeam};
 
 use crate::Form;
 use crate::textures::{
-    checker, marble_in_turns, noise_from_second_octave, noise_octaves_unweighed,
+    checker, marble_in_turns, noise_from_second_octave, noise_octaves_unweighed, noise_unmapped,
 };
 
 impl TraceSeam for Form {
@@ -74,6 +74,7 @@ impl TraceSeam for Form {
             Form::MarbleInTurns => surface.weigh(point, marble_in_turns),
             Form::NoiseFromSecondOctave => surface.weigh(point, noise_from_second_octave),
             Form::NoiseOctavesUnweighed => surface.weigh(point, noise_octaves_unweighed),
+            Form::NoiseUnmapped => surface.weigh(point, noise_unmapped),
             Form::TextureMatrixInverted => {
                 surface.weigh(point, |texture, point| {
                     let inverse = texture.to_texture.inverse();

@@ -399,6 +399,9 @@ pub static CHOICES: &[Choice] = &[
 pub enum Acceptance {
     /// It matches the render of another allowed answer to this question.
     Answer(&'static Choice, &'static Answer),
+    /// It matches the render of other allowed answers to two questions at once (a scene with
+    /// Noise and Marble, each mapped otherwise).
+    Answers([(&'static Choice, &'static Answer); 2]),
     /// It depends on a question the course leaves free: shown, not graded, for this reason.
     Informational(&'static str),
 }
@@ -408,6 +411,10 @@ impl PartialEq for Acceptance {
     fn eq(&self, other: &Acceptance) -> bool {
         match (self, other) {
             (Acceptance::Answer(_, a), Acceptance::Answer(_, b)) => a.name == b.name,
+            (Acceptance::Answers(a), Acceptance::Answers(b)) => a
+                .iter()
+                .map(|(_, x)| x.name)
+                .eq(b.iter().map(|(_, x)| x.name)),
             (Acceptance::Informational(a), Acceptance::Informational(b)) => a == b,
             _ => false,
         }
@@ -422,6 +429,16 @@ impl Acceptance {
                 "Your picture matches another answer the course allows: {} (\"{}\" raycast \
                  answers {}). Accepted.",
                 answer.said, choice.question, choice.raycast
+            ),
+            Acceptance::Answers([(first_choice, first), (second_choice, second)]) => format!(
+                "Your picture matches other answers the course allows, taken together: {} \
+                 (\"{}\" raycast answers {}); and {} (\"{}\" raycast answers {}). Accepted.",
+                first.said,
+                first_choice.question,
+                first_choice.raycast,
+                second.said,
+                second_choice.question,
+                second_choice.raycast
             ),
             Acceptance::Informational(why) => {
                 let mut why = why.to_string();
@@ -439,6 +456,11 @@ impl Acceptance {
             Acceptance::Answer(choice, answer) => serde_json::json!({
                 "choice": choice.name, "answer": answer.name, "said": answer.said,
             }),
+            // The first answer where one is read; the second beside it.
+            Acceptance::Answers([(choice, answer), (also_choice, also)]) => serde_json::json!({
+                "choice": choice.name, "answer": answer.name, "said": answer.said,
+                "also": { "choice": also_choice.name, "answer": also.name, "said": also.said },
+            }),
             Acceptance::Informational(why) => serde_json::json!({ "informational": why }),
         }
     }
@@ -446,8 +468,11 @@ impl Acceptance {
     /// Back from summary.json (a shard's), where it names a question and answer still known.
     pub fn from_json(value: &serde_json::Value) -> Option<Acceptance> {
         if let Some(name) = value["answer"].as_str() {
-            let (choice, answer) = answer(name)?;
-            return Some(Acceptance::Answer(choice, answer));
+            let first = answer(name)?;
+            return Some(match value["also"]["answer"].as_str() {
+                Some(also) => Acceptance::Answers([first, answer(also)?]),
+                None => Acceptance::Answer(first.0, first.1),
+            });
         }
         let why = value["informational"].as_str()?;
         CHOICES.iter().find_map(|choice| match choice.accepted {

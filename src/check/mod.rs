@@ -1041,6 +1041,12 @@ pub fn verdict(graded: &Graded) -> String {
         (Status::Pass, Some(choices::Acceptance::Answer(_, answer))) => {
             format!("pass   {}{off}: allowed: {}", graded.name, answer.said)
         }
+        (Status::Pass, Some(choices::Acceptance::Answers([(_, first), (_, second)]))) => {
+            format!(
+                "pass   {}{off}: allowed: {}; and {}",
+                graded.name, first.said, second.said
+            )
+        }
         (Status::Pass, Some(choices::Acceptance::Informational(_))) => {
             format!("info   {}{off}: {}", graded.name, graded.explanation)
         }

@@ -387,9 +387,20 @@ impl TraceSeam for Plant {
     }
 
     fn weigh(&self, surface: &mut Surface<'_>, point: Vec3A) {
-        match self.textures().next() {
-            Some(fault) => surface.weigh(point, |t, p| fault.weight(t, p)),
-            None => surface.weigh(point, Texture::weight),
+        let mut textures = self.textures();
+        match (textures.next(), textures.next()) {
+            (Some(fault), None) => surface.weigh(point, |t, p| fault.weight(t, p)),
+            // Two (a scene of Noise and Marble, each weighed otherwise): each texture as the
+            // first weighs it where that changes its weight, else as the second does.
+            (Some(first), Some(second)) => surface.weigh(point, |t, p| {
+                let weight = first.weight(t, p);
+                if weight == t.weight(p) {
+                    second.weight(t, p)
+                } else {
+                    weight
+                }
+            }),
+            _ => surface.weigh(point, Texture::weight),
         }
     }
 

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use super::{Renders, Unfinished, on_every_core, prepare, remembered};
 use crate::check::cache;
-use crate::check::choices::{self, Acceptance};
-use crate::check::faults::Plant;
+use crate::check::choices::{self, Acceptance, Answer, Choice};
+use crate::check::faults::{Plant, Planted};
 use crate::check::rule::Rule;
 use crate::check::suite::{Line, Pin};
 use crate::render::StopFlag;
@@ -69,11 +69,13 @@ fn accepted_here(
     // A question the suite pins accepts its pinned answer alone, which is the reference.
     let open = choices::answers()
         .filter(|(choice, _)| !pinned.iter().any(|pin| pin.choice.name == choice.name));
+    let mut tried = Vec::new();
     for (choice, answer) in open {
         if accepted.iter().all(Option::is_some) {
             break;
         }
         for candidate in (answer.candidates)(&prepared.line) {
+            tried.push((choice, answer, candidate.planted));
             let plant = Plant::one(candidate.planted);
             if renders.ruled_out(plant)? {
                 continue;
@@ -83,6 +85,42 @@ fn accepted_here(
                 let matches = renders.passes(k, rendered.get(image), actual);
                 if accepted[k].is_none() && matches {
                     accepted[k] = Some(Acceptance::Answer(choice, answer));
+                }
+            }
+        }
+    }
+    // Two questions answered otherwise at once (a scene of Noise and Marble, each clamped):
+    // the answers that change the line, two of different questions together, for the pictures
+    // no one answer draws.
+    let questions = |answers: &[(&Choice, &Answer, Planted)]| {
+        answers.iter().any(|(c, _, _)| c.name != answers[0].0.name)
+    };
+    if accepted.iter().any(Option::is_none) && !tried.is_empty() && questions(&tried) {
+        // Those whose render (every few rows of it) lies nearer a failing picture than its
+        // reference does: each explains a part of it.
+        let mut nearer = Vec::new();
+        for &(choice, answer, planted) in &tried {
+            if renders.nearer_than_references(Plant::one(planted), pictures)? {
+                nearer.push((choice, answer, planted));
+            }
+        }
+        for (i, &(first_choice, first, first_planted)) in nearer.iter().enumerate() {
+            for &(second_choice, second, second_planted) in &nearer[i + 1..] {
+                if first_choice.name == second_choice.name || accepted.iter().all(Option::is_some) {
+                    continue;
+                }
+                let plant = Plant::two(first_planted, second_planted);
+                if renders.ruled_out(plant)? {
+                    continue;
+                }
+                let rendered = renders.whole(plant)?;
+                for (k, &(image, _, actual, _)) in failing.iter().enumerate() {
+                    if accepted[k].is_none() && renders.passes(k, rendered.get(image), actual) {
+                        accepted[k] = Some(Acceptance::Answers([
+                            (first_choice, first),
+                            (second_choice, second),
+                        ]));
+                    }
                 }
             }
         }

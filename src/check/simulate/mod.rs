@@ -261,6 +261,34 @@ impl<'a> Renders<'a> {
         Screen::of(&failing, self.rule)
     }
 
+    /// Whether `plant`'s render of every [`SPARSE_ROWS`]th row lies nearer one of the `failing`
+    /// pictures than that picture's reference does, in those rows: the plant explains a part
+    /// of it.
+    fn nearer_than_references(
+        &self,
+        plant: Plant,
+        failing: &[(usize, &Image, Option<&Image>)],
+    ) -> Result<bool, Unfinished> {
+        let line = &self.prepared.line;
+        let sparse = Screen::every(SPARSE_ROWS, line.options.height as usize, self.rule);
+        let rows = render_rows_until(
+            &line.options,
+            &line.scene,
+            plant,
+            self.stop,
+            sparse.wanted(),
+        )
+        .ok_or(Unfinished::Stopped)?
+        .pictures;
+        let rows = self.prepared.in_line_order(&rows);
+        Ok(failing.iter().any(|&(image, actual, reference)| {
+            let off = |picture: Option<&Image>| {
+                picture.map_or(f64::INFINITY, |p| sparse.mean_difference(p, actual))
+            };
+            off(rows.get(image)) < off(reference)
+        }))
+    }
+
     /// Whether `plant`'s render of the screened rows already matches none of the failing
     /// pictures. Never where the line is not screened, or the whole render is kept (it costs
     /// less to read than the rows to render).

@@ -91,6 +91,9 @@ pub(super) fn accepted_text(accepted: &[Option<Acceptance>]) -> String {
         .map(|acceptance| match acceptance {
             None => Value::Null,
             Some(Acceptance::Answer(_, answer)) => json!({ "answer": answer.name }),
+            Some(Acceptance::Answers([(_, answer), (_, also)])) => {
+                json!({ "answer": answer.name, "also": also.name })
+            }
             Some(Acceptance::Informational(why)) => json!({ "informational": why }),
         })
         .collect();
@@ -107,7 +110,12 @@ pub(super) fn accepted_from(text: &str, pictures: usize) -> Option<Vec<Option<Ac
             }
             if let Some(name) = acceptance["answer"].as_str() {
                 let (choice, answer) = choices::answer_named(name)?;
-                return Some(Some(Acceptance::Answer(choice, answer)));
+                return Some(Some(match acceptance["also"].as_str() {
+                    Some(also) => {
+                        Acceptance::Answers([(choice, answer), choices::answer_named(also)?])
+                    }
+                    None => Acceptance::Answer(choice, answer),
+                }));
             }
             let why = choices::reason_named(acceptance["informational"].as_str()?)?;
             Some(Some(Acceptance::Informational(why)))
@@ -180,14 +188,18 @@ mod tests {
                 _ => None,
             })
             .unwrap();
+        let other = choices::answers()
+            .find(|(c, _)| c.name != choice.name)
+            .unwrap();
         let accepted = vec![
             None,
             Some(Acceptance::Answer(choice, answer)),
             Some(Acceptance::Informational(why)),
+            Some(Acceptance::Answers([(choice, answer), other])),
         ];
         let text = accepted_text(&accepted);
-        assert_eq!(accepted_from(&text, 3), Some(accepted));
+        assert_eq!(accepted_from(&text, 4), Some(accepted));
         let unknown = text.replace(answer.name, "no_such_answer");
-        assert_eq!(accepted_from(&unknown, 3), None);
+        assert_eq!(accepted_from(&unknown, 4), None);
     }
 }
