@@ -269,18 +269,8 @@ impl<'a> Renders<'a> {
         plant: Plant,
         failing: &[(usize, &Image, Option<&Image>)],
     ) -> Result<bool, Unfinished> {
-        let line = &self.prepared.line;
-        let sparse = Screen::every(SPARSE_ROWS, line.options.height as usize, self.rule);
-        let rows = render_rows_until(
-            &line.options,
-            &line.scene,
-            plant,
-            self.stop,
-            sparse.wanted(),
-        )
-        .ok_or(Unfinished::Stopped)?
-        .pictures;
-        let rows = self.prepared.in_line_order(&rows);
+        let sparse = self.sparse_screen();
+        let rows = self.render_rows(plant, sparse.wanted())?;
         Ok(failing.iter().any(|&(image, actual, reference)| {
             let off = |picture: Option<&Image>| {
                 picture.map_or(f64::INFINITY, |p| sparse.mean_difference(p, actual))
@@ -307,18 +297,8 @@ impl<'a> Renders<'a> {
     /// the student's picture a little all over: too little in the first screen's few rows,
     /// enough in a share of them all.
     fn sparse_rows_rule_out(&self, plant: Plant) -> Result<bool, Unfinished> {
-        let line = &self.prepared.line;
-        let sparse = Screen::every(SPARSE_ROWS, line.options.height as usize, self.rule);
-        let rows = render_rows_until(
-            &line.options,
-            &line.scene,
-            plant,
-            self.stop,
-            sparse.wanted(),
-        )
-        .ok_or(Unfinished::Stopped)?
-        .pictures;
-        let rows = self.prepared.in_line_order(&rows);
+        let sparse = self.sparse_screen();
+        let rows = self.render_rows(plant, sparse.wanted())?;
         Ok(sparse.rules_out(&self.in_order(&rows), &self.actuals(), &self.spread_refs()))
     }
 
@@ -336,17 +316,24 @@ impl<'a> Renders<'a> {
         if self.kept.has_fault(&format!("{plant:?}")) {
             return Ok(None);
         }
+        self.render_rows(plant, screen.wanted()).map(Some)
+    }
+
+    /// `plant`'s render of the rows `wanted` marks (the others black), in the order of the
+    /// line's images; never kept.
+    fn render_rows(&self, plant: Plant, wanted: &[bool]) -> Result<Vec<Image>, Unfinished> {
         let line = &self.prepared.line;
-        let rows = render_rows_until(
-            &line.options,
-            &line.scene,
-            plant,
-            self.stop,
-            screen.wanted(),
-        )
-        .ok_or(Unfinished::Stopped)?
-        .pictures;
-        Ok(Some(self.prepared.in_line_order(&rows)))
+        let rows = render_rows_until(&line.options, &line.scene, plant, self.stop, wanted)
+            .ok_or(Unfinished::Stopped)?
+            .pictures;
+        Ok(self.prepared.in_line_order(&rows))
+    }
+
+    /// Every [`SPARSE_ROWS`]th row of the line's pictures: the second screen's, and where an
+    /// allowed answer is seen to lie nearer a picture.
+    fn sparse_screen(&self) -> Screen {
+        let height = self.prepared.line.options.height as usize;
+        Screen::every(SPARSE_ROWS, height, self.rule)
     }
 
     /// Of pictures in the order of the line's images, those of the failing pictures.
