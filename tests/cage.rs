@@ -1224,3 +1224,31 @@ fn a_lines_memory_and_process_count_are_its_own() {
     let (out, _) = w.check(&kids, &["--jobs", "2"], "kids.sh");
     assert_graded(&out, "2 passed, 0 failed");
 }
+
+/// A renderer kept in the machine's shared memory (a class copied there with
+/// `TMPDIR=/dev/shm`) is bound into its own root like one kept anywhere else: /dev is made
+/// anew there, not bound whole.
+#[test]
+fn a_renderer_kept_in_shared_memory_runs_from_there() {
+    let Some(w) = world() else { return };
+    let Ok(folder) = tempfile::tempdir_in("/dev/shm") else {
+        return;
+    };
+    std::fs::set_permissions(folder.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+    std::fs::write(folder.path().join("table.txt"), "beside the program\n").unwrap();
+    let tracer = folder.path().join("raytracer");
+    std::fs::write(
+        &tracer,
+        format!(
+            "#!/usr/bin/env bash\necho \"$(cat \"$(dirname \"$0\")/table.txt\")\" >&2\nexec {} \"$@\"\n",
+            common::open_raycast()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&tracer, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let (out, code) = w.check(tracer.to_str().unwrap(), &[], "no-token-shared-memory");
+    assert_eq!(code, Some(0), "{out}");
+    let summary: serde_json::Value = common::summary_of(&w.report);
+    let stderr = summary["images"][0]["stderr"].as_str().unwrap();
+    assert!(stderr.contains("beside the program"), "{stderr}");
+}

@@ -584,7 +584,7 @@ pub fn grade_renderer(
             ));
         }
     };
-    let scratch = Scratch::new()?;
+    let scratch = Scratch::for_lines()?;
     if user.is_some() {
         // Passed through by the renderer's user to its own line's folders, never listed.
         modes::set_mode(scratch.path(), 0o711)
@@ -610,11 +610,21 @@ pub fn grade_renderer(
             g.reference = None;
         }),
     };
-    let grade_one = |number: usize| {
+    let folder = |number: usize| scratch.path().join(format!("line{number}"));
+    let grade_one = |number: usize, ran: (Ran, PathBuf)| {
         let (line, references) = (&suite.lines[number], &prepared.references[number]);
-        let folder = scratch.path().join(format!("line{number}"));
-        let (mut graded, confinement) =
-            grade_line(options, &caged, suite, line, references.clone(), &folder);
+        let (mut graded, confinement) = grade_ran(
+            options,
+            &caged,
+            suite,
+            line,
+            references.clone(),
+            &folder(number),
+            ran,
+        );
+        // Graded from memory from here on. Where it cannot be removed now, the scratch's
+        // removal at the end tries again and says so.
+        let _ = scratch::remove_inside(&folder(number));
         // A line with nothing to diagnose is done.
         if !graded.iter().any(|g| g.status == Status::Fail) {
             keep_pictures(&mut graded);
@@ -622,7 +632,49 @@ pub fn grade_renderer(
         progress.graded();
         (std::sync::Mutex::new(graded), confinement)
     };
-    let graded = in_suite_order(&prepared.pool, suite.lines.len(), grade_one);
+    // A line's pictures are graded on a thread of their own while the next lines run: the
+    // renderers keep the jobs' threads, and check's own work fills the time they leave. A line
+    // drawn by chance may need raycast's renders of the line to be graded: it is graded where
+    // it ran, before the next line starts, so that those renders never share the machine with
+    // a renderer being timed.
+    let graded = std::thread::scope(|scope| {
+        let (ran_lines, to_grade) = std::sync::mpsc::channel::<(usize, (Ran, PathBuf))>();
+        let grader = scope.spawn(move || {
+            to_grade
+                .into_iter()
+                .map(|(number, ran)| (number, grade_one(number, ran)))
+                .collect::<Vec<_>>()
+        });
+        let mut graded = in_suite_order(&prepared.pool, suite.lines.len(), |number| {
+            let ran = run_line(
+                options,
+                &caged,
+                suite,
+                &suite.lines[number],
+                &folder(number),
+            );
+            let by_chance = prepared.references[number].iter().any(|r| r.2.is_some());
+            if by_chance {
+                return Some(grade_one(number, ran));
+            }
+            // The grader lives as long as this scope's lines, unless it panicked, which its
+            // join says.
+            let _ = ran_lines.send((number, ran));
+            None
+        });
+        drop(ran_lines);
+        let in_the_grader = grader
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        for (number, line) in in_the_grader {
+            graded[number] = Some(line);
+        }
+        graded
+    });
+    let graded: Vec<_> = graded
+        .into_iter()
+        .map(|line| line.expect("each line is graded where it ran or by the grader"))
+        .collect();
     let lines: Vec<Vec<Graded>> = graded
         .iter()
         .map(|(g, _)| std::mem::take(&mut *g.lock().unwrap_or_else(|e| e.into_inner())))
@@ -876,16 +928,14 @@ pub(crate) fn hidden_from_renderers(options: &CheckOptions) -> Vec<PathBuf> {
         .collect()
 }
 
-/// Runs one line in its cage and grades its images, each against its reference (read before
-/// any renderer ran); with the cage the line's supervisor found.
-fn grade_line(
+/// Runs one line in its cage, in `folder`: how it ran, and the folder its pictures are in.
+fn run_line(
     options: &CheckOptions,
     caged: &Caged,
     suite: &Suite,
     line: &Line,
-    references: References,
     folder: &Path,
-) -> (Vec<Graded>, Option<Confinement>) {
+) -> (Ran, PathBuf) {
     let ran_only = |ending: Ending| Ran {
         ending,
         stderr: String::new(),
@@ -896,7 +946,7 @@ fn grade_line(
     let left = caged
         .budget
         .map(|(start, budget)| budget.saturating_sub(start.elapsed()));
-    let (ran, out) = if caged.stop.is_set() {
+    if caged.stop.is_set() {
         (ran_only(Ending::stopped(caged.stop)), folder.join("out"))
     } else if let (Some(left), Some((_, budget))) = (left, caged.budget)
         && left.is_zero()
@@ -938,7 +988,21 @@ fn grade_line(
                 (ran, out)
             }
         }
-    };
+    }
+}
+
+/// A line's pictures graded, each against its reference (read before any renderer ran), from
+/// how its renderer ran and the folder its pictures are in; with the cage the line's
+/// supervisor found.
+fn grade_ran(
+    options: &CheckOptions,
+    caged: &Caged,
+    suite: &Suite,
+    line: &Line,
+    references: References,
+    folder: &Path,
+    (ran, out): (Ran, PathBuf),
+) -> (Vec<Graded>, Option<Confinement>) {
     let ran = Ran {
         stderr: without_scratch(&ran.stderr, folder),
         ..ran

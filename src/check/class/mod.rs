@@ -257,6 +257,10 @@ pub fn grade_student(
         None => grade_renderer(prepared, options, &renderer, staging, progress, stop)?,
     };
     checked.build = built.as_ref().map(Built::json);
+    // A class of hundreds keeps one submission's copy at a time. Where it cannot be removed
+    // now, the class's scratch is removed at the end, and says so.
+    drop(build_root);
+    let _ = super::scratch::remove_inside(&copy);
     if let Some(Err(left)) = varied.map(VariedSuite::remove) {
         checked.left_behind(left);
     }

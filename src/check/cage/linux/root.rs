@@ -99,7 +99,16 @@ pub fn enter(request: &Request, fresh_proc: bool) -> Result<Root, String> {
     let mut bound: Vec<&Path> = Vec::new();
     for path in readable {
         let there = |outer: &&Path| path.starts_with(outer);
-        if confine::SYSTEM.iter().map(Path::new).any(|s| there(&s)) || bound.iter().any(there) {
+        // /proc and /dev are made anew, not bound: a path in them (a submission copied to
+        // /dev/shm) is bound as any other.
+        let bound_whole = |s: &&&str| !matches!(**s, "/proc" | "/dev");
+        if confine::SYSTEM
+            .iter()
+            .filter(bound_whole)
+            .map(Path::new)
+            .any(|s| there(&s))
+            || bound.iter().any(there)
+        {
             continue;
         }
         bind_read_only(path, &inside(path))?;
