@@ -245,6 +245,10 @@ enum Form {
     /// The grid walked with a mailbox: each object tested once per ray, its hit kept only if
     /// it lies within the cell that tested it.
     GridMailbox,
+    /// Grid: an object under a Transform entered by its box's two corners carried and sorted.
+    GridBoxOfTwoCorners,
+    /// Grid: an object under a Transform entered by its own space's box.
+    GridBoxInItsOwnSpace,
     /// A grid walk that tests only what its cells list: the planes, which have no box, are
     /// never tested.
     GridWithoutPlanes,
@@ -430,6 +434,8 @@ impl Form {
             "noise_octaves_unweighed" => Form::NoiseOctavesUnweighed,
             "grid_trusts_first_hit" => Form::GridTrustsFirstHit,
             "grid_mailbox" => Form::GridMailbox,
+            "grid_box_of_two_corners" => Form::GridBoxOfTwoCorners,
+            "grid_box_in_its_own_space" => Form::GridBoxInItsOwnSpace,
             "grid_without_planes" => Form::GridWithoutPlanes,
             "plane_plus_offset" => Form::PlanePlusOffset,
             "light_colour_left_out" => Form::LightColourLeftOut,

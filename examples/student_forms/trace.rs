@@ -5,16 +5,18 @@ use std::ops::ControlFlow;
 
 use raycast::Scene;
 use raycast::Vec3A;
-use raycast::accel::grid::Primitive;
+use raycast::accel::Grid;
+use raycast::accel::grid::{Extent, Primitive};
 use raycast::accel::{Hit, Struck};
 use raycast::camera::Camera;
+use raycast::geometry::Aabb;
 use raycast::geometry::Ray;
 use raycast::glam::{Mat4, Vec3};
 use raycast::parse::description::Projection;
 use raycast::scene::{
     Highlight, HighlightAt, Illumination, Light, SpecularFalloff, Surface, Texture,
 };
-use raycast::trace::{BackFace, LightPlace, TraceSeam};
+use raycast::trace::{BackFace, LightPlace, ThroughGlass, TraceSeam};
 
 use crate::Form;
 use crate::textures::{
@@ -27,6 +29,14 @@ impl TraceSeam for Form {
             (Form::HitsBehindTheEye, Projection::Perspective { .. }) => f32::NEG_INFINITY,
             (Form::OrthographicFromZero, Projection::Orthographic { .. }) => 0.0,
             _ => camera.t_min(),
+        }
+    }
+
+    fn shadow_through_glass(&self) -> Option<ThroughGlass> {
+        // The student's shadow rays ask their own grid, as their camera rays do.
+        match self {
+            Form::GridBoxOfTwoCorners | Form::GridBoxInItsOwnSpace => Some(ThroughGlass::Opaque),
+            _ => None,
         }
     }
 
@@ -312,6 +322,10 @@ impl TraceSeam for Form {
                         moller_trumbore(local, corners, edge, determinant)
                     });
             }
+            Form::GridBoxOfTwoCorners | Form::GridBoxInItsOwnSpace => {
+                let own_space = matches!(self, Form::GridBoxInItsOwnSpace);
+                return walk_own_grid(scene, ray, t_min, own_space).unwrap_or(Some(hit));
+            }
             Form::GridTrustsFirstHit | Form::GridMailbox => {
                 return walk_grid(scene, ray, t_min, matches!(self, Form::GridMailbox))
                     .unwrap_or(Some(hit));
@@ -526,6 +540,67 @@ fn walk_grid(scene: &Scene, ray: &Ray, t_min: f32, mailbox: bool) -> Option<Opti
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
+        }
+    });
+    Some(match nearest {
+        Some((t, p)) if t < beyond => Some(scene.world.primitive_hit(ray, t, &p)),
+        _ => plane,
+    })
+}
+
+/// The student's own grid, of the course's cells, built once: an object under a Transform is
+/// entered by its box's lowest and highest corners carried by the matrix and sorted per axis
+/// (`own_space` false), or by the box its own space gives it (`own_space`).
+fn own_grid(scene: &Scene, own_space: bool) -> Option<&'static Grid> {
+    static GRID: std::sync::OnceLock<Option<Grid>> = std::sync::OnceLock::new();
+    GRID.get_or_init(|| {
+        let cells = scene.world.grid()?.cells();
+        let entered: Vec<(Primitive, Extent)> = scene
+            .world
+            .grid_primitives()
+            .map(|(primitive, own_box, transform)| {
+                let entered = match transform {
+                    Some(t) if !own_space => {
+                        let low = t.object_to_world.transform_point3a(own_box.min);
+                        let high = t.object_to_world.transform_point3a(own_box.max);
+                        Aabb {
+                            min: low.min(high),
+                            max: low.max(high),
+                        }
+                    }
+                    _ => own_box,
+                };
+                (primitive, Extent::Box(entered))
+            })
+            .collect();
+        let scene_box = entered.iter().fold(Aabb::EMPTY, |around, (_, extent)| {
+            let Extent::Box(b) = extent else {
+                return around;
+            };
+            around.union(*b)
+        });
+        Grid::build(scene_box, cells, &entered).ok()
+    })
+    .as_ref()
+}
+
+/// The nearest hit through [`own_grid`], walked as the course walks: a hit counts once the
+/// walk reaches the cell it lies in. `None` without a grid.
+fn walk_own_grid(scene: &Scene, ray: &Ray, t_min: f32, own_space: bool) -> Option<Option<Hit>> {
+    let grid = own_grid(scene, own_space)?;
+    let plane = scene.world.plane_hit(ray, t_min);
+    let beyond = plane.map_or(f32::INFINITY, |h| h.t);
+    let mut nearest: Option<(f32, Primitive)> = None;
+    grid.walk(ray, t_min, beyond, |cell| {
+        for p in cell.primitives {
+            let reach = nearest.map_or(beyond, |(t, _)| t);
+            if let Some(t) = scene.world.primitive_t(p, ray, t_min, reach) {
+                nearest = Some((t, *p));
+            }
+        }
+        match nearest {
+            Some((t, _)) if t <= cell.t_exit => ControlFlow::Break(()),
+            _ => ControlFlow::Continue(()),
         }
     });
     Some(match nearest {

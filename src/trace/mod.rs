@@ -178,6 +178,9 @@ impl TraceSeam for Exact {}
 /// blocks it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ThroughGlass {
+    /// Not at all, as the course's shadows, but found by the tracer's own search for the
+    /// nearest hit (its seam): check's faults of that search reach the shadow rays too.
+    Opaque,
     /// Whole, as if the glass were not there: check's fault `shadow_skips_glass`, no answer.
     Whole,
     /// Times the transparent colour at each glass surface the shadow ray crosses.
@@ -436,6 +439,9 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             let Some(hit) = self.intersect(shadow, from, scratch).filter(|h| h.t < far) else {
                 return light;
             };
+            if through == ThroughGlass::Opaque {
+                return Vec3A::ZERO;
+            }
             let point = shadow.at(hit.t);
             let mut surface = Surface::unweighed(&self.scene.materials, hit.material);
             self.variant.weigh(&mut surface, point);
@@ -453,7 +459,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                     let inside = hit.t - entered.take().unwrap_or(0.0);
                     light *= transparent.powf(inside * shadow.direction.length());
                 }
-                ThroughGlass::EachObject | ThroughGlass::Whole => {}
+                ThroughGlass::EachObject | ThroughGlass::Whole | ThroughGlass::Opaque => {}
             }
             from = hit.t + clearance(point, shadow.origin);
         }

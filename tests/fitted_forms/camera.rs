@@ -380,6 +380,35 @@ fn grid_walks_written_their_own_way_that_trust_a_hit_beyond_its_cell_are_the_gri
 }
 
 #[test]
+fn grids_of_their_own_that_list_a_transformed_object_by_a_wrong_box_are_the_grid_transformed_box() {
+    if common::later_dir("the fitted forms of assignment 5").is_none() {
+        return;
+    }
+    // The student's own grid, built and walked by their own code: the box's two corners
+    // carried and sorted per axis cut away what a turned object reaches past them.
+    assert_eq!(
+        later_named(
+            "grid_box_of_two_corners",
+            &["output6_10b.tga"],
+            "grid_transformed_box",
+            "form 1)"
+        ),
+        1
+    );
+    // The box of the object's own space, the Transform left out: scaled and moved objects
+    // lose what lies outside it, in the shadows their grid casts too.
+    assert_eq!(
+        later_named(
+            "grid_box_in_its_own_space",
+            &["output6_08b.tga", "output6_11b.tga", "output6_14.tga"],
+            "grid_transformed_box",
+            "form 0)"
+        ),
+        3
+    );
+}
+
+#[test]
 fn grid_walks_written_their_own_way_that_lose_the_planes_are_the_grid_planes() {
     if common::later_dir("the fitted forms of assignment 5").is_none() {
         return;

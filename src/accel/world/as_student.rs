@@ -6,7 +6,8 @@ use std::ops::ControlFlow;
 
 use glam::Vec3;
 
-use super::{Found, Hit, Item, Nearest, World, search_limit};
+use super::{Found, Hit, Item, ListedBox, Nearest, World, search_limit};
+use crate::accel::Grid;
 use crate::accel::grid::Primitive;
 use crate::geometry::{Plane, Ray, intersect_sphere};
 
@@ -139,6 +140,28 @@ impl World {
                 ControlFlow::Continue(())
             }
         });
+        nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// The grid's search through a grid of the same cells whose objects under a Transform are
+    /// listed by the box `listed` (a student's, not the course's eight corners): where that
+    /// box falls short of the object, the cells it leaves out never find it. Without a grid,
+    /// the course's search.
+    pub fn intersect_listed_by(&self, listed: ListedBox, ray: &Ray, t_min: f32) -> Option<Hit> {
+        let Some(cells) = self.grid.as_ref().map(Grid::cells) else {
+            return self.intersect(ray, t_min);
+        };
+        let slot = match listed {
+            ListedBox::EightCorners => return self.intersect(ray, t_min),
+            ListedBox::TwoCorners => 0,
+            ListedBox::Untransformed => 1,
+        };
+        let grid = self.students_grids[slot].get_or_init(|| self.grid_of(cells, listed).ok());
+        let Some(grid) = grid else {
+            return self.intersect(ray, t_min);
+        };
+        let mut nearest = self.nearest_plane(ray, t_min);
+        self.grid_nearest(grid, ray, t_min, &mut nearest, &mut ());
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 

@@ -8,7 +8,42 @@ use glam::UVec3;
 use super::{Item, LocalRay, Nearest, World, search_limit};
 use crate::accel::grid::{Extent, Primitive};
 use crate::accel::{Grid, GridError, Tally};
-use crate::geometry::{Aabb, Ray, intersect_sphere, intersect_triangle_in};
+use crate::geometry::{Aabb, Ray, Transform, intersect_sphere, intersect_triangle_in};
+
+/// The box a grid lists an object under a Transform by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ListedBox {
+    /// The course's: the box of the eight corners of its object-space box, carried into the
+    /// world.
+    EightCorners,
+    /// A student's: the box between two corners carried into the world, the lowest and the
+    /// highest (a rotated object reaches past it).
+    TwoCorners,
+    /// A student's: its object-space box as it is, the Transform left out.
+    Untransformed,
+}
+
+impl ListedBox {
+    /// The box an object of object-space box `b`, placed by `t`, is listed by.
+    fn of(self, b: Aabb, t: &Transform) -> Aabb {
+        let carried = |corner| t.object_to_world.transform_point3a(corner);
+        match self {
+            ListedBox::EightCorners => {
+                let corners: [glam::Vec3A; 8] = std::array::from_fn(|c| {
+                    let pick = |bit: usize, lo: f32, hi: f32| if c & bit == 0 { lo } else { hi };
+                    carried(glam::Vec3A::new(
+                        pick(1, b.min.x, b.max.x),
+                        pick(2, b.min.y, b.max.y),
+                        pick(4, b.min.z, b.max.z),
+                    ))
+                });
+                Aabb::from_points(&corners)
+            }
+            ListedBox::TwoCorners => Aabb::from_points(&[carried(b.min), carried(b.max)]),
+            ListedBox::Untransformed => b,
+        }
+    }
+}
 
 impl World {
     /// Searches the course's uniform grid of `cells` over the scene's box from now on, instead
@@ -16,54 +51,27 @@ impl World {
     /// the eight corners of its object-space box, under a Transform), a sphere in world space by
     /// the handout's tighter test; planes stay outside the grid.
     pub fn use_grid(&mut self, cells: UVec3) -> Result<(), GridError> {
-        let mut primitives = Vec::new();
-        for (i, item) in self.items.iter().enumerate() {
-            let transform = match item.transform() {
-                Item::WORLD_SPACE => None,
-                t => Some(&self.transforms[t as usize]),
-            };
-            let placed = |b: Aabb| match transform {
-                None => b,
-                Some(t) => {
-                    let corners: [glam::Vec3A; 8] = std::array::from_fn(|c| {
-                        let pick =
-                            |bit: usize, lo: f32, hi: f32| if c & bit == 0 { lo } else { hi };
-                        t.object_to_world.transform_point3a(glam::Vec3A::new(
-                            pick(1, b.min.x, b.max.x),
-                            pick(2, b.min.y, b.max.y),
-                            pick(4, b.min.z, b.max.z),
-                        ))
-                    });
-                    Aabb::from_points(&corners)
-                }
-            };
-            match *item {
-                Item::Sphere { sphere, .. } => {
-                    let extent = match transform {
-                        None => Extent::Sphere {
-                            center: sphere.center,
-                            radius: sphere.radius,
-                        },
-                        Some(_) => Extent::Box(placed(sphere.bounds())),
-                    };
-                    let primitive = Primitive {
-                        item: i as u32,
-                        triangle: 0,
-                    };
-                    primitives.push((primitive, extent));
-                }
-                Item::Mesh { mesh, .. } => {
-                    for (k, v) in self.meshes[mesh as usize].triangles().iter().enumerate() {
-                        let b = Aabb::from_points(&[v[0].into(), v[1].into(), v[2].into()]);
-                        let primitive = Primitive {
-                            item: i as u32,
-                            triangle: k as u32,
-                        };
-                        primitives.push((primitive, Extent::Box(placed(b))));
-                    }
-                }
-            }
-        }
+        self.grid = Some(self.grid_of(cells, ListedBox::EightCorners)?);
+        Ok(())
+    }
+
+    /// A grid of `cells` over the box of what it lists, each primitive under a Transform
+    /// listed by the box `listed` gives it.
+    pub(super) fn grid_of(&self, cells: UVec3, listed: ListedBox) -> Result<Grid, GridError> {
+        let primitives: Vec<(Primitive, Extent)> = self
+            .grid_primitives()
+            .map(|(primitive, own_box, transform)| {
+                let extent = match (transform, self.items[primitive.item as usize]) {
+                    (None, Item::Sphere { sphere, .. }) => Extent::Sphere {
+                        center: sphere.center,
+                        radius: sphere.radius,
+                    },
+                    (None, _) => Extent::Box(own_box),
+                    (Some(t), _) => Extent::Box(listed.of(own_box, t)),
+                };
+                (primitive, extent)
+            })
+            .collect();
         let bounds = primitives.iter().fold(Aabb::EMPTY, |b, (_, e)| {
             b.union(match *e {
                 Extent::Box(b) => b,
@@ -73,8 +81,33 @@ impl World {
                 },
             })
         });
-        self.grid = Some(Grid::build(bounds, cells, &primitives)?);
-        Ok(())
+        Grid::build(bounds, cells, &primitives)
+    }
+
+    /// Every sphere and triangle a grid lists, with its box in its own space and the Transform
+    /// that places it (`None` in world space), in the order a grid lists them.
+    pub fn grid_primitives(&self) -> impl Iterator<Item = (Primitive, Aabb, Option<&Transform>)> {
+        self.items.iter().enumerate().flat_map(move |(i, item)| {
+            let transform = match item.transform() {
+                Item::WORLD_SPACE => None,
+                t => Some(&self.transforms[t as usize]),
+            };
+            let boxes: Vec<Aabb> = match *item {
+                Item::Sphere { sphere, .. } => vec![sphere.bounds()],
+                Item::Mesh { mesh, .. } => self.meshes[mesh as usize]
+                    .triangles()
+                    .iter()
+                    .map(|v| Aabb::from_points(&[v[0].into(), v[1].into(), v[2].into()]))
+                    .collect(),
+            };
+            boxes.into_iter().enumerate().map(move |(k, own_box)| {
+                let primitive = Primitive {
+                    item: i as u32,
+                    triangle: k as u32,
+                };
+                (primitive, own_box, transform)
+            })
+        })
     }
 
     /// The course's grid, when one is in use.
@@ -143,5 +176,43 @@ impl World {
                 intersect_triangle_in(&here.frame, &here.ray, triangle, t_min, t_max)
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{DMat4, Vec3A};
+
+    fn close(a: Aabb, b: Aabb) -> bool {
+        (a.min - b.min).abs().max_element() < 1e-5 && (a.max - b.max).abs().max_element() < 1e-5
+    }
+
+    #[test]
+    fn a_turned_box_is_reached_by_its_eight_corners_alone() {
+        let own = Aabb {
+            min: Vec3A::splat(-1.0),
+            max: Vec3A::splat(1.0),
+        };
+        // An eighth of a turn about z, then up by 5.
+        let matrix = DMat4::from_translation(glam::DVec3::new(0.0, 5.0, 0.0))
+            * DMat4::from_rotation_z(std::f64::consts::FRAC_PI_4);
+        let placed = Transform::new(matrix);
+        let reach = std::f32::consts::SQRT_2;
+        let whole = Aabb {
+            min: Vec3A::new(-reach, 5.0 - reach, -1.0),
+            max: Vec3A::new(reach, 5.0 + reach, 1.0),
+        };
+        assert!(close(ListedBox::EightCorners.of(own, &placed), whole));
+        // (−1, −1) and (1, 1) turn onto the y axis: no width left in x.
+        let two = ListedBox::TwoCorners.of(own, &placed);
+        assert!(close(
+            two,
+            Aabb {
+                min: Vec3A::new(0.0, 5.0 - reach, -1.0),
+                max: Vec3A::new(0.0, 5.0 + reach, 1.0),
+            }
+        ));
+        assert_eq!(ListedBox::Untransformed.of(own, &placed), own);
     }
 }

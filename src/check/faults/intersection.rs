@@ -1,7 +1,7 @@
 //! Faults of the search for the nearest hit: the range of t it accepts.
 
 use super::{Candidate, Fault, LineScene, Planted};
-use crate::accel::{Hit, Struck};
+use crate::accel::{Hit, ListedBox, Struck};
 use crate::camera::Camera;
 use crate::geometry::{Plane, Ray, Transform, intersect_plane};
 use crate::parse::description::{Projection, Shape};
@@ -39,6 +39,9 @@ pub enum HitFault {
     FirstCellHit,
     /// The grid's search testing each primitive once, a hit beyond its cell dropped for good.
     Mailboxed,
+    /// With a grid, objects under a Transform listed in the cells of another box than the
+    /// course's.
+    ListedBy(ListedBox),
     /// With a grid, the planes never tested (they have no box, so they are in no cell).
     PlanesUntested,
     /// With a grid, the planes listed in the cells they cross: met only inside the grid's box.
@@ -130,6 +133,7 @@ impl HitFault {
             HitFault::ObjectSpaceT(power) => scene.world.intersect_stretched_t(ray, t_min, power),
             HitFault::FirstCellHit => scene.world.intersect_first_cell(ray, t_min),
             HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
+            HitFault::ListedBy(listed) => scene.world.intersect_listed_by(listed, ray, t_min),
             HitFault::PlanesUntested => {
                 scene
                     .world
@@ -447,6 +451,34 @@ pub(super) const GRID_FIRST_HIT: Fault = Fault {
         let pictures = line.has_traced_picture();
         if line.scene.world.grid().is_some() && !line.options.trace.visualize_grid && pictures {
             Candidate::forms([HitFault::FirstCellHit, HitFault::Mailboxed].map(Planted::Hit))
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const GRID_TRANSFORMED_BOX: Fault = Fault {
+    name: "grid_transformed_box",
+    assignment: 5,
+    sentence: "My grid lists an object under a Transform by the wrong box: its own box with \
+               the Transform left out (form 0), or the box between its lowest and highest \
+               corners carried into the world (form 1). Where the object reaches past that box, \
+               the cells there do not list it, and it is cut away, in its shadows too.",
+    look_for: "Transform's insertIntoGrid: carry all eight corners of the object's box by the \
+               matrix, and list the object in every cell of the box around them.",
+    candidates: |line: &LineScene| {
+        let pictures = line.has_traced_picture();
+        let placed = line
+            .description
+            .objects
+            .iter()
+            .any(|o| o.transform.is_some());
+        let grid = line.scene.world.grid().is_some() && !line.options.trace.visualize_grid;
+        if grid && pictures && placed {
+            Candidate::forms(
+                [ListedBox::Untransformed, ListedBox::TwoCorners]
+                    .map(|listed| Planted::Hit(HitFault::ListedBy(listed))),
+            )
         } else {
             Vec::new()
         }

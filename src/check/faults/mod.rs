@@ -213,6 +213,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::TRIANGLE_NORMAL_LENGTH,
     intersection::SPHERE_NORMAL_LENGTH,
     intersection::GRID_FIRST_HIT,
+    intersection::GRID_TRANSFORMED_BOX,
     intersection::GRID_PLANES,
 ];
 
@@ -491,7 +492,12 @@ impl TraceSeam for Plant {
     }
 
     fn shadow_through_glass(&self) -> Option<crate::trace::ThroughGlass> {
-        self.rays().find_map(|r| r.through_glass())
+        self.rays().find_map(|r| r.through_glass()).or_else(|| {
+            // A student's grid stops their shadow rays as it finds their camera rays' hits.
+            self.hits()
+                .any(|h| matches!(h, HitFault::ListedBy(_)))
+                .then_some(crate::trace::ThroughGlass::Opaque)
+        })
     }
 
     fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
