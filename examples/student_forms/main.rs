@@ -249,6 +249,10 @@ enum Form {
     GridBoxOfTwoCorners,
     /// Grid: an object under a Transform entered by its own space's box.
     GridBoxInItsOwnSpace,
+    /// Grid: a ray whose origin falls in one of the grid's cells left out of the march.
+    GridOriginCellLeftOut,
+    /// Grid: a ray whose origin lies within the grid's box left out of the march.
+    GridOriginInsideLeftOut,
     /// A grid walk that tests only what its cells list: the planes, which have no box, are
     /// never tested.
     GridWithoutPlanes,
@@ -436,6 +440,8 @@ impl Form {
             "grid_mailbox" => Form::GridMailbox,
             "grid_box_of_two_corners" => Form::GridBoxOfTwoCorners,
             "grid_box_in_its_own_space" => Form::GridBoxInItsOwnSpace,
+            "grid_origin_cell_left_out" => Form::GridOriginCellLeftOut,
+            "grid_origin_inside_left_out" => Form::GridOriginInsideLeftOut,
             "grid_without_planes" => Form::GridWithoutPlanes,
             "plane_plus_offset" => Form::PlanePlusOffset,
             "light_colour_left_out" => Form::LightColourLeftOut,

@@ -35,7 +35,10 @@ impl TraceSeam for Form {
     fn shadow_through_glass(&self) -> Option<ThroughGlass> {
         // The student's shadow rays ask their own grid, as their camera rays do.
         match self {
-            Form::GridBoxOfTwoCorners | Form::GridBoxInItsOwnSpace => Some(ThroughGlass::Opaque),
+            Form::GridBoxOfTwoCorners
+            | Form::GridBoxInItsOwnSpace
+            | Form::GridOriginCellLeftOut
+            | Form::GridOriginInsideLeftOut => Some(ThroughGlass::Opaque),
             _ => None,
         }
     }
@@ -321,6 +324,27 @@ impl TraceSeam for Form {
                     .intersect_accepting(ray, t_min, |local, corners| {
                         moller_trumbore(local, corners, edge, determinant)
                     });
+            }
+            Form::GridOriginCellLeftOut | Form::GridOriginInsideLeftOut => {
+                let Some(grid) = scene.world.grid() else {
+                    return Some(hit);
+                };
+                let (low, high) = (grid.bounds().min, grid.bounds().max);
+                let inside = if let Form::GridOriginCellLeftOut = self {
+                    // The cell the origin falls in: one of the grid's where the origin is
+                    // inside, and then the march (written for rays from outside) is skipped.
+                    let cells = grid.cells().as_vec3a();
+                    let at = (ray.origin - low) / (high - low) * cells;
+                    (0..3).all(|axis| at[axis] >= 0.0 && at[axis].floor() < cells[axis])
+                } else {
+                    (0..3)
+                        .all(|axis| low[axis] <= ray.origin[axis] && ray.origin[axis] <= high[axis])
+                };
+                return if inside {
+                    scene.world.plane_hit(ray, t_min)
+                } else {
+                    Some(hit)
+                };
             }
             Form::GridBoxOfTwoCorners | Form::GridBoxInItsOwnSpace => {
                 let own_space = matches!(self, Form::GridBoxInItsOwnSpace);

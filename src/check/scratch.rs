@@ -30,7 +30,7 @@ impl Scratch {
 
     /// A new, empty scratch folder for the lines' folders (each line's copies of its scene
     /// files and the pictures it gave back): in memory where the machine has a shared one with
-    /// room (see [`line_scratch_home`]), in the system's temporary folder otherwise.
+    /// room (see docs/check.md), in the system's temporary folder otherwise.
     pub fn for_lines() -> Result<Scratch, String> {
         let home = line_scratch_home(std::env::var_os("TMPDIR").is_some());
         let dir = tempfile::Builder::new()

@@ -409,6 +409,29 @@ fn grids_of_their_own_that_list_a_transformed_object_by_a_wrong_box_are_the_grid
 }
 
 #[test]
+fn grid_marches_of_their_own_that_skip_rays_from_inside_are_the_grid_rays_from_inside() {
+    if common::later_dir("the fitted forms of assignment 5").is_none() {
+        return;
+    }
+    // The march written for camera rays: a ray whose origin lies in the grid's box (every
+    // shadow, mirror and glass ray off a surface in it) meets only the planes, so the grid's
+    // objects cast no shadows and show in no mirror.
+    let lines = ["output6_02d.tga", "output6_11b.tga", "output6_14.tga"];
+    for form in ["grid_origin_inside_left_out", "grid_origin_cell_left_out"] {
+        assert_eq!(
+            later_named(
+                form,
+                &lines,
+                "grid_rays_from_inside",
+                "(0.000% of pixels off)"
+            ),
+            3,
+            "{form}"
+        );
+    }
+}
+
+#[test]
 fn grid_walks_written_their_own_way_that_lose_the_planes_are_the_grid_planes() {
     if common::later_dir("the fitted forms of assignment 5").is_none() {
         return;

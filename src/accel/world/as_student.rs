@@ -165,6 +165,19 @@ impl World {
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
+    /// The grid's search as a tracer that walks the grid only from outside its box: a ray that
+    /// begins inside it (every shadow, mirror and glass ray leaving a surface in the grid)
+    /// meets the planes alone. Without a grid, the course's search.
+    pub fn intersect_walked_from_outside(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        match &self.grid {
+            Some(grid) if grid.bounds().contains(ray.origin) => {
+                let nearest = self.nearest_plane(ray, t_min);
+                nearest.map(|n| self.hit(ray, n.t, n.found))
+            }
+            _ => self.intersect(ray, t_min),
+        }
+    }
+
     /// The grid's search with each primitive tested once (mailboxed) and a hit beyond the cell
     /// that tested it dropped for good (a tracer that marks a primitive as tested before it
     /// knows whether its hit counts there): an object reaching over several cells, met beyond

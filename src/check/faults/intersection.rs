@@ -42,6 +42,8 @@ pub enum HitFault {
     /// With a grid, objects under a Transform listed in the cells of another box than the
     /// course's.
     ListedBy(ListedBox),
+    /// With a grid, a ray that begins inside its box walked nowhere: it meets the planes alone.
+    WalkedFromOutside,
     /// With a grid, the planes never tested (they have no box, so they are in no cell).
     PlanesUntested,
     /// With a grid, the planes listed in the cells they cross: met only inside the grid's box.
@@ -134,6 +136,7 @@ impl HitFault {
             HitFault::FirstCellHit => scene.world.intersect_first_cell(ray, t_min),
             HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
             HitFault::ListedBy(listed) => scene.world.intersect_listed_by(listed, ray, t_min),
+            HitFault::WalkedFromOutside => scene.world.intersect_walked_from_outside(ray, t_min),
             HitFault::PlanesUntested => {
                 scene
                     .world
@@ -479,6 +482,28 @@ pub(super) const GRID_TRANSFORMED_BOX: Fault = Fault {
                 [ListedBox::Untransformed, ListedBox::TwoCorners]
                     .map(|listed| Planted::Hit(HitFault::ListedBy(listed))),
             )
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const GRID_RAYS_FROM_INSIDE: Fault = Fault {
+    name: "grid_rays_from_inside",
+    assignment: 5,
+    sentence: "My grid walk starts only where a ray enters the grid's box from outside: a ray \
+               that begins inside it (every shadow, mirror and glass ray leaving a surface in \
+               the grid) meets nothing the grid holds, so the objects cast no shadows and show \
+               in no mirror or glass.",
+    look_for: "Where the grid's march begins: a ray whose origin is inside the grid's box \
+               starts in the cell that holds its origin (t = tmin), not only at the box's entry \
+               (whose t is then negative).",
+    candidates: |line: &LineScene| {
+        let pictures = line.has_traced_picture();
+        let grid = line.scene.world.grid().is_some() && !line.options.trace.visualize_grid;
+        let inner_rays = line.options.trace.shadows || line.options.trace.bounces > 0;
+        if grid && pictures && inner_rays {
+            vec![Candidate::plain(Planted::Hit(HitFault::WalkedFromOutside))]
         } else {
             Vec::new()
         }

@@ -214,6 +214,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::SPHERE_NORMAL_LENGTH,
     intersection::GRID_FIRST_HIT,
     intersection::GRID_TRANSFORMED_BOX,
+    intersection::GRID_RAYS_FROM_INSIDE,
     intersection::GRID_PLANES,
 ];
 
@@ -495,7 +496,7 @@ impl TraceSeam for Plant {
         self.rays().find_map(|r| r.through_glass()).or_else(|| {
             // A student's grid stops their shadow rays as it finds their camera rays' hits.
             self.hits()
-                .any(|h| matches!(h, HitFault::ListedBy(_)))
+                .any(|h| matches!(h, HitFault::ListedBy(_) | HitFault::WalkedFromOutside))
                 .then_some(crate::trace::ThroughGlass::Opaque)
         })
     }
