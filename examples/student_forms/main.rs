@@ -146,6 +146,11 @@ enum Form {
     NormalTurnedToTheLight,
     /// Shadow rays toward point lights tested to infinity.
     ShadowToInfinity,
+    /// Shadows: `-shadows` never read, so no shadow ray is cast.
+    ShadowsFlagUnread,
+    /// Shadows: the shadow ray's tmax left at 0 (its Hit made with t = 0, never set to the
+    /// light's distance), so it meets nothing.
+    ShadowRayOfNoLength,
     /// `-weight` never read: every mirror and glass ray traced.
     EveryRayTraced,
     /// Jittered samples anywhere in the pixel, from a generator of the student's own.
@@ -415,6 +420,8 @@ impl Form {
             "ambient_times_lights" => Form::AmbientTimesLights,
             "normal_turned_to_the_light" => Form::NormalTurnedToTheLight,
             "shadow_to_infinity" => Form::ShadowToInfinity,
+            "shadows_flag_unread" => Form::ShadowsFlagUnread,
+            "shadow_ray_of_no_length" => Form::ShadowRayOfNoLength,
             "every_ray_traced" => Form::EveryRayTraced,
             "jitter_anywhere" => Form::JitterAnywhere,
             "weights_over_count" => Form::WeightsOverCount,
@@ -508,10 +515,13 @@ fn run(args: Vec<String>) -> Result<(), String> {
         }
         None => form,
     };
-    let options = match parse_args(course.iter().map(Into::into).collect())? {
+    let mut options = match parse_args(course.iter().map(Into::into).collect())? {
         Command::Render(options) => *options,
         _ => return Err("expected a render's command line".into()),
     };
+    if form == "shadows_flag_unread" {
+        options.trace.shadows = false;
+    }
     let mut description = read_scene(&options.input).map_err(|e| e.to_string())?;
     reading::read_as(form, &mut description);
     let camera = description.camera;

@@ -72,6 +72,7 @@ impl TraceSeam for Form {
     fn shadow_end(&self, distance: f32) -> f32 {
         match self {
             Form::ShadowToInfinity => f32::INFINITY,
+            Form::ShadowRayOfNoLength => 0.0,
             Form::ShadowToDistanceSquared if distance.is_finite() => distance * distance,
             Form::ShadowToOneMinusEpsilon | Form::PointDirectionUnnormalised
                 if distance.is_finite() =>

@@ -72,6 +72,29 @@ fn a_unit_shadow_ray_tested_up_to_one_is_the_shadow_reach_of_one_unit() {
 }
 
 #[test]
+fn shadows_never_cast_however_they_are_lost_are_the_shadows_missing() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // `-shadows` never read, and a shadow ray whose tmax is left at 0: no light is ever
+    // blocked. On a line where only glass casts shadows the picture is also a glass that
+    // lets the light through whole, and the line says it cannot tell them apart.
+    let lines = [
+        "output4_01.tga",
+        "output4_04a.tga",
+        "output4_08.tga",
+        "output4_06b.tga",
+    ];
+    for form in ["shadows_flag_unread", "shadow_ray_of_no_length"] {
+        assert_eq!(
+            later_named(form, &lines, "shadows_missing", "(0.000% of pixels off)"),
+            4,
+            "{form}"
+        );
+    }
+}
+
+#[test]
 fn mirror_directions_written_otherwise_are_the_reflection_direction() {
     if common::later_dir("the fitted forms of assignment 4").is_none() {
         return;

@@ -184,6 +184,7 @@ pub static FAULTS: &[Fault] = &[
     shading::HIGHLIGHT_ONE_LIGHT,
     rays::SHADOW_ACNE,
     rays::SHADOW_PAST_LIGHT,
+    rays::SHADOWS_MISSING,
     rays::SHADOW_REACH,
     rays::SHADOW_SKIPS_GLASS,
     rays::REFLECTION_DIRECTION,

@@ -12,6 +12,8 @@ pub enum RayFault {
     NoOffset,
     /// Shadow rays toward a point light go on past the light.
     PastLight,
+    /// No shadow ray ever meets anything: every light reaches every point.
+    NoShadows,
     /// The mirror direction with the wrong sign: d + 2(d·n)n.
     MirrorSign,
     /// η_t / η_i where η_i / η_t is meant (the ratio inverted).
@@ -115,6 +117,8 @@ impl RayFault {
         // A directional light is infinitely far: every form reaches it.
         match self {
             RayFault::PastLight => Some(f32::MAX),
+            // A range that ends before it begins: nothing is ever in it.
+            RayFault::NoShadows => Some(-1.0),
             RayFault::ShadowToLight => Some(distance),
             RayFault::ShadowReach(ShadowReach::One) if distance.is_finite() => Some(1.0),
             RayFault::ShadowReach(ShadowReach::Squared) if distance.is_finite() => {
@@ -344,6 +348,24 @@ pub(super) const SHADOW_PAST_LIGHT: Fault = Fault {
     candidates: |line: &LineScene| {
         if line.has_image() && line.options.trace.shadows && has_point_light(line) {
             only(RayFault::PastLight)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const SHADOWS_MISSING: Fault = Fault {
+    name: "shadows_missing",
+    assignment: 4,
+    sentence: "My tracer casts no shadows: under -shadows every light still reaches every point \
+               (the shadow rays are never cast, or never meet anything, or -shadows is never \
+               read).",
+    look_for: "Under -shadows, for each light: cast a ray from the point (a little off the \
+               surface) toward the light, and leave the light's diffuse and specular terms out \
+               where that ray meets anything before the light.",
+    candidates: |line: &LineScene| {
+        if line.has_image() && line.options.trace.shadows && !line.description.lights.is_empty() {
+            only(RayFault::NoShadows)
         } else {
             Vec::new()
         }
