@@ -146,6 +146,10 @@ enum Form {
     NormalTurnedToTheLight,
     /// Shadow rays toward point lights tested to infinity.
     ShadowToInfinity,
+    /// Mirrors and glass: `-bounces` never read, so no mirror or glass ray is traced.
+    BouncesUnread,
+    /// Glass: the refracted ray never traced (its contribution left at zero).
+    GlassNeverTraced,
     /// Shadows: `-shadows` never read, so no shadow ray is cast.
     ShadowsFlagUnread,
     /// Shadows: the shadow ray's tmax left at 0 (its Hit made with t = 0, never set to the
@@ -421,6 +425,8 @@ impl Form {
             "normal_turned_to_the_light" => Form::NormalTurnedToTheLight,
             "shadow_to_infinity" => Form::ShadowToInfinity,
             "shadows_flag_unread" => Form::ShadowsFlagUnread,
+            "bounces_unread" => Form::BouncesUnread,
+            "glass_never_traced" => Form::GlassNeverTraced,
             "shadow_ray_of_no_length" => Form::ShadowRayOfNoLength,
             "every_ray_traced" => Form::EveryRayTraced,
             "jitter_anywhere" => Form::JitterAnywhere,
@@ -519,8 +525,10 @@ fn run(args: Vec<String>) -> Result<(), String> {
         Command::Render(options) => *options,
         _ => return Err("expected a render's command line".into()),
     };
-    if form == "shadows_flag_unread" {
-        options.trace.shadows = false;
+    match form {
+        "shadows_flag_unread" => options.trace.shadows = false,
+        "bounces_unread" => options.trace.bounces = 0,
+        _ => {}
     }
     let mut description = read_scene(&options.input).map_err(|e| e.to_string())?;
     reading::read_as(form, &mut description);

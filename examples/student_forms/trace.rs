@@ -247,6 +247,7 @@ impl TraceSeam for Form {
         match self {
             Form::MirrorColourTwice if !transparent => colour * colour,
             Form::GlassColourIgnored if transparent => Vec3A::ONE,
+            Form::GlassNeverTraced if transparent => Vec3A::ZERO,
             _ => colour,
         }
     }

@@ -95,6 +95,36 @@ fn shadows_never_cast_however_they_are_lost_are_the_shadows_missing() {
 }
 
 #[test]
+fn mirror_and_glass_rays_never_traced_are_the_secondary_rays_missing() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // `-bounces` never read: no mirror or glass ray at all. Where one bounce is asked for,
+    // that is also one bounce fewer, and the line says it cannot tell them apart.
+    let lines = ["output4_03.tga", "output4_06b.tga", "output4_07.tga"];
+    assert_eq!(
+        later_named("bounces_unread", &lines, "secondary_rays_missing", "0.000%"),
+        3
+    );
+    // The refracted ray never traced: the glass shows its surface alone, as a glass whose
+    // inside is black (back faces not shaded) does, and the line says so.
+    let later = common::later_dir("the fitted forms of assignment 4").unwrap();
+    let glass = ["output4_06c.tga", "output4_14c.tga"];
+    let failing = failing_in(&later, "glass_never_traced", &glass);
+    assert_eq!(failing.len(), 2, "{failing:?}");
+    for line in &failing {
+        let (said, _) = line.split_once(": raycast's render").unwrap();
+        let named: Vec<&str> = said.rsplit(": ").next().unwrap().split(", ").collect();
+        assert!(
+            named.contains(&"secondary_rays_missing")
+                && named.contains(&"shade_back_ignored")
+                && line.contains("this line alone cannot tell the faults named apart"),
+            "{line}"
+        );
+    }
+}
+
+#[test]
 fn mirror_directions_written_otherwise_are_the_reflection_direction() {
     if common::later_dir("the fitted forms of assignment 4").is_none() {
         return;

@@ -193,6 +193,7 @@ pub static FAULTS: &[Fault] = &[
     rays::REFRACTION_FORMULA,
     rays::BOUNCES_OFF_BY_ONE,
     rays::WEIGHT_CUTOFF,
+    rays::SECONDARY_RAYS_MISSING,
     rays::SECONDARY_COLOUR,
     samples::JITTER_WHOLE_PIXEL,
     samples::UNIFORM_CORNERS,

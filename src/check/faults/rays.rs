@@ -14,6 +14,11 @@ pub enum RayFault {
     PastLight,
     /// No shadow ray ever meets anything: every light reaches every point.
     NoShadows,
+    /// No mirror or glass ray traced (`-bounces` never read), or (`glass_only`) no glass ray.
+    SecondaryMissing {
+        /// Only the glass rays left out.
+        glass_only: bool,
+    },
     /// The mirror direction with the wrong sign: d + 2(d·n)n.
     MirrorSign,
     /// η_t / η_i where η_i / η_t is meant (the ratio inverted).
@@ -151,6 +156,7 @@ impl RayFault {
     pub(super) fn bounces(&self, bounces: u32) -> u32 {
         match *self {
             RayFault::Bounces(by) => bounces.saturating_add_signed(by),
+            RayFault::SecondaryMissing { glass_only: false } => 0,
             _ => bounces,
         }
     }
@@ -171,6 +177,7 @@ impl RayFault {
             RayFault::ColourIgnored { transparent: which } if which == transparent => {
                 Some(Vec3A::ONE)
             }
+            RayFault::SecondaryMissing { glass_only: true } if transparent => Some(Vec3A::ZERO),
             RayFault::ColourPower {
                 transparent: which,
                 power,
@@ -525,6 +532,34 @@ pub(super) const WEIGHT_CUTOFF: Fault = Fault {
         } else {
             Vec::new()
         }
+    },
+};
+
+pub(super) const SECONDARY_RAYS_MISSING: Fault = Fault {
+    name: "secondary_rays_missing",
+    assignment: 4,
+    sentence: "My tracer traces no mirror or glass rays (form 0: -bounces is never read, or the \
+               recursion never starts), or no glass rays (form 1: refraction left out): what \
+               they would bring back is missing.",
+    look_for: "traceRay: while bounces are left, add reflectiveColor × traceRay(the mirror ray) \
+               and transparentColor × traceRay(the refracted ray), each with one bounce fewer.",
+    candidates: |line: &LineScene| {
+        if !bounces(line) {
+            return Vec::new();
+        }
+        // Numbered over both forms, then only those that can change this line kept.
+        let reaches = [
+            has_material(line, false) || has_material(line, true),
+            has_material(line, true),
+        ];
+        Candidate::forms(
+            [false, true].map(|glass_only| Planted::Ray(RayFault::SecondaryMissing { glass_only })),
+        )
+        .into_iter()
+        .zip(reaches)
+        .filter(|&(_, reaches)| reaches)
+        .map(|(candidate, _)| candidate)
+        .collect()
     },
 };
 
