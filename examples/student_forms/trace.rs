@@ -610,34 +610,20 @@ fn own_grid(scene: &Scene, own_space: bool) -> Option<&'static Grid> {
     .as_ref()
 }
 
-/// The nearest hit through [`own_grid`], walked as the course walks: a hit counts once the
-/// walk reaches the cell it lies in. `None` without a grid.
+/// The nearest hit through [`own_grid`], walked as the course walks. `None` without a grid.
 fn walk_own_grid(scene: &Scene, ray: &Ray, t_min: f32, own_space: bool) -> Option<Option<Hit>> {
     let grid = own_grid(scene, own_space)?;
-    let plane = scene.world.plane_hit(ray, t_min);
-    let beyond = plane.map_or(f32::INFINITY, |h| h.t);
-    let mut nearest: Option<(f32, Primitive)> = None;
-    grid.walk(ray, t_min, beyond, |cell| {
-        for p in cell.primitives {
-            let reach = nearest.map_or(beyond, |(t, _)| t);
-            if let Some(t) = scene.world.primitive_t(p, ray, t_min, reach) {
-                nearest = Some((t, *p));
-            }
-        }
-        match nearest {
-            Some((t, _)) if t <= cell.t_exit => ControlFlow::Break(()),
-            _ => ControlFlow::Continue(()),
-        }
-    });
-    Some(match nearest {
-        Some((t, p)) if t < beyond => Some(scene.world.primitive_hit(ray, t, &p)),
-        _ => plane,
-    })
+    Some(march(
+        scene,
+        grid,
+        ray,
+        t_min,
+        scene.world.plane_hit(ray, t_min),
+    ))
 }
 
 /// A grid walk whose planes are in no cell (never tested), or in the cells they cross
-/// (`clipped`: a plane's hit counts only inside the grid's box); the walk itself stops at the
-/// first cell whose nearest hit lies within it. `None` without a grid.
+/// (`clipped`: a plane's hit counts only inside the grid's box). `None` without a grid.
 fn walk_grid_planes(scene: &Scene, ray: &Ray, t_min: f32, clipped: bool) -> Option<Option<Hit>> {
     let grid = scene.world.grid()?;
     let plane = scene.world.plane_hit(ray, t_min).filter(|hit| {
@@ -645,6 +631,12 @@ fn walk_grid_planes(scene: &Scene, ray: &Ray, t_min: f32, clipped: bool) -> Opti
         let point = ray.origin + ray.direction * hit.t;
         clipped && (0..3).all(|axis| low[axis] <= point[axis] && point[axis] <= high[axis])
     });
+    Some(march(scene, grid, ray, t_min, plane))
+}
+
+/// The nearer of `plane` and the hit the student's march through `grid` finds: cell by cell,
+/// stopping at the first cell whose nearest hit lies within it.
+fn march(scene: &Scene, grid: &Grid, ray: &Ray, t_min: f32, plane: Option<Hit>) -> Option<Hit> {
     let beyond = plane.map_or(f32::INFINITY, |h| h.t);
     let mut nearest: Option<(f32, Primitive)> = None;
     grid.walk(ray, t_min, beyond, |cell| {
@@ -659,10 +651,10 @@ fn walk_grid_planes(scene: &Scene, ray: &Ray, t_min: f32, clipped: bool) -> Opti
             _ => ControlFlow::Continue(()),
         }
     });
-    Some(match nearest {
+    match nearest {
         Some((t, p)) if t < beyond => Some(scene.world.primitive_hit(ray, t, &p)),
         _ => plane,
-    })
+    }
 }
 
 /// The nearest hit with the planes by the student's own equation, n·P + d = 0, and everything

@@ -19,13 +19,7 @@ impl Scratch {
     /// A new, empty scratch folder in the system's temporary folder.
     pub fn new() -> Result<Scratch, String> {
         let dir = tempfile::tempdir().map_err(|e| format!("cannot make a scratch folder: {e}"))?;
-        if let Ok(mut live) = LIVE.lock() {
-            live.push(dir.path().to_path_buf());
-        }
-        Ok(Scratch {
-            path: dir.path().to_path_buf(),
-            dir: Some(dir),
-        })
+        Ok(Scratch::live(dir))
     }
 
     /// A new, empty scratch folder for the lines' folders (each line's copies of its scene
@@ -36,13 +30,18 @@ impl Scratch {
         let dir = tempfile::Builder::new()
             .tempdir_in(&home)
             .map_err(|e| format!("cannot make a scratch folder in {}: {e}", home.display()))?;
+        Ok(Scratch::live(dir))
+    }
+
+    /// `dir`, known by name while it lives.
+    fn live(dir: tempfile::TempDir) -> Scratch {
         if let Ok(mut live) = LIVE.lock() {
             live.push(dir.path().to_path_buf());
         }
-        Ok(Scratch {
+        Scratch {
             path: dir.path().to_path_buf(),
             dir: Some(dir),
-        })
+        }
     }
 
     /// Where it is.

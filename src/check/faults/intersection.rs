@@ -121,6 +121,12 @@ impl HitFault {
         }
     }
 
+    /// Whether the student's shadow rays go through the search this fault plants (a grid of
+    /// their own stops their shadow rays as it finds their camera rays' hits).
+    pub(super) fn searches_shadows(&self) -> bool {
+        matches!(self, HitFault::ListedBy(_) | HitFault::WalkedFromOutside)
+    }
+
     pub(super) fn found(
         &self,
         scene: &Scene,
@@ -439,6 +445,14 @@ pub(super) const TRIANGLE_EPSILON: Fault = Fault {
     },
 };
 
+/// Whether the line's traced pictures are searched through the course's grid (`-grid`, and not
+/// `-visualize_grid`, whose picture is the cells): where a grid fault can show.
+fn grid_searched(line: &LineScene) -> bool {
+    line.scene.world.grid().is_some()
+        && !line.options.trace.visualize_grid
+        && line.has_traced_picture()
+}
+
 pub(super) const GRID_FIRST_HIT: Fault = Fault {
     name: "grid_first_hit",
     assignment: 5,
@@ -451,8 +465,7 @@ pub(super) const GRID_FIRST_HIT: Fault = Fault {
                again (or keep its hit) in the cell where the hit lies, and compare with the later \
                cells' hits.",
     candidates: |line: &LineScene| {
-        let pictures = line.has_traced_picture();
-        if line.scene.world.grid().is_some() && !line.options.trace.visualize_grid && pictures {
+        if grid_searched(line) {
             Candidate::forms([HitFault::FirstCellHit, HitFault::Mailboxed].map(Planted::Hit))
         } else {
             Vec::new()
@@ -470,14 +483,12 @@ pub(super) const GRID_TRANSFORMED_BOX: Fault = Fault {
     look_for: "Transform's insertIntoGrid: carry all eight corners of the object's box by the \
                matrix, and list the object in every cell of the box around them.",
     candidates: |line: &LineScene| {
-        let pictures = line.has_traced_picture();
         let placed = line
             .description
             .objects
             .iter()
             .any(|o| o.transform.is_some());
-        let grid = line.scene.world.grid().is_some() && !line.options.trace.visualize_grid;
-        if grid && pictures && placed {
+        if grid_searched(line) && placed {
             Candidate::forms(
                 [ListedBox::Untransformed, ListedBox::TwoCorners]
                     .map(|listed| Planted::Hit(HitFault::ListedBy(listed))),
@@ -499,10 +510,8 @@ pub(super) const GRID_RAYS_FROM_INSIDE: Fault = Fault {
                starts in the cell that holds its origin (t = tmin), not only at the box's entry \
                (whose t is then negative).",
     candidates: |line: &LineScene| {
-        let pictures = line.has_traced_picture();
-        let grid = line.scene.world.grid().is_some() && !line.options.trace.visualize_grid;
         let inner_rays = line.options.trace.shadows || line.options.trace.bounces > 0;
-        if grid && pictures && inner_rays {
+        if grid_searched(line) && inner_rays {
             vec![Candidate::plain(Planted::Hit(HitFault::WalkedFromOutside))]
         } else {
             Vec::new()
@@ -596,13 +605,7 @@ pub(super) const GRID_PLANES: Fault = Fault {
                and every ray tests them besides the grid's march, as it does without a grid \
                (the nearer of the plane's hit and the march's wins).",
     candidates: |line: &LineScene| {
-        let pictures = line.has_traced_picture();
-        let world = &line.scene.world;
-        if world.grid().is_some()
-            && world.stats().planes > 0
-            && !line.options.trace.visualize_grid
-            && pictures
-        {
+        if grid_searched(line) && line.scene.world.stats().planes > 0 {
             Candidate::forms(
                 [HitFault::PlanesUntested, HitFault::PlanesInGridBox].map(Planted::Hit),
             )

@@ -496,9 +496,8 @@ impl TraceSeam for Plant {
 
     fn shadow_through_glass(&self) -> Option<crate::trace::ThroughGlass> {
         self.rays().find_map(|r| r.through_glass()).or_else(|| {
-            // A student's grid stops their shadow rays as it finds their camera rays' hits.
             self.hits()
-                .any(|h| matches!(h, HitFault::ListedBy(_) | HitFault::WalkedFromOutside))
+                .any(|h| h.searches_shadows())
                 .then_some(crate::trace::ThroughGlass::Opaque)
         })
     }
