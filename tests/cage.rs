@@ -617,6 +617,60 @@ fn an_interrupted_check_ends_its_renderers_and_reports_what_it_graded() {
 }
 
 #[test]
+fn the_next_line_is_made_ready_while_one_runs_and_given_up_unrun_when_check_stops() {
+    let Some(w) = world() else { return };
+    // Two lines, one at a time: the second's cage is built while the first's renderer runs.
+    let commands = w.suite.join("COMMANDS.txt");
+    let line = std::fs::read_to_string(&commands).unwrap();
+    std::fs::write(&commands, format!("{line}\n{line}\n")).unwrap();
+    let sleeper = w.renderer("readied.sh", "exec -a readied-token sleep 100");
+    let mut child = Command::new(RAYCAST)
+        .args(["check", w.suite.to_str().unwrap(), "--renderer", &sleeper])
+        .args(["--jobs", "1", "--timeout", "60"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The first line's renderer runs, and a supervisor holds the second's cage, its renderer
+    // not started.
+    let held = || {
+        left_running("readied.sh")
+            .into_iter()
+            .filter(|c| c.contains("__supervise") && c.contains("\"held\":true"))
+            .count()
+    };
+    let start = Instant::now();
+    while left_running("readied-token").len() != 1 || held() < 2 {
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "no line held ready while the first ran: {:?}",
+            left_running("readied.sh")
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        assert!(
+            start.elapsed() < Duration::from_secs(5),
+            "check did not end on SIGINT"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let output = child.wait_with_output().unwrap();
+    let out = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(output.status.code(), Some(130), "{out}");
+    assert!(out.contains("ERROR  output2_01: interrupted"), "{out}");
+    assert!(out.contains("ERROR  output2_01#2: interrupted"), "{out}");
+    // The held supervisor heard its line given up, took its cage down and ended.
+    assert_eq!(left_running("readied.sh"), Vec::<String>::new());
+    assert_eq!(left_running("readied-token"), Vec::<String>::new());
+}
+
+#[test]
 fn check_run_by_an_ordinary_user_cages_the_renderer_too() {
     let Some(w) = world() else { return };
     if !rustix_is_root() {

@@ -258,6 +258,12 @@ enum Form {
     GridBoxOfTwoCorners,
     /// Grid: an object under a Transform entered by its own space's box.
     GridBoxInItsOwnSpace,
+    /// Grid: a sphere entered in the cells whose centres lie inside it (the handout's test
+    /// without its conservative margin).
+    GridSphereCentresInside,
+    /// Grid: every object entered in the cells from its box's lowest corner's up to, and not
+    /// including, its highest corner's (a loop's bound written with `<`).
+    GridCellsUpperLeftOut,
     /// Grid: a ray whose origin falls in one of the grid's cells left out of the march.
     GridOriginCellLeftOut,
     /// Grid: a ray whose origin lies within the grid's box left out of the march.
@@ -453,6 +459,8 @@ impl Form {
             "grid_mailbox" => Form::GridMailbox,
             "grid_box_of_two_corners" => Form::GridBoxOfTwoCorners,
             "grid_box_in_its_own_space" => Form::GridBoxInItsOwnSpace,
+            "grid_sphere_centres_inside" => Form::GridSphereCentresInside,
+            "grid_cells_upper_left_out" => Form::GridCellsUpperLeftOut,
             "grid_origin_cell_left_out" => Form::GridOriginCellLeftOut,
             "grid_origin_inside_left_out" => Form::GridOriginInsideLeftOut,
             "grid_without_planes" => Form::GridWithoutPlanes,

@@ -37,6 +37,8 @@ impl TraceSeam for Form {
         match self {
             Form::GridBoxOfTwoCorners
             | Form::GridBoxInItsOwnSpace
+            | Form::GridSphereCentresInside
+            | Form::GridCellsUpperLeftOut
             | Form::GridOriginCellLeftOut
             | Form::GridOriginInsideLeftOut => Some(ThroughGlass::Opaque),
             _ => None,
@@ -352,6 +354,9 @@ impl TraceSeam for Form {
                 let own_space = matches!(self, Form::GridBoxInItsOwnSpace);
                 return walk_own_grid(scene, ray, t_min, own_space).unwrap_or(Some(hit));
             }
+            Form::GridSphereCentresInside | Form::GridCellsUpperLeftOut => {
+                return walk_listed_grid(scene, ray, t_min, self).unwrap_or(Some(hit));
+            }
             Form::GridTrustsFirstHit | Form::GridMailbox => {
                 return walk_grid(scene, ray, t_min, matches!(self, Form::GridMailbox))
                     .unwrap_or(Some(hit));
@@ -613,6 +618,86 @@ fn own_grid(scene: &Scene, own_space: bool) -> Option<&'static Grid> {
 /// The nearest hit through [`own_grid`], walked as the course walks. `None` without a grid.
 fn walk_own_grid(scene: &Scene, ray: &Ray, t_min: f32, own_space: bool) -> Option<Option<Hit>> {
     let grid = own_grid(scene, own_space)?;
+    Some(march(
+        scene,
+        grid,
+        ray,
+        t_min,
+        scene.world.plane_hit(ray, t_min),
+    ))
+}
+
+/// The student's own lists over the course's cells, built once, each object entered in the
+/// cells the form's loop picks: one entry of a cell's own box (shrunk a little) per cell, so
+/// that the course's grid keeps exactly those lists.
+fn listed_grid(scene: &Scene, form: &Form) -> Option<&'static Grid> {
+    static GRID: std::sync::OnceLock<Option<Grid>> = std::sync::OnceLock::new();
+    GRID.get_or_init(|| {
+        let course = scene.world.grid()?;
+        let (cells, low) = (course.cells(), course.bounds().min);
+        let size = (course.bounds().max - low) / cells.as_vec3a();
+        let cell_of = |p: Vec3A| {
+            let at = ((p - low) / size).floor();
+            [0, 1, 2].map(|axis| at[axis].clamp(0.0, (cells[axis] - 1) as f32) as u32)
+        };
+        let mut entries = Vec::new();
+        for (primitive, own_box, transform) in scene.world.grid_primitives() {
+            let sphere = scene
+                .world
+                .primitive_sphere(&primitive)
+                .filter(|_| transform.is_none());
+            let b = match transform {
+                None => own_box,
+                Some(t) => {
+                    let corners = (0..8).map(|c| {
+                        let pick = |bit, lo: f32, hi: f32| if c & bit == 0 { lo } else { hi };
+                        t.object_to_world.transform_point3a(Vec3A::new(
+                            pick(1, own_box.min.x, own_box.max.x),
+                            pick(2, own_box.min.y, own_box.max.y),
+                            pick(4, own_box.min.z, own_box.max.z),
+                        ))
+                    });
+                    corners.fold(Aabb::EMPTY, |b, p| b.union(Aabb { min: p, max: p }))
+                }
+            };
+            let (from, to) = (cell_of(b.min), cell_of(b.max));
+            let upper_left_out = matches!(form, Form::GridCellsUpperLeftOut);
+            let end = |axis: usize| {
+                if upper_left_out {
+                    to[axis]
+                } else {
+                    to[axis] + 1
+                }
+            };
+            for z in from[2]..end(2) {
+                for y in from[1]..end(1) {
+                    for x in from[0]..end(0) {
+                        let corner = low + Vec3A::new(x as f32, y as f32, z as f32) * size;
+                        let centre = corner + 0.5 * size;
+                        if let Some((c, r)) = sphere
+                            && !upper_left_out
+                            && (centre - c).length() >= r
+                        {
+                            continue;
+                        }
+                        let inset = 0.25 * size;
+                        let cell = Aabb {
+                            min: corner + inset,
+                            max: corner + size - inset,
+                        };
+                        entries.push((primitive, Extent::Box(cell)));
+                    }
+                }
+            }
+        }
+        Grid::build(course.bounds(), cells, &entries).ok()
+    })
+    .as_ref()
+}
+
+/// The nearest hit through [`listed_grid`], walked as the course walks. `None` without a grid.
+fn walk_listed_grid(scene: &Scene, ray: &Ray, t_min: f32, form: &Form) -> Option<Option<Hit>> {
+    let grid = listed_grid(scene, form)?;
     Some(march(
         scene,
         grid,

@@ -39,6 +39,33 @@ pub enum Extent {
         /// In world units.
         radius: f32,
     },
+    /// A student's sphere: every cell whose centre lies inside it (the handout's test without
+    /// its margin: a cell the sphere passes through but does not hold the centre of is
+    /// missed).
+    SphereByCentres {
+        /// In world space.
+        center: Vec3A,
+        /// In world units.
+        radius: f32,
+    },
+    /// A student's box: on each axis, the cells from its lowest corner's up to, and not
+    /// including, its highest corner's (a loop bound written with `<`).
+    BoxShortOfItsEnd(Aabb),
+}
+
+impl Extent {
+    /// The box around every cell the extent can list.
+    pub fn reach(&self) -> Aabb {
+        match *self {
+            Extent::Box(b) | Extent::BoxShortOfItsEnd(b) => b,
+            Extent::Sphere { center, radius } | Extent::SphereByCentres { center, radius } => {
+                Aabb {
+                    min: center - radius,
+                    max: center + radius,
+                }
+            }
+        }
+    }
 }
 
 /// A grid that cannot be built.
@@ -332,13 +359,7 @@ fn grid_fill(
     margin: f32,
     mut f: impl FnMut(usize),
 ) {
-    let reach = match *extent {
-        Extent::Box(b) => b,
-        Extent::Sphere { center, radius } => Aabb {
-            min: center - radius,
-            max: center + radius,
-        },
-    };
+    let reach = extent.reach();
     if reach.is_empty() {
         return;
     }
@@ -351,15 +372,28 @@ fn grid_fill(
         )
     };
     let (lo, hi) = (index(reach.min - margin), index(reach.max + margin));
+    // The student's loop stops before the highest corner's cell: an empty range where the box
+    // lies within one cell on an axis.
+    let end = match extent {
+        Extent::BoxShortOfItsEnd(_) => index(reach.max),
+        _ => hi + UVec3::ONE,
+    };
     let half_diagonal = 0.5 * cell_size.length();
-    for z in lo.z..=hi.z {
-        for y in lo.y..=hi.y {
-            for x in lo.x..=hi.x {
-                if let Extent::Sphere { center, radius } = *extent {
-                    let centre = bounds.min + (UVec3::new(x, y, z).as_vec3a() + 0.5) * cell_size;
-                    if (centre - center).length() > radius + half_diagonal + margin {
-                        continue;
+    for z in lo.z..end.z {
+        for y in lo.y..end.y {
+            for x in lo.x..end.x {
+                let centre = bounds.min + (UVec3::new(x, y, z).as_vec3a() + 0.5) * cell_size;
+                let outside = match *extent {
+                    Extent::Sphere { center, radius } => {
+                        (centre - center).length() > radius + half_diagonal + margin
                     }
+                    Extent::SphereByCentres { center, radius } => {
+                        (centre - center).length() > radius
+                    }
+                    Extent::Box(_) | Extent::BoxShortOfItsEnd(_) => false,
+                };
+                if outside {
+                    continue;
                 }
                 f((x + cells.x * (y + cells.y * z)) as usize);
             }
@@ -418,6 +452,7 @@ mod tests {
                             let d = (r * 2.0 - 1.0).normalize_or_zero();
                             center + d * radius * lcg(&mut seed)
                         }
+                        _ => unreachable!("only the course's extents are made here"),
                     };
                     let o = (point - grid.bounds.min) / grid.cell_size;
                     let index = UVec3::new(
@@ -435,6 +470,46 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The cells each of the students' listings picks, on a grid of 4 × 4 × 4 unit cells.
+    #[test]
+    fn students_listings_leave_out_the_cells_they_should() {
+        let bounds = Aabb {
+            min: Vec3A::ZERO,
+            max: Vec3A::splat(4.0),
+        };
+        let listed = |extent: Extent| {
+            let p = Primitive {
+                item: 0,
+                triangle: 0,
+            };
+            let grid = Grid::build(bounds, UVec3::splat(4), &[(p, extent)]).unwrap();
+            (0..64)
+                .filter(|&c| grid.starts[c + 1] > grid.starts[c])
+                .collect::<Vec<usize>>()
+        };
+        // A sphere of radius 1.2 about (2, 2, 2): its centre is a corner of the eight middle
+        // cells, whose centres lie 0.87 from it; the cells next to them along an axis have
+        // centres 1.66 away, which the sphere passes through without holding.
+        let (center, radius) = (Vec3A::splat(2.0), 1.2);
+        let middle: Vec<usize> = [21, 22, 25, 26, 37, 38, 41, 42].to_vec();
+        assert_eq!(listed(Extent::SphereByCentres { center, radius }), middle);
+        assert!(listed(Extent::Sphere { center, radius }).len() > middle.len());
+        // A box from 0.5 to 2.5 on x, within cell 1 on y and z: cells 0 and 1 on x, not 2, and
+        // nothing at all where the box lies within one cell on an axis.
+        let b = Aabb {
+            min: Vec3A::new(0.5, 1.2, 1.2),
+            max: Vec3A::new(2.5, 1.8, 1.8),
+        };
+        assert_eq!(listed(Extent::Box(b)).len(), 3);
+        assert_eq!(listed(Extent::BoxShortOfItsEnd(b)), Vec::<usize>::new());
+        let tall = Aabb {
+            min: Vec3A::new(0.5, 0.5, 0.5),
+            max: Vec3A::new(2.5, 1.5, 1.5),
+        };
+        // x 0..2, y 0..1, z 0..1: the cells 0 and 1 on x at y = 0, z = 0.
+        assert_eq!(listed(Extent::BoxShortOfItsEnd(tall)), vec![0, 1]);
     }
 
     /// A grid of 4 × 4 × 4 unit cells from the origin, listing nothing.

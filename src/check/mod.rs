@@ -645,23 +645,28 @@ pub fn grade_renderer(
                 .map(|(number, ran)| (number, grade_one(number, ran)))
                 .collect::<Vec<_>>()
         });
-        let mut graded = in_suite_order(&prepared.pool, suite.lines.len(), |number| {
-            let ran = run_line(
-                options,
-                &caged,
-                suite,
-                &suite.lines[number],
-                &folder(number),
-            );
-            let by_chance = prepared.references[number].iter().any(|r| r.2.is_some());
-            if by_chance {
-                return Some(grade_one(number, ran));
-            }
-            // The grader lives as long as this scope's lines, unless it panicked, which its
-            // join says.
-            let _ = ran_lines.send((number, ran));
-            None
-        });
+        let ready = |number: usize| {
+            let line = &suite.lines[number];
+            ready_line(options, &caged, suite, line, &folder(number))
+        };
+        let start = |line: LineRun| start_line(options, &caged, line);
+        let mut graded = lines_in_suite_order(
+            &prepared.pool,
+            suite.lines.len(),
+            ready,
+            start,
+            |number, line| {
+                let ran = finish_line(options, &caged, line);
+                let by_chance = prepared.references[number].iter().any(|r| r.2.is_some());
+                if by_chance {
+                    return Some(grade_one(number, ran));
+                }
+                // The grader lives as long as this scope's lines, unless it panicked, which its
+                // join says.
+                let _ = ran_lines.send((number, ran));
+                None
+            },
+        );
         drop(ran_lines);
         let in_the_grader = grader
             .join()
@@ -928,67 +933,155 @@ pub(crate) fn hidden_from_renderers(options: &CheckOptions) -> Vec<PathBuf> {
         .collect()
 }
 
-/// Runs one line in its cage, in `folder`: how it ran, and the folder its pictures are in.
-fn run_line(
+/// A line on its way to its cage: ended before it could start (how, and the folder its
+/// pictures would be in), or made ready, or running.
+enum LineRun {
+    Ended(Ran, PathBuf),
+    Readied(cage::Readied, PathBuf),
+    Running(cage::Running, PathBuf),
+}
+
+/// How a line ended that never started.
+fn unstarted(ending: Ending) -> Ran {
+    Ran {
+        ending,
+        stderr: String::new(),
+        seconds: 0.0,
+        confinement: None,
+    }
+}
+
+/// Why a line may not start now: check was stopped, or the budget is spent.
+fn not_now(caged: &Caged) -> Option<Ending> {
+    let spent = caged
+        .budget
+        .filter(|(start, budget)| start.elapsed() >= *budget);
+    if caged.stop.is_set() {
+        Some(Ending::stopped(caged.stop))
+    } else {
+        spent.map(|(_, budget)| Ending::OverBudget(budget))
+    }
+}
+
+/// Makes one line ready in `folder` while the line before it runs: its files copied, its
+/// supervisor building its cage.
+fn ready_line(
     options: &CheckOptions,
     caged: &Caged,
     suite: &Suite,
     line: &Line,
     folder: &Path,
-) -> (Ran, PathBuf) {
-    let ran_only = |ending: Ending| Ran {
-        ending,
-        stderr: String::new(),
-        seconds: 0.0,
-        confinement: None,
-    };
+) -> LineRun {
+    if let Some(ending) = not_now(caged) {
+        return LineRun::Ended(unstarted(ending), folder.join("out"));
+    }
     let files = run::line_files(line, &suite.scenes);
+    match run::prepare(&suite.scenes, &files, folder, caged.user) {
+        Err(why) => LineRun::Ended(unstarted(Ending::NotStarted(why)), folder.join("out")),
+        Ok((work, out)) => {
+            let mut args = line.args.clone();
+            for (at, name) in &line.outputs {
+                args[*at] = out.join(file_name(name)).to_string_lossy().into_owned();
+            }
+            if !options.keep_preview_options {
+                args = suite::without_preview_options(&args);
+            }
+            let request = cage::Request {
+                command: caged.command.iter().cloned().chain(args).collect(),
+                work,
+                outputs: out.clone(),
+                readable: caged.readable.to_vec(),
+                hidden: caged.hidden.to_vec(),
+                root: Some(folder.join("root")),
+                work_kept: false,
+                limit: options.timeout,
+                limits: options.limits,
+                user: caged.user,
+                held: false,
+            };
+            LineRun::Readied(cage::ready(&request), out)
+        }
+    }
+}
+
+/// Starts a readied line's renderer, with the time it may take: --timeout, or what is left of
+/// the budget where that is less. A line whose turn comes after check was stopped or the budget
+/// spent is given up unstarted.
+fn start_line(options: &CheckOptions, caged: &Caged, line: LineRun) -> LineRun {
+    let LineRun::Readied(readied, out) = line else {
+        return line;
+    };
+    if let Some(ending) = not_now(caged) {
+        readied.cancel();
+        return LineRun::Ended(unstarted(ending), out);
+    }
     let left = caged
         .budget
         .map(|(start, budget)| budget.saturating_sub(start.elapsed()));
-    if caged.stop.is_set() {
-        (ran_only(Ending::stopped(caged.stop)), folder.join("out"))
-    } else if let (Some(left), Some((_, budget))) = (left, caged.budget)
-        && left.is_zero()
-    {
-        (ran_only(Ending::OverBudget(budget)), folder.join("out"))
-    } else {
-        match run::prepare(&suite.scenes, &files, folder, caged.user) {
-            Err(why) => (ran_only(Ending::NotStarted(why)), folder.join("out")),
-            Ok((work, out)) => {
-                let mut args = line.args.clone();
-                for (at, name) in &line.outputs {
-                    args[*at] = out.join(file_name(name)).to_string_lossy().into_owned();
-                }
-                if !options.keep_preview_options {
-                    args = suite::without_preview_options(&args);
-                }
-                let request = cage::Request {
-                    command: caged.command.iter().cloned().chain(args).collect(),
-                    work,
-                    outputs: out.clone(),
-                    readable: caged.readable.to_vec(),
-                    hidden: caged.hidden.to_vec(),
-                    root: Some(folder.join("root")),
-                    work_kept: false,
-                    limit: left.map_or(options.timeout, |left| left.min(options.timeout)),
-                    limits: options.limits,
-                    user: caged.user,
+    let limit = left.map_or(options.timeout, |left| left.min(options.timeout));
+    LineRun::Running(readied.start(limit), out)
+}
+
+/// How a started line ran, and the folder its pictures are in.
+fn finish_line(options: &CheckOptions, caged: &Caged, line: LineRun) -> (Ran, PathBuf) {
+    match line {
+        LineRun::Ended(ran, out) => (ran, out),
+        LineRun::Readied(readied, out) => {
+            readied.cancel();
+            (unstarted(Ending::stopped(caged.stop)), out)
+        }
+        LineRun::Running(running, out) => {
+            let mut ran = running.wait(caged.stop);
+            // Stopped at the budget's end rather than at --timeout: the budget is the cause.
+            if let (Ending::TimedOut(after), Some((_, budget))) = (&ran.ending, caged.budget)
+                && *after < options.timeout
+            {
+                ran.ending = Ending::BudgetRanOut {
+                    budget,
+                    after: *after,
                 };
-                let mut ran = cage::run(&request, caged.stop);
-                // Stopped at the budget's end rather than at --timeout: the budget is the cause.
-                if let (Ending::TimedOut(after), Some((_, budget))) = (&ran.ending, caged.budget)
-                    && *after < options.timeout
-                {
-                    ran.ending = Ending::BudgetRanOut {
-                        budget,
-                        after: *after,
-                    };
-                }
-                (ran, out)
             }
+            (ran, out)
         }
     }
+}
+
+/// Runs every line on the pool's workers, as [`in_suite_order`] does, each worker making its
+/// next line ready (`ready`: files copied, cage built) while its current line's renderer runs,
+/// so that a line's turn costs its renderer's time and little more. `done` takes each line's
+/// number and how it ran.
+fn lines_in_suite_order<T: Send>(
+    pool: &rayon::ThreadPool,
+    count: usize,
+    ready: impl Fn(usize) -> LineRun + Sync,
+    start: impl Fn(LineRun) -> LineRun + Sync,
+    done: impl Fn(usize, LineRun) -> T + Sync,
+) -> Vec<T> {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let claim = || {
+        let number = next.fetch_add(1, Ordering::Relaxed);
+        (number < count).then(|| (number, ready(number)))
+    };
+    let finished = std::sync::Mutex::new(Vec::with_capacity(count));
+    pool.scope(|scope| {
+        for _ in 0..pool.current_num_threads().min(count) {
+            scope.spawn(|_| {
+                let mut current = claim();
+                while let Some((number, line)) = current {
+                    let running = start(line);
+                    current = claim();
+                    let result = done(number, running);
+                    finished
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .push((number, result));
+                }
+            });
+        }
+    });
+    let mut finished = finished.into_inner().unwrap_or_else(|e| e.into_inner());
+    finished.sort_by_key(|&(number, _)| number);
+    finished.into_iter().map(|(_, result)| result).collect()
 }
 
 /// A line's pictures graded, each against its reference (read before any renderer ran), from

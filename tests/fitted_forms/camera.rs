@@ -380,6 +380,36 @@ fn grid_walks_written_their_own_way_that_trust_a_hit_beyond_its_cell_are_the_gri
 }
 
 #[test]
+fn grids_of_their_own_that_list_objects_in_too_few_cells_are_grid_cells_missed() {
+    if common::later_dir("the fitted forms of assignment 5").is_none() {
+        return;
+    }
+    // The student's own lists, filled by their own loops: a sphere in the cells whose centres
+    // lie inside it leaves out the cells its surface only passes through (a notch at its edge,
+    // where a triangle stands beside it).
+    assert_eq!(
+        later_named(
+            "grid_sphere_centres_inside",
+            &["output6_02b.tga", "output6_02d.tga"],
+            "grid_cells_missed",
+            "form 0)"
+        ),
+        2
+    );
+    // Every object up to, not including, the cell of its box's highest corner: what lies
+    // within one cell on an axis is in none, and the bunny's small triangles are mostly gone.
+    assert_eq!(
+        later_named(
+            "grid_cells_upper_left_out",
+            &["output6_02b.tga", "output6_04b.tga", "output6_08b.tga"],
+            "grid_cells_missed",
+            "form 1)"
+        ),
+        3
+    );
+}
+
+#[test]
 fn grids_of_their_own_that_list_a_transformed_object_by_a_wrong_box_are_the_grid_transformed_box() {
     if common::later_dir("the fitted forms of assignment 5").is_none() {
         return;

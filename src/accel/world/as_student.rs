@@ -4,9 +4,9 @@
 
 use std::ops::ControlFlow;
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
-use super::{Found, Hit, Item, ListedBox, Nearest, World, search_limit};
+use super::{Found, Hit, Item, Listing, Nearest, World, search_limit};
 use crate::accel::Grid;
 use crate::accel::grid::Primitive;
 use crate::geometry::{Plane, Ray, intersect_sphere};
@@ -143,18 +143,19 @@ impl World {
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
-    /// The grid's search through a grid of the same cells whose objects under a Transform are
-    /// listed by the box `listed` (a student's, not the course's eight corners): where that
-    /// box falls short of the object, the cells it leaves out never find it. Without a grid,
-    /// the course's search.
-    pub fn intersect_listed_by(&self, listed: ListedBox, ray: &Ray, t_min: f32) -> Option<Hit> {
+    /// The grid's search through a grid of the same cells whose objects are listed as `listed`
+    /// says (a student's listing, not the course's): where it falls short of an object, the
+    /// cells it leaves out never find it. Without a grid, the course's search.
+    pub fn intersect_listed_by(&self, listed: Listing, ray: &Ray, t_min: f32) -> Option<Hit> {
         let Some(cells) = self.grid.as_ref().map(Grid::cells) else {
             return self.intersect(ray, t_min);
         };
         let slot = match listed {
-            ListedBox::EightCorners => return self.intersect(ray, t_min),
-            ListedBox::TwoCorners => 0,
-            ListedBox::Untransformed => 1,
+            Listing::EightCorners => return self.intersect(ray, t_min),
+            Listing::TwoCorners => 0,
+            Listing::Untransformed => 1,
+            Listing::SphereByCentres => 2,
+            Listing::ShortOfTheEnd => 3,
         };
         let grid = self.students_grids[slot].get_or_init(|| self.grid_of(cells, listed).ok());
         let Some(grid) = grid else {
@@ -263,6 +264,15 @@ impl World {
     /// walks the grid its own way.
     pub fn primitive_t(&self, p: &Primitive, ray: &Ray, t_min: f32, t_max: f32) -> Option<f32> {
         self.intersect_primitive(p, ray, t_min, t_max, &mut None)
+    }
+
+    /// The centre and radius of the grid's primitive `p` in its own space, where it is a
+    /// sphere: for a tracer that lists spheres in its own grid its own way.
+    pub fn primitive_sphere(&self, p: &Primitive) -> Option<(Vec3A, f32)> {
+        match self.items.get(p.item as usize)? {
+            Item::Sphere { sphere, .. } => Some((sphere.center, sphere.radius)),
+            Item::Mesh { .. } => None,
+        }
     }
 
     /// The hit of `ray` at `t` on the grid's primitive `p`.

@@ -10,25 +10,32 @@ use crate::accel::grid::{Extent, Primitive};
 use crate::accel::{Grid, GridError, Tally};
 use crate::geometry::{Aabb, Ray, Transform, intersect_sphere, intersect_triangle_in};
 
-/// The box a grid lists an object under a Transform by.
+/// The cells a grid lists an object in: by which box an object under a Transform is listed,
+/// and how a box's or a sphere's cells are picked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ListedBox {
-    /// The course's: the box of the eight corners of its object-space box, carried into the
-    /// world.
+pub enum Listing {
+    /// The course's: an object under a Transform by the box of the eight corners of its
+    /// object-space box, carried into the world; every cell a box reaches, and a sphere's by
+    /// the handout's conservative test.
     EightCorners,
     /// A student's: the box between two corners carried into the world, the lowest and the
     /// highest (a rotated object reaches past it).
     TwoCorners,
     /// A student's: its object-space box as it is, the Transform left out.
     Untransformed,
+    /// A student's: a sphere in world space in the cells whose centres lie inside it.
+    SphereByCentres,
+    /// A student's: every object by its box, in the cells from its lowest corner's up to, and
+    /// not including, its highest corner's on each axis.
+    ShortOfTheEnd,
 }
 
-impl ListedBox {
+impl Listing {
     /// The box an object of object-space box `b`, placed by `t`, is listed by.
     fn of(self, b: Aabb, t: &Transform) -> Aabb {
         let carried = |corner| t.object_to_world.transform_point3a(corner);
         match self {
-            ListedBox::EightCorners => {
+            Listing::EightCorners | Listing::SphereByCentres | Listing::ShortOfTheEnd => {
                 let corners: [glam::Vec3A; 8] = std::array::from_fn(|c| {
                     let pick = |bit: usize, lo: f32, hi: f32| if c & bit == 0 { lo } else { hi };
                     carried(glam::Vec3A::new(
@@ -39,8 +46,8 @@ impl ListedBox {
                 });
                 Aabb::from_points(&corners)
             }
-            ListedBox::TwoCorners => Aabb::from_points(&[carried(b.min), carried(b.max)]),
-            ListedBox::Untransformed => b,
+            Listing::TwoCorners => Aabb::from_points(&[carried(b.min), carried(b.max)]),
+            Listing::Untransformed => b,
         }
     }
 }
@@ -51,36 +58,39 @@ impl World {
     /// the eight corners of its object-space box, under a Transform), a sphere in world space by
     /// the handout's tighter test; planes stay outside the grid.
     pub fn use_grid(&mut self, cells: UVec3) -> Result<(), GridError> {
-        self.grid = Some(self.grid_of(cells, ListedBox::EightCorners)?);
+        self.grid = Some(self.grid_of(cells, Listing::EightCorners)?);
         Ok(())
     }
 
     /// A grid of `cells` over the box of what it lists, each primitive under a Transform
     /// listed by the box `listed` gives it.
-    pub(super) fn grid_of(&self, cells: UVec3, listed: ListedBox) -> Result<Grid, GridError> {
+    pub(super) fn grid_of(&self, cells: UVec3, listed: Listing) -> Result<Grid, GridError> {
         let primitives: Vec<(Primitive, Extent)> = self
             .grid_primitives()
             .map(|(primitive, own_box, transform)| {
-                let extent = match (transform, self.items[primitive.item as usize]) {
-                    (None, Item::Sphere { sphere, .. }) => Extent::Sphere {
+                let extent = match (transform, self.items[primitive.item as usize], listed) {
+                    (_, _, Listing::ShortOfTheEnd) => Extent::BoxShortOfItsEnd(
+                        transform.map_or(own_box, |t| Listing::EightCorners.of(own_box, t)),
+                    ),
+                    (None, Item::Sphere { sphere, .. }, Listing::SphereByCentres) => {
+                        Extent::SphereByCentres {
+                            center: sphere.center,
+                            radius: sphere.radius,
+                        }
+                    }
+                    (None, Item::Sphere { sphere, .. }, _) => Extent::Sphere {
                         center: sphere.center,
                         radius: sphere.radius,
                     },
-                    (None, _) => Extent::Box(own_box),
-                    (Some(t), _) => Extent::Box(listed.of(own_box, t)),
+                    (None, _, _) => Extent::Box(own_box),
+                    (Some(t), _, _) => Extent::Box(listed.of(own_box, t)),
                 };
                 (primitive, extent)
             })
             .collect();
-        let bounds = primitives.iter().fold(Aabb::EMPTY, |b, (_, e)| {
-            b.union(match *e {
-                Extent::Box(b) => b,
-                Extent::Sphere { center, radius } => Aabb {
-                    min: center - radius,
-                    max: center + radius,
-                },
-            })
-        });
+        let bounds = primitives
+            .iter()
+            .fold(Aabb::EMPTY, |b, (_, e)| b.union(e.reach()));
         Grid::build(bounds, cells, &primitives)
     }
 
@@ -203,9 +213,9 @@ mod tests {
             min: Vec3A::new(-reach, 5.0 - reach, -1.0),
             max: Vec3A::new(reach, 5.0 + reach, 1.0),
         };
-        assert!(close(ListedBox::EightCorners.of(own, &placed), whole));
+        assert!(close(Listing::EightCorners.of(own, &placed), whole));
         // (−1, −1) and (1, 1) turn onto the y axis: no width left in x.
-        let two = ListedBox::TwoCorners.of(own, &placed);
+        let two = Listing::TwoCorners.of(own, &placed);
         assert!(close(
             two,
             Aabb {
@@ -213,6 +223,6 @@ mod tests {
                 max: Vec3A::new(0.0, 5.0 + reach, 1.0),
             }
         ));
-        assert_eq!(ListedBox::Untransformed.of(own, &placed), own);
+        assert_eq!(Listing::Untransformed.of(own, &placed), own);
     }
 }

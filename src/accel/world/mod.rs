@@ -17,7 +17,7 @@ mod as_student;
 pub use as_student::Struck;
 mod brute_force;
 mod grid_search;
-pub use grid_search::ListedBox;
+pub use grid_search::Listing;
 mod nearest;
 mod packet;
 mod shadow;
@@ -116,9 +116,9 @@ pub struct World {
     pub(crate) planes: Vec<(Plane, u32)>,
     /// The course's grid, searched instead of the trees when `-grid` asks for it.
     pub(crate) grid: Option<Grid>,
-    /// Grids of the same cells as a student's tracer lists objects under a Transform (see
-    /// [`ListedBox`]), each made the first time a search through it is asked for.
-    pub(crate) students_grids: [std::sync::OnceLock<Option<Grid>>; 2],
+    /// Grids of the same cells as a student's tracer lists objects in them (see
+    /// [`Listing`]), each made the first time a search through it is asked for.
+    pub(crate) students_grids: [std::sync::OnceLock<Option<Grid>>; 4],
 }
 
 /// A ray in one item's space, with its watertight frame, kept while the grid tests that item.

@@ -7,7 +7,8 @@
 //! Landlock; resource limits; a private HOME and TMPDIR), enforces the line's deadline, and
 //! ends everything the renderer started before it reports, setsid, double forks and fork bombs
 //! included. check itself only waits for the supervisor's report, with a deadline of its own
-//! behind the supervisor's.
+//! behind the supervisor's. Where the supervisor can wait (Linux), a line is made ready
+//! ([`ready`]) while the line before it runs, and started with the time then left.
 
 mod report;
 
@@ -33,7 +34,7 @@ mod same_user;
 mod unix;
 
 use crate::render::StopFlag;
-use std::io::Read;
+use std::io::{Read, Write};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::sync::mpsc::RecvTimeoutError;
@@ -122,6 +123,10 @@ pub struct Request {
     pub limits: Limits,
     /// The user and group it runs as, when check runs as root.
     pub user: Option<(u32, u32)>,
+    /// Whether the supervisor builds the line's cage and then waits for check's word (the time
+    /// left, on its stdin) before it starts the renderer: a line made ready while another runs
+    /// ([`ready`]).
+    pub held: bool,
 }
 
 impl Request {
@@ -142,6 +147,7 @@ impl Request {
             "disk": self.limits.disk,
             "files": self.limits.files,
             "user": self.user.map(|(u, g)| [u, g]),
+            "held": self.held,
         })
     }
 
@@ -192,6 +198,7 @@ impl Request {
             hidden: strings("hidden")?.into_iter().map(PathBuf::from).collect(),
             root: value["root"].as_str().map(PathBuf::from),
             work_kept: value["work_kept"].as_bool().unwrap_or(false),
+            held: value["held"].as_bool().unwrap_or(false),
             limit: Duration::from_millis(number("limit_ms")?),
             limits: Limits {
                 memory: number("memory")?,
@@ -470,112 +477,234 @@ const SUPERVISOR_POLL: Duration = Duration::from_millis(20);
 /// How often check looks for the end of a supervisor whose report has come.
 const EXITING_POLL: Duration = Duration::from_micros(200);
 
+/// Whether this system's supervisor can be started ahead and hold the line until check's word.
+const SUPERVISOR_HOLDS: bool = cfg!(target_os = "linux");
+
 /// Runs `request` under a supervisor and waits for its report. `stop` asks for the run to end
 /// early (check was interrupted): the supervisor is told, and ends the renderer's tree.
 pub fn run(request: &Request, stop: &StopFlag) -> Ran {
-    let start = Instant::now();
-    let not_started = |why: String| Ran {
-        ending: Ending::NotStarted(why),
-        stderr: String::new(),
-        seconds: start.elapsed().as_secs_f64(),
-        confinement: None,
+    Readied {
+        request: Request {
+            held: false,
+            ..request.clone()
+        },
+        waiting: None,
+    }
+    .start(request.limit)
+    .wait(stop)
+}
+
+/// A line made ready while another runs: its supervisor started, its cage built, the renderer
+/// not yet (where the system's supervisor can wait: elsewhere it is started by `start`).
+/// Dropped unstarted, the supervisor hears its stdin close and ends the line unrun.
+pub struct Readied {
+    request: Request,
+    waiting: Option<Result<Supervisor, String>>,
+}
+
+/// A supervisor check started, with the ends of its pipes.
+struct Supervisor {
+    child: std::process::Child,
+    said: Option<std::sync::mpsc::Receiver<Vec<u8>>>,
+    report: Option<std::sync::mpsc::Receiver<Vec<u8>>>,
+}
+
+/// A line whose renderer has been started: `wait` for how it ran.
+pub struct Running {
+    supervisor: Result<Supervisor, String>,
+    start: Instant,
+    limit: Duration,
+}
+
+/// Makes `request`'s line ready to start: the supervisor builds its cage (its namespaces, its
+/// own root) while the line before it still runs, so that what is left when the line's turn
+/// comes is the renderer itself.
+pub fn ready(request: &Request) -> Readied {
+    let request = Request {
+        held: SUPERVISOR_HOLDS,
+        ..request.clone()
     };
-    let supervisor = match std::env::current_exe() {
-        Ok(path) => path,
-        Err(e) => return not_started(format!("raycast cannot find its own program: {e}")),
-    };
-    let mut supervisor = Command::new(supervisor);
+    let waiting = SUPERVISOR_HOLDS.then(|| spawn_supervisor(&request));
+    Readied { request, waiting }
+}
+
+impl Readied {
+    /// Starts the renderer, which may run for `limit` (the time left when its turn came).
+    pub fn start(self, limit: Duration) -> Running {
+        let start = Instant::now();
+        let supervisor = match self.waiting {
+            Some(Ok(mut supervisor)) => {
+                // A supervisor that cannot hear the word has ended, and says why in its report.
+                if let Some(stdin) = supervisor.child.stdin.as_mut() {
+                    let _ = writeln!(stdin, "{}", limit.as_millis());
+                }
+                Ok(supervisor)
+            }
+            Some(Err(why)) => Err(why),
+            None => spawn_supervisor(&Request {
+                limit,
+                ..self.request
+            }),
+        };
+        Running {
+            supervisor,
+            start,
+            limit,
+        }
+    }
+
+    /// Gives the line up unstarted (check was stopped, or its budget spent): the supervisor
+    /// hears its stdin close, takes the cage down and ends.
+    pub fn cancel(self) {
+        if let Some(Ok(mut supervisor)) = self.waiting {
+            drop(supervisor.child.stdin.take());
+            let deadline = Instant::now() + SUPERVISOR_GRACE;
+            while Instant::now() < deadline {
+                if !matches!(supervisor.child.try_wait(), Ok(None)) {
+                    return;
+                }
+                std::thread::sleep(EXITING_POLL);
+            }
+            let _ = supervisor.child.kill();
+            let _ = supervisor.child.wait();
+        }
+    }
+}
+
+/// Starts `request`'s supervisor, its stdout (the report) and stderr (the renderer's words)
+/// read on threads of their own.
+fn spawn_supervisor(request: &Request) -> Result<Supervisor, String> {
+    let program =
+        std::env::current_exe().map_err(|e| format!("raycast cannot find its own program: {e}"))?;
+    let mut supervisor = Command::new(program);
     supervisor
         .arg(SUPERVISE)
         .arg(request.json().to_string())
         // Kept open while the line runs: a supervisor whose stdin closes was told to stop
-        // (where no signal can tell it).
+        // (where no signal can tell it), and a held one hears on it when to start.
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
     system::detach(&mut supervisor);
-    let child = supervisor.spawn();
-    let mut child = match child {
-        Ok(child) => child,
-        Err(e) => return not_started(format!("its supervisor could not start: {e}")),
-    };
+    let mut child = supervisor
+        .spawn()
+        .map_err(|e| format!("its supervisor could not start: {e}"))?;
     let said = child.stderr.take().map(|pipe| read_tail(pipe, SAID_TAIL));
     let report = child.stdout.take().map(|pipe| read_tail(pipe, SAID_TAIL));
-    let backstop = request.limit + SUPERVISOR_GRACE;
-    let mut told = false;
-    // The report, once its pipe has closed: the supervisor's last act, so the wait for its
-    // end is woken by it rather than by the next of a round of polls.
-    let mut reported: Option<Vec<u8>> = None;
-    let status = loop {
-        match child.try_wait() {
-            Ok(Some(status)) => break Some(status),
-            Ok(None) if start.elapsed() >= backstop => break None,
-            Ok(None) => {
-                if stop.is_set() && !told {
-                    system::ask_to_stop(&mut child);
-                    told = true;
-                }
-                match (&report, &reported) {
-                    (Some(pipe), None) => match pipe.recv_timeout(SUPERVISOR_POLL) {
-                        Ok(bytes) => reported = Some(bytes),
-                        Err(RecvTimeoutError::Timeout) => {}
-                        Err(RecvTimeoutError::Disconnected) => {
-                            reported = Some(Vec::new());
-                        }
-                    },
-                    _ => std::thread::sleep(EXITING_POLL),
-                }
+    Ok(Supervisor {
+        child,
+        said,
+        report,
+    })
+}
+
+impl Running {
+    /// Waits for the line's end: how it ran, its time counted from its start.
+    pub fn wait(self, stop: &StopFlag) -> Ran {
+        let Running {
+            supervisor,
+            start,
+            limit,
+        } = self;
+        let Supervisor {
+            mut child,
+            said,
+            report,
+        } = match supervisor {
+            Ok(supervisor) => supervisor,
+            Err(why) => {
+                return Ran {
+                    ending: Ending::NotStarted(why),
+                    stderr: String::new(),
+                    seconds: start.elapsed().as_secs_f64(),
+                    confinement: None,
+                };
             }
-            Err(e) => return not_started(e.to_string()),
+        };
+        let not_started = |why: String| Ran {
+            ending: Ending::NotStarted(why),
+            stderr: String::new(),
+            seconds: start.elapsed().as_secs_f64(),
+            confinement: None,
+        };
+        let backstop = limit + SUPERVISOR_GRACE;
+        let mut told = false;
+        // The report, once its pipe has closed: the supervisor's last act, so the wait for its
+        // end is woken by it rather than by the next of a round of polls.
+        let mut reported: Option<Vec<u8>> = None;
+        let status = loop {
+            match child.try_wait() {
+                Ok(Some(status)) => break Some(status),
+                Ok(None) if start.elapsed() >= backstop => break None,
+                Ok(None) => {
+                    if stop.is_set() && !told {
+                        system::ask_to_stop(&mut child);
+                        told = true;
+                    }
+                    match (&report, &reported) {
+                        (Some(pipe), None) => match pipe.recv_timeout(SUPERVISOR_POLL) {
+                            Ok(bytes) => reported = Some(bytes),
+                            Err(RecvTimeoutError::Timeout) => {}
+                            Err(RecvTimeoutError::Disconnected) => {
+                                reported = Some(Vec::new());
+                            }
+                        },
+                        _ => std::thread::sleep(EXITING_POLL),
+                    }
+                }
+                Err(e) => return not_started(e.to_string()),
+            }
+        };
+        if status.is_none() {
+            // A supervisor past its own deadline was stopped by the renderer (where neither another
+            // user nor Landlock's signal scope kept it out): killed, and the renderer dies with it
+            // (PR_SET_PDEATHSIG).
+            let _ = child.kill();
+            let _ = child.wait();
         }
-    };
-    if status.is_none() {
-        // A supervisor past its own deadline was stopped by the renderer (where neither another
-        // user nor Landlock's signal scope kept it out): killed, and the renderer dies with it
-        // (PR_SET_PDEATHSIG).
-        let _ = child.kill();
-        let _ = child.wait();
-    }
-    // Whatever the renderer started ended with its supervisor; the pipes close at once, but
-    // are not waited on past the deadline either way.
-    let left = backstop
-        .saturating_sub(start.elapsed())
-        .max(Duration::from_millis(100));
-    let report = reported
-        .or_else(|| report.and_then(|r| r.recv_timeout(left).ok()))
-        .unwrap_or_default();
-    let stderr = said
-        .and_then(|s| s.recv_timeout(Duration::from_millis(100)).ok())
-        .unwrap_or_default();
-    let seconds = start.elapsed().as_secs_f64();
-    let stderr = String::from_utf8_lossy(&stderr).into_owned();
-    let Some(status) = status else {
-        return Ran {
-            ending: Ending::TimedOut(request.limit),
+        // Whatever the renderer started ended with its supervisor; the pipes close at once, but
+        // are not waited on past the deadline either way.
+        let left = backstop
+            .saturating_sub(start.elapsed())
+            .max(Duration::from_millis(100));
+        let report = reported
+            .or_else(|| report.and_then(|r| r.recv_timeout(left).ok()))
+            .unwrap_or_default();
+        let stderr = said
+            .and_then(|s| s.recv_timeout(Duration::from_millis(100)).ok())
+            .unwrap_or_default();
+        let seconds = start.elapsed().as_secs_f64();
+        let stderr = String::from_utf8_lossy(&stderr).into_owned();
+        let Some(status) = status else {
+            return Ran {
+                ending: Ending::TimedOut(limit),
+                stderr,
+                seconds,
+                confinement: None,
+            };
+        };
+        let report: Option<serde_json::Value> = serde_json::from_slice(&report).ok();
+        let Some(report) = report else {
+            return Ran {
+                ending: Ending::NotStarted(format!(
+                    "its supervisor ended ({status}) without a report"
+                )),
+                stderr,
+                seconds,
+                confinement: None,
+            };
+        };
+        let ending = match report::ending_of(&report["ending"]) {
+            // The supervisor knows only that it was told to stop; check knows why.
+            Ending::Interrupted => Ending::stopped(stop),
+            ending => ending,
+        };
+        Ran {
+            ending,
             stderr,
             seconds,
-            confinement: None,
-        };
-    };
-    let report: Option<serde_json::Value> = serde_json::from_slice(&report).ok();
-    let Some(report) = report else {
-        return Ran {
-            ending: Ending::NotStarted(format!("its supervisor ended ({status}) without a report")),
-            stderr,
-            seconds,
-            confinement: None,
-        };
-    };
-    let ending = match report::ending_of(&report["ending"]) {
-        // The supervisor knows only that it was told to stop; check knows why.
-        Ending::Interrupted => Ending::stopped(stop),
-        ending => ending,
-    };
-    Ran {
-        ending,
-        stderr,
-        seconds,
-        confinement: Confinement::from_json(&report["cage"]).map(with_keyrings),
+            confinement: Confinement::from_json(&report["cage"]).map(with_keyrings),
+        }
     }
 }
 
@@ -686,6 +815,7 @@ mod tests {
             limit: Duration::from_millis(2500),
             limits: Limits::default(),
             user: Some((65534, 65533)),
+            held: true,
         };
         let text = request.json().to_string();
         assert_eq!(Request::from_json(&text), Ok(request));

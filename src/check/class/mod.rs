@@ -231,6 +231,7 @@ pub fn grade_student(
             limit: class.build_timeout,
             limits: options.limits,
             user,
+            held: false,
         };
         Built::of(&cage::run(&request, stop))
     });

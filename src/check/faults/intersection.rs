@@ -1,7 +1,7 @@
 //! Faults of the search for the nearest hit: the range of t it accepts.
 
 use super::{Candidate, Fault, LineScene, Planted};
-use crate::accel::{Hit, ListedBox, Struck};
+use crate::accel::{Hit, Listing, Struck};
 use crate::camera::Camera;
 use crate::geometry::{Plane, Ray, Transform, intersect_plane};
 use crate::parse::description::{Projection, Shape};
@@ -41,7 +41,7 @@ pub enum HitFault {
     Mailboxed,
     /// With a grid, objects under a Transform listed in the cells of another box than the
     /// course's.
-    ListedBy(ListedBox),
+    ListedBy(Listing),
     /// With a grid, a ray that begins inside its box walked nowhere: it meets the planes alone.
     WalkedFromOutside,
     /// With a grid, the planes never tested (they have no box, so they are in no cell).
@@ -490,12 +490,47 @@ pub(super) const GRID_TRANSFORMED_BOX: Fault = Fault {
             .any(|o| o.transform.is_some());
         if grid_searched(line) && placed {
             Candidate::forms(
-                [ListedBox::Untransformed, ListedBox::TwoCorners]
+                [Listing::Untransformed, Listing::TwoCorners]
                     .map(|listed| Planted::Hit(HitFault::ListedBy(listed))),
             )
         } else {
             Vec::new()
         }
+    },
+};
+
+pub(super) const GRID_CELLS_MISSED: Fault = Fault {
+    name: "grid_cells_missed",
+    assignment: 5,
+    sentence: "My grid lists an object in too few cells: a sphere only in the cells whose \
+               centres lie inside it (form 0), or every object only in the cells before the one \
+               its box ends in, a loop's bound written with < (form 1). A ray crossing a cell \
+               left out passes through the object there, and its shadow has the same holes.",
+    look_for: "insertIntoGrid: list an object in every cell its box overlaps, from the cell of \
+               its lowest corner to the cell of its highest one, both included (<=); for a \
+               sphere tested by the cells' centres, widen the radius by half a cell's diagonal \
+               so that no cell the sphere passes through is missed.",
+    candidates: |line: &LineScene| {
+        if !grid_searched(line) {
+            return Vec::new();
+        }
+        let world = &line.scene.world;
+        let spheres = world
+            .grid_primitives()
+            .any(|(p, _, placed)| placed.is_none() && world.primitive_sphere(&p).is_some());
+        let listings = [Listing::SphereByCentres, Listing::ShortOfTheEnd];
+        listings
+            .into_iter()
+            .enumerate()
+            .filter(|&(_, listed)| spheres || listed != Listing::SphereByCentres)
+            .map(|(form, listed)| {
+                Candidate::with(
+                    Planted::Hit(HitFault::ListedBy(listed)),
+                    "form",
+                    form as f64,
+                )
+            })
+            .collect()
     },
 };
 

@@ -216,6 +216,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::SPHERE_NORMAL_LENGTH,
     intersection::GRID_FIRST_HIT,
     intersection::GRID_TRANSFORMED_BOX,
+    intersection::GRID_CELLS_MISSED,
     intersection::GRID_RAYS_FROM_INSIDE,
     intersection::GRID_PLANES,
 ];

@@ -75,7 +75,13 @@ fn run(request: &Request) -> (Ending, Confinement) {
         0 => {
             drop(report);
             let counted_by_group = group.is_ok();
-            let (ending, cage) = init(request, &namespaces, counted_by_group, cage, &stop);
+            let (ending, cage) = init(
+                request,
+                &namespaces,
+                (counted_by_group, &for_init),
+                cage,
+                &stop,
+            );
             let said = serde_json::json!({ "ending": ending_json(&ending), "cage": cage.json() });
             let _ = (&for_init).write_all(said.to_string().as_bytes());
             // SAFETY: _exit ends the init at once, without the supervisor's exit handlers;
@@ -91,8 +97,31 @@ fn run(request: &Request) -> (Ending, Confinement) {
             cage,
         );
     };
+    // A held line: the cage is built (or being built) while check's word is awaited; without
+    // it (check closed stdin, was stopped, or is gone), the init ends unstarted.
+    let (start, limit) = if request.held {
+        let word = word_to_start(&stop, parent);
+        let told = word.is_some_and(|limit| {
+            let millis = limit.as_millis() as u64;
+            (&report).write_all(&millis.to_le_bytes()).is_ok()
+        });
+        match word {
+            Some(limit) if told => (Instant::now(), limit),
+            _ => {
+                let _ = rustix::process::kill_process(init, Signal::KILL);
+                let _ = rustix::process::waitpid(Some(init), WaitOptions::empty());
+                reap::end_descendants();
+                if let Ok(group) = group {
+                    group.leave();
+                }
+                return (Ending::Interrupted, cage);
+            }
+        }
+    } else {
+        (start, request.limit)
+    };
     // The init keeps the line's deadline; this one, a little later, holds if the init cannot.
-    let backstop = request.limit + INIT_GRACE;
+    let backstop = limit + INIT_GRACE;
     let mut ended_here = None;
     let init_end = reap::ChildEnd::of(Some(init));
     loop {
@@ -143,6 +172,54 @@ fn run(request: &Request) -> (Ending, Confinement) {
     }
 }
 
+/// check's word to start a held line: the time it may run, in milliseconds, on a line of the
+/// supervisor's stdin. `None` where stdin closes or says something else, where the supervisor
+/// is asked to stop, or where check is gone.
+fn word_to_start(stop: &AtomicBool, parent: Option<Pid>) -> Option<Duration> {
+    use rustix::event::{PollFd, PollFlags, Timespec};
+    let stdin = std::io::stdin();
+    let wait = Timespec {
+        tv_sec: 0,
+        tv_nsec: LOOK_EVERY.as_nanos() as i64,
+    };
+    let mut heard = Vec::new();
+    loop {
+        if stop.load(Ordering::Relaxed) || rustix::process::getppid() != parent {
+            return None;
+        }
+        let mut ready = [PollFd::new(&stdin, PollFlags::IN)];
+        if rustix::event::poll(&mut ready, Some(&wait)).unwrap_or(0) == 0 {
+            continue;
+        }
+        let mut byte = [0u8; 64];
+        let n = rustix::io::read(&stdin, &mut byte).ok()?;
+        if n == 0 {
+            return None;
+        }
+        heard.extend_from_slice(&byte[..n]);
+        if let Some(end) = heard.iter().position(|&b| b == b'\n') {
+            let millis: u64 = std::str::from_utf8(&heard[..end])
+                .ok()?
+                .trim()
+                .parse()
+                .ok()?;
+            return Some(Duration::from_millis(millis));
+        }
+        if heard.len() > 32 {
+            return None;
+        }
+    }
+}
+
+/// The init's word to start from its supervisor, on the channel between them: the time the
+/// renderer may run. `None` where the channel closes first.
+fn started_by_supervisor(channel: &UnixStream) -> Option<Duration> {
+    let mut millis = [0u8; 8];
+    let mut channel = channel;
+    channel.read_exact(&mut millis).ok()?;
+    Some(Duration::from_millis(u64::from_le_bytes(millis)))
+}
+
 /// Waits, at most 100 ms, until this process is single-threaded again: a joined thread (the
 /// Landlock probe's) may still be leaving the kernel's thread group, and the kernel refuses a
 /// user namespace to a process of more than one thread (seen once in CI: the line then ran
@@ -174,7 +251,7 @@ const INIT_GRACE: Duration = Duration::from_millis(1500);
 fn init(
     request: &Request,
     namespaces: &Namespaces,
-    counted_by_group: bool,
+    (counted_by_group, supervisor): (bool, &UnixStream),
     mut cage: Confinement,
     stop: &AtomicBool,
 ) -> (Ending, Confinement) {
@@ -185,6 +262,20 @@ fn init(
     let _ = rustix::process::setsid();
     let root = own_root(request, namespaces.pid);
     cage.own_root = root.as_ref().map(|_| ()).map_err(Clone::clone);
+    // A held line starts when its supervisor says, with the time then left.
+    let held;
+    let request = if request.held {
+        let Some(limit) = started_by_supervisor(supervisor) else {
+            return (Ending::Interrupted, cage);
+        };
+        held = Request {
+            limit,
+            ..request.clone()
+        };
+        &held
+    } else {
+        request
+    };
     let Some((program, own)) = request.command.split_first() else {
         return (Ending::NotStarted("no renderer given".into()), cage);
     };

@@ -102,6 +102,7 @@ fn probe(suite: &Path) -> Result<super::Confinement, String> {
         limit: std::time::Duration::from_secs(5),
         limits: super::Limits::default(),
         user: None,
+        held: false,
     };
     super::run(&probe, &crate::render::StopFlag::default())
         .confinement
