@@ -268,6 +268,10 @@ enum Form {
     GridOriginCellLeftOut,
     /// Grid: a ray whose origin lies within the grid's box left out of the march.
     GridOriginInsideLeftOut,
+    /// Grid: a ray left out of the march where a slab test of the grid's box finds its entry
+    /// behind its origin (t ≤ 0), the student's test of an origin inside the box, which also
+    /// takes some rays starting a rounding outside for inside.
+    GridOriginInSlabsLeftOut,
     /// A grid walk that tests only what its cells list: the planes, which have no box, are
     /// never tested.
     GridWithoutPlanes,
@@ -463,6 +467,7 @@ impl Form {
             "grid_cells_upper_left_out" => Form::GridCellsUpperLeftOut,
             "grid_origin_cell_left_out" => Form::GridOriginCellLeftOut,
             "grid_origin_inside_left_out" => Form::GridOriginInsideLeftOut,
+            "grid_origin_in_slabs_left_out" => Form::GridOriginInSlabsLeftOut,
             "grid_without_planes" => Form::GridWithoutPlanes,
             "plane_plus_offset" => Form::PlanePlusOffset,
             "light_colour_left_out" => Form::LightColourLeftOut,

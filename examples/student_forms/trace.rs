@@ -40,7 +40,8 @@ impl TraceSeam for Form {
             | Form::GridSphereCentresInside
             | Form::GridCellsUpperLeftOut
             | Form::GridOriginCellLeftOut
-            | Form::GridOriginInsideLeftOut => Some(ThroughGlass::Opaque),
+            | Form::GridOriginInsideLeftOut
+            | Form::GridOriginInSlabsLeftOut => Some(ThroughGlass::Opaque),
             _ => None,
         }
     }
@@ -328,6 +329,27 @@ impl TraceSeam for Form {
                     .intersect_accepting(ray, t_min, |local, corners| {
                         moller_trumbore(local, corners, edge, determinant)
                     });
+            }
+            Form::GridOriginInSlabsLeftOut => {
+                let Some(grid) = scene.world.grid() else {
+                    return Some(hit);
+                };
+                let (low, high) = (grid.bounds().min, grid.bounds().max);
+                let (mut near, mut far) = (f32::NEG_INFINITY, f32::INFINITY);
+                for axis in 0..3 {
+                    let across = 1.0 / ray.direction[axis];
+                    let (a, b) = (
+                        (low[axis] - ray.origin[axis]) * across,
+                        (high[axis] - ray.origin[axis]) * across,
+                    );
+                    near = near.max(a.min(b));
+                    far = far.min(a.max(b));
+                }
+                return if near < 0.0 && far > 0.0 {
+                    scene.world.plane_hit(ray, t_min)
+                } else {
+                    Some(hit)
+                };
             }
             Form::GridOriginCellLeftOut | Form::GridOriginInsideLeftOut => {
                 let Some(grid) = scene.world.grid() else {

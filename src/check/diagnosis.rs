@@ -233,6 +233,12 @@ fn explain_by_simulation(
     };
     for (k, result) in indices.into_iter().zip(simulated) {
         if result.matches.is_empty() {
+            // The nearest fault leads the pixels' guesses, itself a guess.
+            if let Some(near) = result.near {
+                let g = &mut graded[k];
+                g.findings.insert(0, Finding::Near(near));
+                g.explanation = finding::explain(&g.findings, g.picture);
+            }
             continue;
         }
         let g = &mut graded[k];

@@ -53,6 +53,10 @@ fn advice(diagnosis: Diagnosis, kind: PictureKind) -> String {
 pub enum Finding {
     /// raycast's render of the line with these faults planted matches the picture: the cause.
     Fault(FaultMatch),
+    /// No render matches; this fault's comes nearest and accounts for most of the pixels by
+    /// which the picture differs from its reference: a guess (the same mistake, most likely,
+    /// with another difference beside it).
+    Near(FaultMatch),
     /// Decided from the run (a crash, no picture, the wrong size) or, where no fault of the
     /// library reproduces the picture, guessed from the pixels.
     Diagnosis(Diagnosis),
@@ -62,25 +66,29 @@ impl Finding {
     /// The fault's name (two joined by `+`), or the diagnosis's code.
     pub fn code(&self) -> String {
         match self {
-            Finding::Fault(m) => m.code(),
+            Finding::Fault(m) | Finding::Near(m) => m.code(),
             Finding::Diagnosis(d) => d.code().to_string(),
         }
     }
 
     /// Whether it is a guess from the pixels rather than a fault reproduced or a fact of the run.
     pub fn is_guess(&self) -> bool {
-        matches!(self, Finding::Diagnosis(d) if !d.is_fact())
+        match self {
+            Finding::Diagnosis(d) => !d.is_fact(),
+            Finding::Near(_) => true,
+            Finding::Fault(_) => false,
+        }
     }
 
-    /// As `summary.json` carries it: `code`, `kind` (`fault`, `run` or `guess`), and for a
-    /// fault the faults' names, fitted parameters, the match figure (the share of pixels off
+    /// As `summary.json` carries it: `code`, `kind` (`fault`, `near`, `run` or `guess`), and
+    /// for a fault (matched, or near) the faults' names, fitted parameters, the match figure (the share of pixels off
     /// between the student's picture and the fault's render), assignment, sentence and what to
     /// look for; for the others the explanation.
     pub fn json(&self) -> Value {
         match self {
-            Finding::Fault(m) => json!({
+            Finding::Fault(m) | Finding::Near(m) => json!({
                 "code": m.code(),
-                "kind": "fault",
+                "kind": if matches!(self, Finding::Near(_)) { "near" } else { "fault" },
                 "faults": m.faults.iter().map(|f| f.name).collect::<Vec<_>>(),
                 "parameters": m
                     .parameters
@@ -109,7 +117,7 @@ impl Finding {
     /// this raycast does not know.
     pub fn from_json(value: &Value) -> Option<Finding> {
         let code = value["code"].as_str()?;
-        if value["kind"] != "fault" {
+        if value["kind"] != "fault" && value["kind"] != "near" {
             return Diagnosis::all()
                 .find(|d| d.code() == code)
                 .map(Finding::Diagnosis);
@@ -127,13 +135,18 @@ impl Finding {
                 Some((static_name(name), value["parameters"][name].as_f64()?))
             })
             .collect::<Option<Vec<_>>>()?;
-        Some(Finding::Fault(FaultMatch {
+        let m = FaultMatch {
             faults,
             parameters,
             bad_fraction: value["match"].as_f64()?,
             accounts_for: value["accounts_for"].as_f64(),
             against_spread: value["against"] == "spread",
-        }))
+        };
+        Some(if value["kind"] == "near" {
+            Finding::Near(m)
+        } else {
+            Finding::Fault(m)
+        })
     }
 }
 
@@ -158,7 +171,7 @@ fn fault_matches(findings: &[Finding]) -> Vec<&FaultMatch> {
         .iter()
         .filter_map(|f| match f {
             Finding::Fault(m) => Some(m),
-            Finding::Diagnosis(_) => None,
+            Finding::Near(_) | Finding::Diagnosis(_) => None,
         })
         .collect()
 }
@@ -183,17 +196,21 @@ pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
             .filter_map(|f| match f {
                 Finding::Diagnosis(d) if !d.is_fact() => Some(advice(*d, kind)),
                 Finding::Diagnosis(d) => Some(d.explanation().to_string()),
-                Finding::Fault(_) => None,
+                Finding::Fault(_) | Finding::Near(_) => None,
             })
             .collect::<Vec<_>>()
             .join(" ");
-        return if guesses.is_empty() {
-            text
-        } else {
-            format!(
+        let near = findings.iter().find_map(|f| match f {
+            Finding::Near(m) => Some(m),
+            _ => None,
+        });
+        return match near {
+            Some(near) => near_guess(near, &text),
+            None if guesses.is_empty() => text,
+            None => format!(
                 "No fault in raycast's library reproduces this picture; a guess from the \
                  pixels: {text}"
-            )
+            ),
         };
     };
     let planted = match first.faults.len() {
@@ -245,6 +262,39 @@ pub fn explain(findings: &[Finding], kind: PictureKind) -> String {
             others.join(", "),
             if others.len() == 1 { "es" } else { "" }
         ));
+    }
+    text
+}
+
+/// A picture no render matches, with the fault whose render comes nearest: named as the guess
+/// it is, how near, and what to look for; then what the pixels suggest (`pixels`), if anything.
+fn near_guess(near: &FaultMatch, pixels: &str) -> String {
+    let planted = match near.faults.len() {
+        1 => "this fault",
+        _ => "these faults",
+    };
+    let mut text = format!(
+        "No fault in raycast's library reproduces this picture within the suite's rule. A \
+         guess: raycast's render of this line with {planted} planted comes nearest, {:.3}% of \
+         pixels off{}{}, so the same mistake, in part of its cases or with another difference \
+         beside it, is likely. \
+         {} Look for: {}",
+        100.0 * near.bad_fraction,
+        parameters_text(near),
+        accounted(near, ": it accounts for"),
+        near.faults
+            .iter()
+            .map(|f| format!("\"{}\"", f.sentence))
+            .collect::<Vec<_>>()
+            .join(" and "),
+        near.faults
+            .iter()
+            .map(|f| f.look_for)
+            .collect::<Vec<_>>()
+            .join(" ")
+    );
+    if !pixels.is_empty() {
+        text.push_str(&format!(" The pixels suggest too: {pixels}"));
     }
     text
 }
@@ -371,6 +421,43 @@ mod tests {
         assert!(
             text.starts_with("Your picture equals raycast's render"),
             "{text}"
+        );
+    }
+
+    #[test]
+    fn a_near_render_is_named_as_a_guess_with_how_near_it_comes() {
+        let near = FaultMatch {
+            faults: vec![crate::check::faults::fault("grid_rays_from_inside").unwrap()],
+            parameters: Vec::new(),
+            bad_fraction: 0.006_12,
+            accounts_for: Some(0.981),
+            against_spread: false,
+        };
+        let findings = [
+            Finding::Near(near.clone()),
+            Finding::Diagnosis(Diagnosis::BACKGROUND),
+        ];
+        assert!(findings[0].is_guess());
+        assert_eq!(findings[0].code(), "grid_rays_from_inside");
+        let text = explain(&findings, PictureKind::Image);
+        assert!(
+            text.starts_with(
+                "No fault in raycast's library reproduces this picture within the suite's rule. \
+                 A guess: raycast's render of this line with this fault planted comes nearest, \
+                 0.612% of pixels off: it accounts for 98.1% of the pixels that differ from the \
+                 reference, so the same mistake, in part of its cases or with another \
+                 difference beside it, is likely. \
+                 \"My grid walk starts only"
+            ),
+            "{text}"
+        );
+        assert!(text.contains(" The pixels suggest too: "), "{text}");
+        // Never taken for a match: the verdict and a merge keep it a guess.
+        assert_eq!(fault_matches(&findings), Vec::<&FaultMatch>::new());
+        assert_eq!(findings[0].json()["kind"], "near");
+        assert_eq!(
+            Finding::from_json(&findings[0].json()),
+            Some(Finding::Near(near))
         );
     }
 

@@ -217,7 +217,14 @@ fn shared(group: &Group) -> String {
         assignments.join(", ")
     );
     if let Some((guess, m)) = group.guesses.first().filter(|(code, _)| code != "unknown") {
-        text.push_str(&format!("; the pixels suggest {guess} in {m} of {n}"));
+        if faults_of(guess).is_some() {
+            // A near render's guess: a fault of the library, no render of which matched.
+            text.push_str(&format!(
+                "; {guess}'s render comes nearest to {m} of {n}, a guess: none matches"
+            ));
+        } else {
+            text.push_str(&format!("; the pixels suggest {guess} in {m} of {n}"));
+        }
     }
     text
 }
@@ -305,5 +312,32 @@ mod tests {
         let groups = verdict(&mut graded);
         assert_eq!(groups[0].code.as_deref(), Some("timed_out"));
         assert_eq!(groups[1].code, None);
+    }
+
+    #[test]
+    fn a_near_render_is_a_guess_among_the_pictures_no_fault_explains() {
+        let near = |name: &str| {
+            let mut g = failing(name, Diagnosis::UNKNOWN);
+            let m = crate::check::simulate::FaultMatch {
+                faults: vec![crate::check::faults::fault("grid_rays_from_inside").unwrap()],
+                parameters: Vec::new(),
+                bad_fraction: 0.01,
+                accounts_for: Some(0.99),
+                against_spread: false,
+            };
+            g.findings.insert(0, Finding::Near(m));
+            g
+        };
+        let mut graded = vec![near("output6_02d"), near("output6_11b")];
+        let groups = verdict(&mut graded);
+        assert_eq!(groups.len(), 1);
+        assert_eq!(groups[0].code, None);
+        assert_eq!(
+            lines(&groups)[0],
+            "verdict: 2 of 2 failing pictures no fault of the library explains, the biggest \
+             group: look at them first, each beside its reference and heat map. Pictures of A6; \
+             grid_rays_from_inside's render comes nearest to 2 of 2, a guess: none matches: \
+             output6_02d, output6_11b"
+        );
     }
 }

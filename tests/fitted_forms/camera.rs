@@ -380,6 +380,37 @@ fn grid_walks_written_their_own_way_that_trust_a_hit_beyond_its_cell_are_the_gri
 }
 
 #[test]
+fn a_march_that_differs_from_a_fault_by_a_rounding_is_named_as_the_near_guess() {
+    let Some(later) = common::later_dir("the fitted forms of assignment 5") else {
+        return;
+    };
+    // A slab test of the grid's box, tnear < 0 for a ray from inside, takes a ray that starts
+    // on the box for one from outside: some pixels differ from grid_rays_from_inside's render
+    // beyond the suite's rule, so no render matches; that fault's comes nearest and leads,
+    // said to be a guess.
+    let failing = failing_in(
+        &later,
+        "grid_origin_in_slabs_left_out",
+        &["output6_02d.tga", "output6_11b.tga", "output6_14.tga"],
+    );
+    let near = ": No fault in raycast's library reproduces this picture within the suite's \
+                rule. A guess: raycast's render of this line with this fault planted comes \
+                nearest";
+    for line in &failing {
+        // The near guess leads the pixels' guesses, on the terminal as in the report.
+        assert!(
+            line.contains(": grid_rays_from_inside: raycast's render")
+                || (line.contains(": grid_rays_from_inside, ") && line.contains(near)),
+            "{line}"
+        );
+    }
+    assert!(
+        failing.iter().any(|line| line.contains(near)),
+        "no picture was near rather than matched: {failing:?}"
+    );
+}
+
+#[test]
 fn grids_of_their_own_that_list_objects_in_too_few_cells_are_grid_cells_missed() {
     if common::later_dir("the fitted forms of assignment 5").is_none() {
         return;

@@ -2,7 +2,8 @@
 
 use super::Tried;
 use crate::check::faults::{FAULTS, Fault};
-use crate::check::rule::Rule;
+use crate::check::rule::{Rule, channel_difference};
+use crate::shade::Image;
 
 /// Faults (one, or two planted together) whose render of a line matches a picture.
 #[derive(Debug, Clone, PartialEq)]
@@ -83,4 +84,36 @@ pub(super) fn matches(tried: &[Tried], k: usize, rule: Rule) -> Vec<FaultMatch> 
     // Stable: among equal figures, the library's order stands.
     found.sort_by(|a, b| a.bad_fraction.total_cmp(&b.bad_fraction));
     found
+}
+
+/// Of the pixels by which `actual` differs from `reference` (beyond `tolerance`), the share at
+/// which `render` draws what `actual` does: how much of the student's difference a fault's
+/// render accounts for, whatever else that render changes (a mistake that strikes some of the
+/// rays a fault strikes is all of its picture's difference and no more). `None` where the
+/// pictures' sizes differ or none of the pixels differs.
+pub(super) fn reproduced(
+    actual: &Image,
+    reference: &Image,
+    render: &Image,
+    tolerance: u8,
+) -> Option<f64> {
+    let same_size = |a: &Image, b: &Image| a.width == b.width && a.height == b.height;
+    if !same_size(actual, reference) || !same_size(actual, render) {
+        return None;
+    }
+    let (mut differing, mut drawn) = (0_usize, 0_usize);
+    for ((&got, &want), &planted) in actual
+        .pixels
+        .iter()
+        .zip(&reference.pixels)
+        .zip(&render.pixels)
+    {
+        if channel_difference(got, want) > tolerance {
+            differing += 1;
+            if channel_difference(got, planted) <= tolerance {
+                drawn += 1;
+            }
+        }
+    }
+    (differing > 0).then(|| drawn as f64 / differing as f64)
 }

@@ -14,6 +14,7 @@ mod draws;
 mod likely_pairs;
 mod matches;
 mod remembered;
+mod undone;
 use super::chance::{ByChance, Drawn, Spread, depends_on_chance};
 use super::envelope::Envelope;
 use super::faults::{Candidate, FAULTS, Fault, LineScene, Plant};
@@ -32,7 +33,8 @@ use draws::{
 };
 pub use draws::{drawn_by_chance, spreads};
 pub use matches::FaultMatch;
-use matches::matches;
+use matches::{matches, reproduced};
+use undone::PERMUTATIONS;
 
 /// At most this many renders for one line, singles and pairs together, where the singles leave
 /// room (a course picture renders in milliseconds; every single is tried)...
@@ -61,7 +63,15 @@ pub struct Simulated {
     /// Every fault (or pair) whose render passes against the picture, closest first; empty
     /// when none does.
     pub matches: Vec<FaultMatch>,
+    /// Where none does: the fault whose render comes nearest, where it accounts for at least
+    /// [`NEAR_SHARE`] of the pixels by which the picture differs from its reference (the same
+    /// mistake, most likely, with some other difference beside it: a guess, said to be one).
+    pub near: Option<FaultMatch>,
 }
+
+/// The share of the pixels by which a picture differs from its reference that the nearest
+/// fault's render must account for to be named as a guess where no render passes.
+pub const NEAR_SHARE: f64 = 0.9;
 
 /// A line's command line, scene and pictures, ready to be rendered under faults.
 struct Prepared {
@@ -446,49 +456,6 @@ fn prepare(line: &Line, scenes: &Path) -> Result<Prepared, String> {
         },
         slots,
     })
-}
-
-/// Takes a fault that only moves pixels out of a picture.
-type Undo = fn(&Image) -> Image;
-
-/// Faults that only move a picture's pixels, each with the function that undoes it.
-const PERMUTATIONS: [(&str, Undo); 3] = [
-    ("flip_vertical", flipped_vertically),
-    ("flip_horizontal", flipped_horizontally),
-    ("channel_swap", channels_swapped),
-];
-
-fn flipped_vertically(image: &Image) -> Image {
-    let width = image.width as usize;
-    Image {
-        pixels: image
-            .pixels
-            .chunks(width.max(1))
-            .rev()
-            .flatten()
-            .copied()
-            .collect(),
-        ..*image
-    }
-}
-
-fn flipped_horizontally(image: &Image) -> Image {
-    let width = image.width as usize;
-    Image {
-        pixels: image
-            .pixels
-            .chunks(width.max(1))
-            .flat_map(|row| row.iter().rev().copied())
-            .collect(),
-        ..*image
-    }
-}
-
-fn channels_swapped(image: &Image) -> Image {
-    Image {
-        pixels: image.pixels.iter().map(|&[r, g, b]| [b, g, r]).collect(),
-        ..*image
-    }
 }
 
 /// Why a line was not simulated to the end.
@@ -889,6 +856,7 @@ fn simulate_here(
             .into_iter()
             .map(|matches| Simulated {
                 matches: matches.unwrap_or_default(),
+                near: None,
             })
             .collect();
         account(&mut results, failing, &renders);
@@ -997,6 +965,7 @@ fn simulate_here(
     let mut results: Vec<Simulated> = (0..failing.len())
         .map(|k| Simulated {
             matches: matches(&tried, k, rule),
+            near: None,
         })
         .collect();
     // Which faults draw the same picture (to the rule) as one that matched a picture exactly:
@@ -1164,6 +1133,26 @@ fn simulate_here(
             pairs.push(look(plant, &faults, &parameters, screen)?.tried);
         }
         results[k].matches = matches(&pairs, k, rule);
+        // Still none: the nearest fault, at its nearest render, rendered whole and measured
+        // (`account` keeps it where it explains most of the picture's difference).
+        let (_, actual, reference) = failing[k];
+        if let (Some(&nearest), Some(reference), None) = (
+            firsts.first().filter(|_| results[k].matches.is_empty()),
+            reference,
+            &renders.spreads[k],
+        ) {
+            let near = &tried[nearest];
+            let pictures = renders.whole(near.plant)?;
+            let picture = renders.in_order(&pictures)[k];
+            results[k].near = Some(FaultMatch {
+                faults: near.faults.clone(),
+                parameters: near.parameters.clone(),
+                bad_fraction: renders.bad(k, picture, actual),
+                accounts_for: picture
+                    .and_then(|picture| reproduced(actual, reference, picture, rule.tolerance)),
+                against_spread: false,
+            });
+        }
         tried.extend(pairs);
     }
     account(&mut results, failing, &renders);
@@ -1182,11 +1171,20 @@ fn account(
         let off = reference
             .filter(|_| renders.spreads[k].is_none())
             .and_then(|r| compare(r, actual, renders.rule.tolerance));
-        if let Some(off) = off.map(|c| c.bad_fraction) {
+        let off = off.map(|c| c.bad_fraction);
+        if let Some(off) = off {
             for m in &mut result.matches {
                 m.accounts_for =
                     (off > 0.0).then(|| ((off - m.bad_fraction) / off).clamp(0.0, 1.0));
             }
+        }
+        // A near render is a guess only where it explains most of the difference.
+        if result
+            .near
+            .as_ref()
+            .is_some_and(|m| m.accounts_for.is_none_or(|share| share < NEAR_SHARE))
+        {
+            result.near = None;
         }
         count_explained(result);
     }

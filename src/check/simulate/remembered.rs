@@ -25,8 +25,11 @@ pub(super) fn simulated_text(simulated: &[Simulated]) -> String {
             let matches: Vec<Value> = result
                 .matches
                 .iter()
-                .map(|m| {
+                .map(|m| (m, false))
+                .chain(result.near.iter().map(|m| (m, true)))
+                .map(|(m, near)| {
                     json!({
+                        "near": near,
                         "faults": m.faults.iter().map(|f| f.name).collect::<Vec<_>>(),
                         "parameters": m
                             .parameters
@@ -50,12 +53,20 @@ pub(super) fn simulated_from(text: &str, pictures: usize) -> Option<Vec<Simulate
     each_picture(text, pictures)?
         .iter()
         .map(|matches| {
-            let matches = matches
-                .as_array()?
-                .iter()
-                .map(fault_match)
-                .collect::<Option<Vec<_>>>()?;
-            Some(Simulated { matches })
+            let mut near = None;
+            let mut exact = Vec::new();
+            for value in matches.as_array()? {
+                let m = fault_match(value)?;
+                if value["near"].as_bool() == Some(true) {
+                    near = Some(m);
+                } else {
+                    exact.push(m);
+                }
+            }
+            Some(Simulated {
+                matches: exact,
+                near,
+            })
         })
         .collect()
 }
@@ -167,14 +178,26 @@ mod tests {
                     accounts_for: Some(0.999_999_999_1),
                     against_spread: true,
                 }],
+                near: None,
             },
             Simulated::default(),
+            // No render passes; the nearest is kept as the guess it is.
+            Simulated {
+                matches: Vec::new(),
+                near: Some(FaultMatch {
+                    faults: vec![faults::fault("grid_rays_from_inside").unwrap()],
+                    parameters: Vec::new(),
+                    bad_fraction: 0.006,
+                    accounts_for: Some(0.98),
+                    against_spread: false,
+                }),
+            },
         ];
         let text = simulated_text(&simulated);
-        assert_eq!(simulated_from(&text, 2), Some(simulated));
-        assert_eq!(simulated_from(&text, 3), None, "kept for two pictures");
+        assert_eq!(simulated_from(&text, 3), Some(simulated));
+        assert_eq!(simulated_from(&text, 2), None, "kept for three pictures");
         let renamed = text.replace("shadow_acne", "no_such_fault");
-        assert_eq!(simulated_from(&renamed, 2), None);
+        assert_eq!(simulated_from(&renamed, 3), None);
         assert_eq!(simulated_from("[[{\"faults\":", 2), None);
     }
 
