@@ -86,11 +86,16 @@ pub(super) fn matches(tried: &[Tried], k: usize, rule: Rule) -> Vec<FaultMatch> 
     found
 }
 
+/// How many times as many pixels as the student's picture a near render may change: a render
+/// that changes far more (a camera turned, every colour scaled) draws the picture's difference
+/// among many others, which says little of its cause.
+const NEAR_SPREAD: usize = 4;
+
 /// Of the pixels by which `actual` differs from `reference` (beyond `tolerance`), the share at
 /// which `render` draws what `actual` does: how much of the student's difference a fault's
-/// render accounts for, whatever else that render changes (a mistake that strikes some of the
-/// rays a fault strikes is all of its picture's difference and no more). `None` where the
-/// pictures' sizes differ or none of the pixels differs.
+/// render accounts for (a mistake that strikes some of the rays a fault strikes is all of its
+/// picture's difference and no more). `None` where the pictures' sizes differ, none of the
+/// pixels differs, or the render changes more than [`NEAR_SPREAD`] times as many pixels.
 pub(super) fn reproduced(
     actual: &Image,
     reference: &Image,
@@ -101,13 +106,16 @@ pub(super) fn reproduced(
     if !same_size(actual, reference) || !same_size(actual, render) {
         return None;
     }
-    let (mut differing, mut drawn) = (0_usize, 0_usize);
+    let (mut differing, mut drawn, mut changed) = (0_usize, 0_usize, 0_usize);
     for ((&got, &want), &planted) in actual
         .pixels
         .iter()
         .zip(&reference.pixels)
         .zip(&render.pixels)
     {
+        if channel_difference(planted, want) > tolerance {
+            changed += 1;
+        }
         if channel_difference(got, want) > tolerance {
             differing += 1;
             if channel_difference(got, planted) <= tolerance {
@@ -115,5 +123,38 @@ pub(super) fn reproduced(
             }
         }
     }
-    (differing > 0).then(|| drawn as f64 / differing as f64)
+    (differing > 0 && changed <= NEAR_SPREAD * differing).then(|| drawn as f64 / differing as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A picture of ten pixels, white where `lit` says, black elsewhere.
+    fn picture(lit: &[usize]) -> Image {
+        Image {
+            width: 10,
+            height: 1,
+            pixels: (0..10)
+                .map(|k| if lit.contains(&k) { [255; 3] } else { [0; 3] })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn a_near_render_accounts_for_the_pixels_it_draws_as_the_student_does() {
+        let (reference, student) = (picture(&[]), picture(&[1, 2]));
+        // Both of the student's pixels, and three more of its own.
+        let wider = picture(&[1, 2, 5, 6, 7]);
+        assert_eq!(reproduced(&student, &reference, &wider, 2), Some(1.0));
+        assert_eq!(
+            reproduced(&student, &reference, &picture(&[2]), 2),
+            Some(0.5)
+        );
+        // Nine changed for the student's two: too many to say anything of the cause.
+        let everything = picture(&[0, 1, 2, 3, 4, 5, 6, 7, 8]);
+        assert_eq!(reproduced(&student, &reference, &everything, 2), None);
+        // Nothing to account for.
+        assert_eq!(reproduced(&reference, &reference, &wider, 2), None);
+    }
 }
