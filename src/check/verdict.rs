@@ -175,10 +175,18 @@ pub fn entries(groups: &[Group]) -> Vec<(String, Vec<String>)> {
                 group.images.join(", ")
             ),
         };
+        // The pictures no fault explains: the fault whose render comes nearest to most of
+        // them, where that is the leading guess, says what to look for too.
+        let nearest = group
+            .code
+            .is_none()
+            .then(|| group.guesses.first().map(|(code, _)| code))
+            .flatten();
         let details = group
             .code
             .iter()
             .chain(&group.equals)
+            .chain(nearest)
             .filter_map(|code| faults_of(code))
             .flatten()
             .fold(Vec::new(), |mut seen, fault| {
@@ -339,5 +347,14 @@ mod tests {
              grid_rays_from_inside's render comes nearest to 2 of 2, a guess: none matches: \
              output6_02d, output6_11b"
         );
+        assert!(
+            lines(&groups)[1]
+                .starts_with("         grid_rays_from_inside (assignment 5): \"My grid walk"),
+            "{:?}",
+            lines(&groups)
+        );
+        // A pixel's guess names no fault to look into.
+        let mut graded = vec![failing("output6_01", Diagnosis::COLOUR_SCALE)];
+        assert_eq!(lines(&verdict(&mut graded)).len(), 1);
     }
 }
