@@ -582,11 +582,28 @@ fn the_report_is_whole_and_says_how_the_renderer_was_caged() {
     assert!(String::from_utf8_lossy(&output.stderr).contains("is not a report of raycast's"));
 }
 
+/// Interrupts `check` (SIGINT, as Ctrl-C does), which must end within 5 seconds: its output.
+fn interrupted(mut check: std::process::Child) -> Output {
+    let start = Instant::now();
+    Command::new("kill")
+        .args(["-INT", &check.id().to_string()])
+        .status()
+        .unwrap();
+    while check.try_wait().unwrap().is_none() {
+        assert!(
+            start.elapsed() < Duration::from_secs(5),
+            "check did not end on SIGINT"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    check.wait_with_output().unwrap()
+}
+
 #[test]
 fn an_interrupted_check_ends_its_renderers_and_reports_what_it_graded() {
     let Some(w) = world() else { return };
     let sleeper = w.renderer("interrupted.sh", "exec -a interrupted-token sleep 100");
-    let mut child = Command::new(RAYCAST)
+    let child = Command::new(RAYCAST)
         .args(["check", w.suite.to_str().unwrap(), "--renderer", &sleeper])
         .args(["--timeout", "60", "--report", w.report.to_str().unwrap()])
         .stdout(Stdio::piped())
@@ -595,19 +612,7 @@ fn an_interrupted_check_ends_its_renderers_and_reports_what_it_graded() {
         .unwrap();
     std::thread::sleep(Duration::from_millis(800));
     assert!(!left_running("interrupted-token").is_empty());
-    let start = Instant::now();
-    Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    while child.try_wait().unwrap().is_none() {
-        assert!(
-            start.elapsed() < Duration::from_secs(5),
-            "check did not end on SIGINT"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let output = child.wait_with_output().unwrap();
+    let output = interrupted(child);
     let out = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(130), "{out}");
     assert!(out.contains("ERROR  output2_01: interrupted"), "{out}");
@@ -624,7 +629,7 @@ fn the_next_line_is_made_ready_while_one_runs_and_given_up_unrun_when_check_stop
     let line = std::fs::read_to_string(&commands).unwrap();
     std::fs::write(&commands, format!("{line}\n{line}\n")).unwrap();
     let sleeper = w.renderer("readied.sh", "exec -a readied-token sleep 100");
-    let mut child = Command::new(RAYCAST)
+    let child = Command::new(RAYCAST)
         .args(["check", w.suite.to_str().unwrap(), "--renderer", &sleeper])
         .args(["--jobs", "1", "--timeout", "60"])
         .stdout(Stdio::piped())
@@ -648,19 +653,7 @@ fn the_next_line_is_made_ready_while_one_runs_and_given_up_unrun_when_check_stop
         );
         std::thread::sleep(Duration::from_millis(20));
     }
-    Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        assert!(
-            start.elapsed() < Duration::from_secs(5),
-            "check did not end on SIGINT"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let output = child.wait_with_output().unwrap();
+    let output = interrupted(child);
     let out = String::from_utf8_lossy(&output.stdout);
     assert_eq!(output.status.code(), Some(130), "{out}");
     assert!(out.contains("ERROR  output2_01: interrupted"), "{out}");

@@ -374,10 +374,12 @@ impl TraceSeam for Form {
             }
             Form::GridBoxOfTwoCorners | Form::GridBoxInItsOwnSpace => {
                 let own_space = matches!(self, Form::GridBoxInItsOwnSpace);
-                return walk_own_grid(scene, ray, t_min, own_space).unwrap_or(Some(hit));
+                return walk_own_grid(scene, own_grid(scene, own_space), ray, t_min)
+                    .unwrap_or(Some(hit));
             }
             Form::GridSphereCentresInside | Form::GridCellsUpperLeftOut => {
-                return walk_listed_grid(scene, ray, t_min, self).unwrap_or(Some(hit));
+                return walk_own_grid(scene, listed_grid(scene, self), ray, t_min)
+                    .unwrap_or(Some(hit));
             }
             Form::GridTrustsFirstHit | Form::GridMailbox => {
                 return walk_grid(scene, ray, t_min, matches!(self, Form::GridMailbox))
@@ -637,16 +639,11 @@ fn own_grid(scene: &Scene, own_space: bool) -> Option<&'static Grid> {
     .as_ref()
 }
 
-/// The nearest hit through [`own_grid`], walked as the course walks. `None` without a grid.
-fn walk_own_grid(scene: &Scene, ray: &Ray, t_min: f32, own_space: bool) -> Option<Option<Hit>> {
-    let grid = own_grid(scene, own_space)?;
-    Some(march(
-        scene,
-        grid,
-        ray,
-        t_min,
-        scene.world.plane_hit(ray, t_min),
-    ))
+/// The nearest hit through the student's own `grid`, walked as the course walks, the planes
+/// tested beside it. `None` without a grid.
+fn walk_own_grid(scene: &Scene, grid: Option<&Grid>, ray: &Ray, t_min: f32) -> Option<Option<Hit>> {
+    let plane = scene.world.plane_hit(ray, t_min);
+    Some(march(scene, grid?, ray, t_min, plane))
 }
 
 /// The student's own lists over the course's cells, built once, each object entered in the
@@ -662,6 +659,7 @@ fn listed_grid(scene: &Scene, form: &Form) -> Option<&'static Grid> {
             let at = ((p - low) / size).floor();
             [0, 1, 2].map(|axis| at[axis].clamp(0.0, (cells[axis] - 1) as f32) as u32)
         };
+        let upper_left_out = matches!(form, Form::GridCellsUpperLeftOut);
         let mut entries = Vec::new();
         for (primitive, own_box, transform) in scene.world.grid_primitives() {
             let sphere = scene
@@ -683,7 +681,6 @@ fn listed_grid(scene: &Scene, form: &Form) -> Option<&'static Grid> {
                 }
             };
             let (from, to) = (cell_of(b.min), cell_of(b.max));
-            let upper_left_out = matches!(form, Form::GridCellsUpperLeftOut);
             let end = |axis: usize| {
                 if upper_left_out {
                     to[axis]
@@ -715,18 +712,6 @@ fn listed_grid(scene: &Scene, form: &Form) -> Option<&'static Grid> {
         Grid::build(course.bounds(), cells, &entries).ok()
     })
     .as_ref()
-}
-
-/// The nearest hit through [`listed_grid`], walked as the course walks. `None` without a grid.
-fn walk_listed_grid(scene: &Scene, ray: &Ray, t_min: f32, form: &Form) -> Option<Option<Hit>> {
-    let grid = listed_grid(scene, form)?;
-    Some(march(
-        scene,
-        grid,
-        ray,
-        t_min,
-        scene.world.plane_hit(ray, t_min),
-    ))
 }
 
 /// A grid walk whose planes are in no cell (never tested), or in the cells they cross

@@ -382,14 +382,15 @@ fn grid_fill(
     for z in lo.z..end.z {
         for y in lo.y..end.y {
             for x in lo.x..end.x {
-                let centre = bounds.min + (UVec3::new(x, y, z).as_vec3a() + 0.5) * cell_size;
+                let from_centre = |center: Vec3A| {
+                    let centre = bounds.min + (UVec3::new(x, y, z).as_vec3a() + 0.5) * cell_size;
+                    (centre - center).length()
+                };
                 let outside = match *extent {
                     Extent::Sphere { center, radius } => {
-                        (centre - center).length() > radius + half_diagonal + margin
+                        from_centre(center) > radius + half_diagonal + margin
                     }
-                    Extent::SphereByCentres { center, radius } => {
-                        (centre - center).length() > radius
-                    }
+                    Extent::SphereByCentres { center, radius } => from_centre(center) > radius,
                     Extent::Box(_) | Extent::BoxShortOfItsEnd(_) => false,
                 };
                 if outside {

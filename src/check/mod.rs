@@ -649,7 +649,7 @@ pub fn grade_renderer(
             let line = &suite.lines[number];
             ready_line(options, &caged, suite, line, &folder(number))
         };
-        let start = |line: LineRun| start_line(options, &caged, line);
+        let start = |line: ReadyLine| start_line(options, &caged, line);
         let mut graded = lines_in_suite_order(
             &prepared.pool,
             suite.lines.len(),
@@ -933,13 +933,12 @@ pub(crate) fn hidden_from_renderers(options: &CheckOptions) -> Vec<PathBuf> {
         .collect()
 }
 
-/// A line on its way to its cage: ended before it could start (how, and the folder its
-/// pictures would be in), or made ready, or running.
-enum LineRun {
-    Ended(Ran, PathBuf),
-    Readied(cage::Readied, PathBuf),
-    Running(cage::Running, PathBuf),
-}
+/// A line made ready in its folder (whose `out` its pictures go to), or ended before it could
+/// be: how.
+type ReadyLine = (Result<cage::Readied, Ran>, PathBuf);
+
+/// A line whose renderer runs, or that ended before it could start: how.
+type StartedLine = (Result<cage::Running, Ran>, PathBuf);
 
 /// How a line ended that never started.
 fn unstarted(ending: Ending) -> Ran {
@@ -971,13 +970,13 @@ fn ready_line(
     suite: &Suite,
     line: &Line,
     folder: &Path,
-) -> LineRun {
+) -> ReadyLine {
     if let Some(ending) = not_now(caged) {
-        return LineRun::Ended(unstarted(ending), folder.join("out"));
+        return (Err(unstarted(ending)), folder.join("out"));
     }
     let files = run::line_files(line, &suite.scenes);
     match run::prepare(&suite.scenes, &files, folder, caged.user) {
-        Err(why) => LineRun::Ended(unstarted(Ending::NotStarted(why)), folder.join("out")),
+        Err(why) => (Err(unstarted(Ending::NotStarted(why))), folder.join("out")),
         Ok((work, out)) => {
             let mut args = line.args.clone();
             for (at, name) in &line.outputs {
@@ -999,7 +998,7 @@ fn ready_line(
                 user: caged.user,
                 held: false,
             };
-            LineRun::Readied(cage::ready(&request), out)
+            (Ok(cage::ready(&request)), out)
         }
     }
 }
@@ -1007,30 +1006,31 @@ fn ready_line(
 /// Starts a readied line's renderer, with the time it may take: --timeout, or what is left of
 /// the budget where that is less. A line whose turn comes after check was stopped or the budget
 /// spent is given up unstarted.
-fn start_line(options: &CheckOptions, caged: &Caged, line: LineRun) -> LineRun {
-    let LineRun::Readied(readied, out) = line else {
-        return line;
+fn start_line(options: &CheckOptions, caged: &Caged, (readied, out): ReadyLine) -> StartedLine {
+    let readied = match readied {
+        Ok(readied) => readied,
+        Err(ran) => return (Err(ran), out),
     };
     if let Some(ending) = not_now(caged) {
         readied.cancel();
-        return LineRun::Ended(unstarted(ending), out);
+        return (Err(unstarted(ending)), out);
     }
     let left = caged
         .budget
         .map(|(start, budget)| budget.saturating_sub(start.elapsed()));
     let limit = left.map_or(options.timeout, |left| left.min(options.timeout));
-    LineRun::Running(readied.start(limit), out)
+    (Ok(readied.start(limit)), out)
 }
 
 /// How a started line ran, and the folder its pictures are in.
-fn finish_line(options: &CheckOptions, caged: &Caged, line: LineRun) -> (Ran, PathBuf) {
-    match line {
-        LineRun::Ended(ran, out) => (ran, out),
-        LineRun::Readied(readied, out) => {
-            readied.cancel();
-            (unstarted(Ending::stopped(caged.stop)), out)
-        }
-        LineRun::Running(running, out) => {
+fn finish_line(
+    options: &CheckOptions,
+    caged: &Caged,
+    (running, out): StartedLine,
+) -> (Ran, PathBuf) {
+    match running {
+        Err(ran) => (ran, out),
+        Ok(running) => {
             let mut ran = running.wait(caged.stop);
             // Stopped at the budget's end rather than at --timeout: the budget is the cause.
             if let (Ending::TimedOut(after), Some((_, budget))) = (&ran.ending, caged.budget)
@@ -1050,12 +1050,12 @@ fn finish_line(options: &CheckOptions, caged: &Caged, line: LineRun) -> (Ran, Pa
 /// next line ready (`ready`: files copied, cage built) while its current line's renderer runs,
 /// so that a line's turn costs its renderer's time and little more. `done` takes each line's
 /// number and how it ran.
-fn lines_in_suite_order<T: Send>(
+fn lines_in_suite_order<Ready, Started, T: Send>(
     pool: &rayon::ThreadPool,
     count: usize,
-    ready: impl Fn(usize) -> LineRun + Sync,
-    start: impl Fn(LineRun) -> LineRun + Sync,
-    done: impl Fn(usize, LineRun) -> T + Sync,
+    ready: impl Fn(usize) -> Ready + Sync,
+    start: impl Fn(Ready) -> Started + Sync,
+    done: impl Fn(usize, Started) -> T + Sync,
 ) -> Vec<T> {
     let next = std::sync::atomic::AtomicUsize::new(0);
     let claim = || {

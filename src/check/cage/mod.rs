@@ -606,26 +606,19 @@ impl Running {
             start,
             limit,
         } = self;
+        let not_started = |why: String| Ran {
+            ending: Ending::NotStarted(why),
+            stderr: String::new(),
+            seconds: start.elapsed().as_secs_f64(),
+            confinement: None,
+        };
         let Supervisor {
             mut child,
             said,
             report,
         } = match supervisor {
             Ok(supervisor) => supervisor,
-            Err(why) => {
-                return Ran {
-                    ending: Ending::NotStarted(why),
-                    stderr: String::new(),
-                    seconds: start.elapsed().as_secs_f64(),
-                    confinement: None,
-                };
-            }
-        };
-        let not_started = |why: String| Ran {
-            ending: Ending::NotStarted(why),
-            stderr: String::new(),
-            seconds: start.elapsed().as_secs_f64(),
-            confinement: None,
+            Err(why) => return not_started(why),
         };
         let backstop = limit + SUPERVISOR_GRACE;
         let mut told = false;

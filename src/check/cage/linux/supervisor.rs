@@ -97,54 +97,25 @@ fn run(request: &Request) -> (Ending, Confinement) {
             cage,
         );
     };
-    // A held line: the cage is built (or being built) while check's word is awaited; without
-    // it (check closed stdin, was stopped, or is gone), the init ends unstarted.
-    let (start, limit) = if request.held {
-        let word = word_to_start(&stop, parent);
-        let told = word.is_some_and(|limit| {
-            let millis = limit.as_millis() as u64;
-            (&report).write_all(&millis.to_le_bytes()).is_ok()
-        });
-        match word {
-            Some(limit) if told => (Instant::now(), limit),
-            _ => {
-                let _ = rustix::process::kill_process(init, Signal::KILL);
-                let _ = rustix::process::waitpid(Some(init), WaitOptions::empty());
-                reap::end_descendants();
-                if let Ok(group) = group {
-                    group.leave();
-                }
-                return (Ending::Interrupted, cage);
-            }
-        }
+    // A held line: its cage is built while check's word is awaited; without it (check closed
+    // stdin, was stopped, or is gone), the init is ended unstarted.
+    let started = if request.held {
+        word_to_start(&stop, parent)
+            .filter(|limit| {
+                let millis = limit.as_millis() as u64;
+                (&report).write_all(&millis.to_le_bytes()).is_ok()
+            })
+            .map(|limit| (Instant::now(), limit))
     } else {
-        (start, request.limit)
+        Some((start, request.limit))
     };
-    // The init keeps the line's deadline; this one, a little later, holds if the init cannot.
-    let backstop = limit + INIT_GRACE;
-    let mut ended_here = None;
-    let init_end = reap::ChildEnd::of(Some(init));
-    loop {
-        match rustix::process::waitpid(Some(init), WaitOptions::NOHANG) {
-            Ok(Some(_)) | Err(_) => break,
-            Ok(None) => {}
-        }
-        let why = if stop.load(Ordering::Relaxed) || rustix::process::getppid() != parent {
+    let ended_here = match started {
+        Some((start, limit)) => wait_for_init(init, (start, limit), &stop, parent),
+        None => {
+            end_init(init);
             Some(Ending::Interrupted)
-        } else if start.elapsed() >= backstop {
-            Some(Ending::TimedOut(request.limit))
-        } else {
-            None
-        };
-        if let Some(why) = why {
-            // The init first: with it goes its PID namespace, every process in it.
-            let _ = rustix::process::kill_process(init, Signal::KILL);
-            let _ = rustix::process::waitpid(Some(init), WaitOptions::empty());
-            ended_here = Some(why);
-            break;
         }
-        init_end.wait(LOOK_EVERY.min(backstop.saturating_sub(start.elapsed())));
-    }
+    };
     reap::end_descendants();
     if let Ok(group) = group {
         cage.memory_ran_out = group.ran_out_of_memory();
@@ -170,6 +141,43 @@ fn run(request: &Request) -> (Ending, Confinement) {
             cage,
         ),
     }
+}
+
+/// Waits for the line's init, which keeps the line's deadline (`limit` from `start`); this
+/// one, a little later, holds if the init cannot. `Some` where the supervisor ended the init
+/// (stopped, orphaned, or past the backstop): how the line ended.
+fn wait_for_init(
+    init: Pid,
+    (start, limit): (Instant, Duration),
+    stop: &AtomicBool,
+    parent: Option<Pid>,
+) -> Option<Ending> {
+    let backstop = limit + INIT_GRACE;
+    let init_end = reap::ChildEnd::of(Some(init));
+    loop {
+        match rustix::process::waitpid(Some(init), WaitOptions::NOHANG) {
+            Ok(Some(_)) | Err(_) => return None,
+            Ok(None) => {}
+        }
+        let why = if stop.load(Ordering::Relaxed) || rustix::process::getppid() != parent {
+            Some(Ending::Interrupted)
+        } else if start.elapsed() >= backstop {
+            Some(Ending::TimedOut(limit))
+        } else {
+            None
+        };
+        if why.is_some() {
+            end_init(init);
+            return why;
+        }
+        init_end.wait(LOOK_EVERY.min(backstop.saturating_sub(start.elapsed())));
+    }
+}
+
+/// Kills the line's init and reaps it: with it goes its PID namespace, every process in it.
+fn end_init(init: Pid) {
+    let _ = rustix::process::kill_process(init, Signal::KILL);
+    let _ = rustix::process::waitpid(Some(init), WaitOptions::empty());
 }
 
 /// check's word to start a held line: the time it may run, in milliseconds, on a line of the
