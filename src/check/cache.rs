@@ -66,13 +66,11 @@ impl LineRenders {
     pub fn of(line: &Line, scenes: &Path) -> LineRenders {
         let folder = folder();
         let mut hasher = DefaultHasher::new();
-        if folder.is_some() {
-            hasher.write_u64(program());
-            hasher.write(line.command.as_bytes());
-            for file in line_files(line, scenes) {
-                hasher.write(file.to_string_lossy().as_bytes());
-                hasher.write(&std::fs::read(scenes.join(&file)).unwrap_or_default());
-            }
+        hasher.write_u64(program());
+        hasher.write(line.command.as_bytes());
+        for file in line_files(line, scenes) {
+            hasher.write(file.to_string_lossy().as_bytes());
+            hasher.write(&std::fs::read(scenes.join(&file)).unwrap_or_default());
         }
         LineRenders {
             folder,
@@ -120,6 +118,11 @@ impl LineRenders {
         self.folder
             .as_ref()
             .is_some_and(|folder| (0..self.images).all(|k| file(folder, &key, k).is_file()))
+    }
+
+    /// The line's identity: raycast's program, the command line and the bytes of its files.
+    pub fn identity(&self) -> u64 {
+        self.line.finish()
     }
 
     /// Whether renders are kept at all (`RAYCAST_CACHE_DIR` is not `off`).

@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 use super::cache;
 mod allowed;
 mod draws;
+mod kept_rows;
 mod likely_pairs;
 mod matches;
 mod remembered;
@@ -330,13 +331,30 @@ impl<'a> Renders<'a> {
     }
 
     /// `plant`'s render of the rows `wanted` marks (the others black), in the order of the
-    /// line's images; never kept.
+    /// line's images. Not kept in the cache (a screen's rows are the student's choice), but
+    /// each row is kept for the rest of the run ([`kept_rows`]): the class's next student
+    /// renders only the rows no one before asked for.
     fn render_rows(&self, plant: Plant, wanted: &[bool]) -> Result<Vec<Image>, Unfinished> {
         let line = &self.prepared.line;
-        let rows = render_rows_until(&line.options, &line.scene, plant, self.stop, wanted)
-            .ok_or(Unfinished::Stopped)?
-            .pictures;
-        Ok(self.prepared.in_line_order(&rows))
+        let render = |wanted: &[bool]| {
+            let rows = render_rows_until(&line.options, &line.scene, plant, self.stop, wanted)
+                .ok_or(Unfinished::Stopped)?
+                .pictures;
+            Ok(self.prepared.in_line_order(&rows))
+        };
+        // Rows are kept only where every picture is traced row for row: a samples picture is
+        // made of the film's rows as a whole.
+        if self
+            .prepared
+            .slots
+            .iter()
+            .all(|&slot| slot < self.prepared.traced)
+        {
+            let planted = format!("{plant:?}");
+            kept_rows::rows_of(self.kept.identity(), &planted, wanted, render)
+        } else {
+            render(wanted)
+        }
     }
 
     /// Every [`SPARSE_ROWS`]th row of the line's pictures: the second screen's, and where an
