@@ -335,6 +335,8 @@ enum Form {
     /// The highlight added for the scene's first light alone (its term written outside the
     /// loop over the lights, for `lights[0]`).
     HighlightFirstLightOnly,
+    /// No highlight at all: the specular term never added.
+    SpecularLeftOut,
     /// The highlight added after the loop over the lights with the loop's last light, the one
     /// its variable was left at.
     HighlightAfterTheLoop,
@@ -500,6 +502,7 @@ impl Form {
             "edges_from_the_middle_corner" => Form::EdgesFromTheMiddleCorner,
             "light_as_brightest_channel" => Form::LightAsBrightestChannel,
             "highlight_first_light_only" => Form::HighlightFirstLightOnly,
+            "specular_left_out" => Form::SpecularLeftOut,
             "highlight_after_the_loop" => Form::HighlightAfterTheLoop,
             "directional_not_negated" => Form::DirectionalNotNegated,
             "point_direction_unnormalised" => Form::PointDirectionUnnormalised,

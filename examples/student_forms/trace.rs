@@ -201,6 +201,7 @@ impl TraceSeam for Form {
         // other lights bring their diffuse terms alone.)
         let highlighted = match self {
             Form::HighlightFirstLightOnly => place.index == 0,
+            Form::SpecularLeftOut => false,
             Form::HighlightAfterTheLoop => place.index + 1 == place.of,
             _ => true,
         };

@@ -20,6 +20,8 @@ pub enum Highlight {
     /// Phong's mirror term (R·V)^q, R the light's direction mirrored about N, instead of
     /// Blinn's (N·H)^q.
     Mirror,
+    /// No highlight at all: the specular term never added.
+    Absent,
     /// Any member of the family (check's shading fit finds one).
     Formed(HighlightForm),
     /// A highlight's strength (before k_s, the light's colour and `-specular_fix`'s fade) as a
@@ -78,6 +80,8 @@ pub struct HighlightForm {
     pub base: HighlightBase,
     /// Worked out where the light is behind the surface (N·L < 0) too.
     pub ungated: bool,
+    /// No highlight at all, whatever the rest says: the specular term never added.
+    pub absent: bool,
 }
 
 impl Default for HighlightForm {
@@ -89,6 +93,7 @@ impl Default for HighlightForm {
             half_scale: 1.0,
             base: HighlightBase::Clamped,
             ungated: false,
+            absent: false,
         }
     }
 }
@@ -97,6 +102,9 @@ impl HighlightForm {
     /// The strength (k_s's multiplier) at `at`.
     #[inline]
     pub fn strength(&self, at: &HighlightAt) -> f32 {
+        if self.absent {
+            return 0.0;
+        }
         let view = if self.view_along_ray {
             -at.to_eye
         } else {
@@ -154,6 +162,10 @@ impl Highlight {
             },
             Highlight::Mirror => HighlightForm {
                 mirror: true,
+                ..course
+            },
+            Highlight::Absent => HighlightForm {
+                absent: true,
                 ..course
             },
             Highlight::Formed(form) => form,

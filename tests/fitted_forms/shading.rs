@@ -213,10 +213,25 @@ fn highlights_written_their_own_way_are_named_with_the_form_fitted() {
         ),
         4
     );
-    // Phong's (R.V)^q with V the ray's direction.
+    // Phong's (R.V)^q with V the ray's direction: on output3_10 and output3_12 it puts every
+    // highlight out of sight, the very picture of no specular term, whose sentence says so.
     assert_eq!(
-        later_named("mirror_against_the_ray", &lines, "half_vector", ""),
-        4
+        later_named(
+            "mirror_against_the_ray",
+            &["scene3_03_bunny_mesh_200.txt", "output3_09.tga"],
+            "half_vector",
+            ""
+        ),
+        2
+    );
+    assert_eq!(
+        later_named(
+            "mirror_against_the_ray",
+            &["output3_10.tga", "output3_12.tga"],
+            "specular_missing",
+            ""
+        ),
+        2
     );
 }
 
@@ -394,6 +409,31 @@ fn a_highlight_worked_out_with_the_diffuse_cosine_in_it_is_the_specular_fix() {
             ""
         ),
         2
+    );
+}
+
+#[test]
+fn a_specular_term_never_added_is_the_specular_missing() {
+    if common::later_dir("the fitted forms of assignments 3 and 4").is_none() {
+        return;
+    }
+    // On most of these lines a highlight vector that points away from the eye puts the
+    // highlight nowhere too (half_vector's form 0, named beside it); on scene3_09 and scene3_10
+    // it shows one at grazing angles, so the student's pictures tell the two apart, and the
+    // missing term is named first on every line.
+    let lines = [
+        "scene3_03",
+        "scene3_09",
+        "scene3_10",
+        "scene3_12",
+        "scene4_04",
+        "scene4_07",
+        "scene4_08",
+        "scene4_09",
+    ];
+    assert_eq!(
+        later_named("specular_left_out", &lines, "specular_missing", ""),
+        11
     );
 }
 

@@ -174,6 +174,11 @@ pub static FAULTS: &[Fault] = &[
     shading::SPECULAR_FIX,
     shading::SPECULAR_UNCLAMPED,
     shading::HALF_VECTOR,
+    // After half_vector: where a highlight vector that points away from the eye puts the
+    // highlight nowhere, the two draw the same picture, and the vector is the commoner mistake
+    // (a student who writes the term at all); where it puts a highlight somewhere, the
+    // student's other pictures tell them apart.
+    shading::SPECULAR_MISSING,
     shading::LIGHT_COLOUR_IGNORED,
     shading::ATTENUATION,
     // Before lights_skipped: where a directional light shines only on what the eye cannot see,

@@ -447,6 +447,24 @@ pub(super) const HALF_VECTOR: Fault = Fault {
     },
 };
 
+pub(super) const SPECULAR_MISSING: Fault = Fault {
+    name: "specular_missing",
+    assignment: 3,
+    sentence: "No object shows a highlight: my shading never adds the specular term, or works it \
+               out as nothing wherever the eye looks (V taken along the ray, away from the eye, \
+               puts every highlight out of sight).",
+    look_for: "The specular term, for each light: k_s (N·H)^q times the light's colour, with \
+               H = normalize(L + V), L toward the light and V toward the eye (minus the ray's \
+               direction).",
+    candidates: |line: &LineScene| {
+        if highlights_show(line) {
+            only(ShadingFault::Highlight(Highlight::Absent))
+        } else {
+            Vec::new()
+        }
+    },
+};
+
 pub(super) const LIGHT_COLOUR_IGNORED: Fault = Fault {
     name: "light_colour_ignored",
     assignment: 2,

@@ -384,6 +384,12 @@ fn fit_highlight(cost: impl Fn(HighlightForm) -> f64, course: f64) -> (Highlight
             }
         }
     }
+    // Last: where a vector that puts the highlight nowhere draws the same, the vector is named.
+    let absent = HighlightForm {
+        absent: true,
+        ..HighlightForm::default()
+    };
+    forms.push(absent);
     // A form is taken only where it is nearer than the course's by more than the allowance
     // within which round values are taken: one that changes nothing is the course's.
     let enough = |value: f64| value < course - course * ROUND_SHARE - ROUND_LEVELS;
@@ -412,6 +418,10 @@ fn fit_highlight(cost: impl Fn(HighlightForm) -> f64, course: f64) -> (Highlight
         if least.value < value && (value > near_enough || !HALF_SCALES.contains(&form.half_scale)) {
             (form, value) = (scaled(least.at[0]), least.value);
         }
+    }
+    // An H scaled to nothing is no highlight at all.
+    if !form.absent && !form.mirror && form.half_scale.abs() < 1e-3 {
+        form = absent;
     }
     (form, value)
 }
@@ -587,7 +597,7 @@ fn name(
                 None => numbers.extend([("divisor: constant", x), ("times d", y), ("times d²", z)]),
             }
         }
-        if highlight.ungated || highlight.base != HighlightBase::Clamped {
+        if !highlight.absent && (highlight.ungated || highlight.base != HighlightBase::Clamped) {
             faults.push(fault("specular_unclamped")?);
             numbers.extend(
                 highlight
@@ -605,7 +615,9 @@ fn name(
             base: highlight.base,
             ..HighlightForm::default()
         };
-        if highlight != course_half {
+        if highlight.absent {
+            faults.push(fault("specular_missing")?);
+        } else if highlight != course_half {
             faults.push(fault("half_vector")?);
             let flags = [
                 ("V along the ray", highlight.view_along_ray),
@@ -719,5 +731,29 @@ mod tests {
             named(both).map(|(faults, _)| faults),
             Some(vec!["specular_unclamped", "half_vector"])
         );
+        // No highlight at all, whatever else the form says: the term is missing, and nothing of
+        // H or the clamp is named.
+        let absent = HighlightForm {
+            absent: true,
+            ungated: true,
+            ..form
+        };
+        assert_eq!(named(absent), Some((vec!["specular_missing"], Vec::new())));
+    }
+
+    #[test]
+    fn a_picture_without_highlights_fits_the_absent_highlight() {
+        // A picture without highlights: a member that draws none costs nothing, the others
+        // what their highlights are worth.
+        let cost = |form: HighlightForm| {
+            if form.absent || (!form.mirror && form.half_scale == 0.0) {
+                0.0
+            } else {
+                10.0 + f64::from(form.half_scale)
+            }
+        };
+        let (form, value) = fit_highlight(cost, 11.0);
+        assert!(form.absent, "{form:?}");
+        assert_eq!(value, 0.0);
     }
 }
