@@ -314,6 +314,12 @@ enum Form {
     DepthClampBeforeScaling,
     /// Every colour of the scene file read as blue, green, red.
     ColoursReadBlueFirst,
+    /// The highlight weighed by the material's diffuse colour, not its specular colour (made
+    /// while the scene is read).
+    HighlightOfTheDiffuseColour,
+    /// The highlight white, the light's colour alone, `specularColor` never multiplied in (made
+    /// while the scene is read).
+    HighlightLeftWhite,
     /// The Background's `ambientLight` read into a local variable that hides the scene's own:
     /// the scene's ambient light stays black.
     AmbientNeverStored,
@@ -497,6 +503,8 @@ impl Form {
             "clamp_before_scaling" => Form::ClampBeforeScaling,
             "depth_clamp_before_scaling" => Form::DepthClampBeforeScaling,
             "colours_read_blue_first" => Form::ColoursReadBlueFirst,
+            "highlight_of_the_diffuse_colour" => Form::HighlightOfTheDiffuseColour,
+            "highlight_left_white" => Form::HighlightLeftWhite,
             "ambient_never_stored" => Form::AmbientNeverStored,
             "plane_offset_negated" => Form::PlaneOffsetNegated,
             "edges_from_the_middle_corner" => Form::EdgesFromTheMiddleCorner,

@@ -36,6 +36,21 @@ pub(crate) fn read_as(form: &str, description: &mut SceneDescription) {
         "ambient_never_stored" if !description.lights.is_empty() => {
             description.ambient = raycast::Vec3::ZERO;
         }
+        // `specularColor` read into the material, then the highlight weighed by another
+        // colour where there is one.
+        "highlight_of_the_diffuse_colour" | "highlight_left_white" => {
+            for material in &mut description.materials {
+                if let MaterialSpec::Phong(phong) = material
+                    && phong.specular != raycast::Vec3::ZERO
+                {
+                    phong.specular = if form == "highlight_left_white" {
+                        raycast::Vec3::ONE
+                    } else {
+                        phong.diffuse
+                    };
+                }
+            }
+        }
         "direction_read_reversed" => {
             for light in &mut description.lights {
                 if let LightSpec::Directional { direction, .. } = light {

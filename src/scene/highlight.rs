@@ -65,6 +65,27 @@ pub enum HighlightBase {
     Whole,
 }
 
+/// Which colour a highlight's strength multiplies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HighlightColour {
+    /// The material's `specularColor`: the course's.
+    #[default]
+    Specular,
+    /// The material's diffuse colour.
+    Diffuse,
+    /// White: the light's colour alone.
+    White,
+}
+
+impl HighlightColour {
+    /// Every colour, the course's first.
+    pub const ALL: [HighlightColour; 3] = [
+        HighlightColour::Specular,
+        HighlightColour::Diffuse,
+        HighlightColour::White,
+    ];
+}
+
 /// One member of the family of highlights: each field's default is the course's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HighlightForm {
@@ -82,6 +103,8 @@ pub struct HighlightForm {
     pub ungated: bool,
     /// No highlight at all, whatever the rest says: the specular term never added.
     pub absent: bool,
+    /// The colour the strength multiplies (on a material with a highlight).
+    pub colour: HighlightColour,
 }
 
 impl Default for HighlightForm {
@@ -94,6 +117,7 @@ impl Default for HighlightForm {
             base: HighlightBase::Clamped,
             ungated: false,
             absent: false,
+            colour: HighlightColour::Specular,
         }
     }
 }
@@ -171,6 +195,15 @@ impl Highlight {
             Highlight::Formed(form) => form,
             Highlight::Own(_) => return None,
         })
+    }
+
+    /// The colour the strength multiplies on a material with a highlight.
+    #[inline]
+    pub fn colour(&self) -> HighlightColour {
+        match self {
+            Highlight::Formed(form) => form.colour,
+            _ => HighlightColour::Specular,
+        }
     }
 
     /// The strength (k_s's multiplier) at `at`, where the highlight is worked out at all.

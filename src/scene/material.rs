@@ -7,7 +7,7 @@
 use arrayvec::ArrayVec;
 use glam::{DAffine3, Vec3A};
 
-use super::highlight::{Highlight, HighlightAt};
+use super::highlight::{Highlight, HighlightAt, HighlightColour};
 use super::perlin::octave_noise;
 use crate::parse::MAX_TEXTURE_DEPTH;
 use crate::parse::description::{self, Pattern};
@@ -345,7 +345,12 @@ impl Phong {
             if falloff == SpecularFalloff::Fade {
                 term *= n_dot_l;
             }
-            colour += self.specular * term;
+            let weight = match highlight.colour() {
+                HighlightColour::Specular => self.specular,
+                HighlightColour::Diffuse => self.diffuse,
+                HighlightColour::White => Vec3A::ONE,
+            };
+            colour += weight * term;
         }
         colour * light
     }

@@ -14,7 +14,7 @@ use glam::Vec3A;
 
 pub use build::find_mesh;
 pub use builder::{BUILT_IN_CODE, MaterialRef, SceneBuilder};
-pub use highlight::{Highlight, HighlightAt, HighlightBase, HighlightForm};
+pub use highlight::{Highlight, HighlightAt, HighlightBase, HighlightColour, HighlightForm};
 pub use light::{Illumination, Light};
 pub use material::{Material, Materials, Phong, SpecularFalloff, Surface, Texture};
 

@@ -438,6 +438,30 @@ fn a_specular_term_never_added_is_the_specular_missing() {
 }
 
 #[test]
+fn a_highlight_of_another_colour_is_the_specular_colour() {
+    if common::later_dir("the fitted forms of assignments 3 and 4").is_none() {
+        return;
+    }
+    let lines = ["scene3_", "scene4_0", "scene4_1"];
+    // The diffuse colour where the specular one belongs, bytes rounded: on every line with a
+    // highlight whose material's two colours differ.
+    assert_eq!(
+        later_named(
+            "highlight_of_the_diffuse_colour+rounded",
+            &lines,
+            "specular_colour",
+            "form 0)"
+        ),
+        11
+    );
+    // specularColor never multiplied in: every highlight white, where one was not.
+    assert_eq!(
+        later_named("highlight_left_white", &lines, "specular_colour", "form 1)"),
+        9
+    );
+}
+
+#[test]
 fn a_highlight_worked_out_for_one_light_outside_the_loop_is_the_highlight_one_light() {
     if common::later_dir("the fitted forms of assignments 3 and 4").is_none() {
         return;

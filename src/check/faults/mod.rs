@@ -179,6 +179,7 @@ pub static FAULTS: &[Fault] = &[
     // (a student who writes the term at all); where it puts a highlight somewhere, the
     // student's other pictures tell them apart.
     shading::SPECULAR_MISSING,
+    shading::SPECULAR_COLOUR,
     shading::LIGHT_COLOUR_IGNORED,
     shading::ATTENUATION,
     // Before lights_skipped: where a directional light shines only on what the eye cannot see,

@@ -4,7 +4,9 @@ use glam::Vec3A;
 
 use super::{Candidate, Fault, LineScene, Planted};
 use crate::parse::description::{LightSpec, MaterialSpec};
-use crate::scene::{Highlight, HighlightForm, Illumination, Light, SpecularFalloff};
+use crate::scene::{
+    Highlight, HighlightColour, HighlightForm, Illumination, Light, SpecularFalloff,
+};
 use crate::trace::{BackFace, LightPlace};
 
 /// The one brightness a student's tracer gives a light in place of its colour.
@@ -462,6 +464,53 @@ pub(super) const SPECULAR_MISSING: Fault = Fault {
         } else {
             Vec::new()
         }
+    },
+};
+
+pub(super) const SPECULAR_COLOUR: Fault = Fault {
+    name: "specular_colour",
+    assignment: 3,
+    sentence: "My highlight takes the wrong colour: the material's diffuse colour (form 0), or \
+               white, the light's colour alone (form 1), not its specularColor.",
+    look_for: "The specular term: k_s (N·H)^q times the light's colour, k_s being the \
+               material's specularColor.",
+    candidates: |line: &LineScene| {
+        if !highlights_show(line) {
+            return Vec::new();
+        }
+        // A form shows only where a material with a highlight has another colour there.
+        let highlighted: Vec<(glam::Vec3, glam::Vec3)> = line
+            .description
+            .materials
+            .iter()
+            .filter_map(|m| match m {
+                MaterialSpec::Phong(p) if p.specular != glam::Vec3::ZERO => {
+                    Some((p.diffuse, p.specular))
+                }
+                _ => None,
+            })
+            .collect();
+        let shows = |colour: HighlightColour| {
+            highlighted.iter().any(|&(diffuse, specular)| match colour {
+                HighlightColour::Diffuse => diffuse != specular,
+                HighlightColour::White => specular != glam::Vec3::ONE,
+                HighlightColour::Specular => false,
+            })
+        };
+        [HighlightColour::Diffuse, HighlightColour::White]
+            .into_iter()
+            .enumerate()
+            .filter(|&(_, colour)| shows(colour))
+            .map(|(form, colour)| Candidate {
+                planted: Planted::Shading(ShadingFault::Highlight(Highlight::Formed(
+                    HighlightForm {
+                        colour,
+                        ..HighlightForm::default()
+                    },
+                ))),
+                parameter: Some(("form", form as f64)),
+            })
+            .collect()
     },
 };
 

@@ -19,7 +19,9 @@ use crate::check::faults::{
 };
 use crate::geometry::Ray;
 use crate::sample::Sampler;
-use crate::scene::{HighlightBase, HighlightForm, Illumination, Light, Surface, Texture};
+use crate::scene::{
+    HighlightBase, HighlightColour, HighlightForm, Illumination, Light, Surface, Texture,
+};
 use crate::shade::{Image, to_byte};
 use crate::trace::{Scratch, Tracer, clearance, shadow_end, start_t};
 
@@ -355,30 +357,33 @@ pub fn fit_shading(
 /// than a round value's allowance. H's scale is searched once the rest of the form is chosen.
 fn fit_highlight(cost: impl Fn(HighlightForm) -> f64, course: f64) -> (HighlightForm, f64) {
     let mut forms = Vec::new();
-    for view_along_ray in [false, true] {
-        for base in [
-            HighlightBase::Clamped,
-            HighlightBase::Absolute,
-            HighlightBase::Whole,
-        ] {
-            for ungated in [false, true] {
-                let form = HighlightForm {
-                    view_along_ray,
-                    base,
-                    ungated,
-                    ..HighlightForm::default()
-                };
-                forms.push(HighlightForm {
-                    mirror: true,
-                    ..form
-                });
-                for half_not_unit in [false, true] {
-                    for half_scale in HALF_SCALES {
-                        forms.push(HighlightForm {
-                            half_not_unit,
-                            half_scale,
-                            ..form
-                        });
+    for colour in HighlightColour::ALL {
+        for view_along_ray in [false, true] {
+            for base in [
+                HighlightBase::Clamped,
+                HighlightBase::Absolute,
+                HighlightBase::Whole,
+            ] {
+                for ungated in [false, true] {
+                    let form = HighlightForm {
+                        view_along_ray,
+                        base,
+                        ungated,
+                        colour,
+                        ..HighlightForm::default()
+                    };
+                    forms.push(HighlightForm {
+                        mirror: true,
+                        ..form
+                    });
+                    for half_not_unit in [false, true] {
+                        for half_scale in HALF_SCALES {
+                            forms.push(HighlightForm {
+                                half_not_unit,
+                                half_scale,
+                                ..form
+                            });
+                        }
                     }
                 }
             }
@@ -613,8 +618,17 @@ fn name(
         let course_half = HighlightForm {
             ungated: highlight.ungated,
             base: highlight.base,
+            colour: highlight.colour,
             ..HighlightForm::default()
         };
+        if !highlight.absent && highlight.colour != HighlightColour::Specular {
+            faults.push(fault("specular_colour")?);
+            let form = HighlightColour::ALL
+                .iter()
+                .position(|&c| c == highlight.colour)
+                .map_or(0, |at| at - 1);
+            numbers.push(("form", form as f64));
+        }
         if highlight.absent {
             faults.push(fault("specular_missing")?);
         } else if highlight != course_half {
@@ -739,6 +753,19 @@ mod tests {
             ..form
         };
         assert_eq!(named(absent), Some((vec!["specular_missing"], Vec::new())));
+        // White where the material's specular colour belongs, with H from the ray: both named.
+        let white = HighlightForm {
+            colour: HighlightColour::White,
+            view_along_ray: true,
+            ..form
+        };
+        assert_eq!(
+            named(white),
+            Some((
+                vec!["specular_colour", "half_vector"],
+                vec![("form", 1.0), ("V along the ray", 1.0)]
+            ))
+        );
     }
 
     #[test]
