@@ -320,6 +320,9 @@ enum Form {
     /// The highlight white, the light's colour alone, `specularColor` never multiplied in (made
     /// while the scene is read).
     HighlightLeftWhite,
+    /// A mirror's ray weighed by the material's specular colour, not its reflective colour
+    /// (made while the scene is read).
+    MirrorOfTheSpecularColour,
     /// The Background's `ambientLight` read into a local variable that hides the scene's own:
     /// the scene's ambient light stays black.
     AmbientNeverStored,
@@ -505,6 +508,7 @@ impl Form {
             "colours_read_blue_first" => Form::ColoursReadBlueFirst,
             "highlight_of_the_diffuse_colour" => Form::HighlightOfTheDiffuseColour,
             "highlight_left_white" => Form::HighlightLeftWhite,
+            "mirror_of_the_specular_colour" => Form::MirrorOfTheSpecularColour,
             "ambient_never_stored" => Form::AmbientNeverStored,
             "plane_offset_negated" => Form::PlaneOffsetNegated,
             "edges_from_the_middle_corner" => Form::EdgesFromTheMiddleCorner,

@@ -51,6 +51,16 @@ pub(crate) fn read_as(form: &str, description: &mut SceneDescription) {
                 }
             }
         }
+        // A mirror's ray weighed by the specular colour, where the material has a mirror.
+        "mirror_of_the_specular_colour" => {
+            for material in &mut description.materials {
+                if let MaterialSpec::Phong(phong) = material
+                    && phong.reflective != raycast::Vec3::ZERO
+                {
+                    phong.reflective = phong.specular;
+                }
+            }
+        }
         "direction_read_reversed" => {
             for light in &mut description.lights {
                 if let LightSpec::Directional { direction, .. } = light {

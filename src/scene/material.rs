@@ -296,6 +296,12 @@ impl<'a> Surface<'a> {
         self.blend(&|phong| phong.shade(normal, view, to_light, light, falloff, highlight))
     }
 
+    /// The highlight's colour, k_s.
+    #[inline]
+    pub fn specular(&self) -> Vec3A {
+        self.blend(&|phong| phong.specular)
+    }
+
     /// What the mirror ray's colour is multiplied by.
     #[inline]
     pub fn reflective(&self) -> Vec3A {

@@ -142,9 +142,10 @@ pub trait TraceSeam: Copy + Send + Sync {
     }
 
     /// What the colour a mirror ray (or, with `transparent`, a glass ray) brings back is
-    /// multiplied by, the material's reflective (or transparent) colour being `colour`.
+    /// multiplied by, the material's reflective (or transparent) colour being `colour` and its
+    /// specular colour `specular`.
     #[inline(always)]
-    fn carried(&self, colour: Vec3A, _transparent: bool) -> Vec3A {
+    fn carried(&self, colour: Vec3A, _transparent: bool, _specular: Vec3A) -> Vec3A {
         colour
     }
 
@@ -656,7 +657,10 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, transparent: bool, direction: Vec3A| {
                 let weight = self.variant.ray_weight(branch.weight, colour);
-                let throughput = branch.throughput * self.variant.carried(colour, transparent);
+                let carried = self
+                    .variant
+                    .carried(colour, transparent, surface.specular());
+                let throughput = branch.throughput * carried;
                 let cutoff = self.variant.cutoff_weight(self.settings.cutoff_weight);
                 if worth_tracing(cutoff, weight, throughput) {
                     scratch.pending.push(Pending {

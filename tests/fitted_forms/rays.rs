@@ -168,6 +168,25 @@ fn a_mirror_colour_weighed_twice_is_the_secondary_colour_with_its_power() {
 }
 
 #[test]
+fn a_mirror_weighed_by_the_specular_colour_is_the_secondary_colour() {
+    if common::later_dir("the fitted forms of assignments 4 and 6").is_none() {
+        return;
+    }
+    // The glass bar's and the gems' mirrors, whose specular colours differ from their
+    // reflective ones (a mirror with no highlight, the floors', reflects nothing at all: the
+    // same picture as a mirror ray never traced).
+    assert_eq!(
+        later_named(
+            "mirror_of_the_specular_colour",
+            &["scene4_05", "scene4_14", "scene6_12"],
+            "secondary_colour",
+            "form 2)"
+        ),
+        8
+    );
+}
+
+#[test]
 fn snells_ratio_the_same_on_both_sides_is_the_refraction_index() {
     if common::later_dir("the fitted forms of assignment 4").is_none() {
         return;

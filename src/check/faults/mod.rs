@@ -523,9 +523,9 @@ impl TraceSeam for Plant {
         self.rays().fold(weight, |w, r| r.cutoff_weight(w))
     }
 
-    fn carried(&self, colour: Vec3A, transparent: bool) -> Vec3A {
+    fn carried(&self, colour: Vec3A, transparent: bool, specular: Vec3A) -> Vec3A {
         self.rays()
-            .find_map(|r| r.carried(colour, transparent))
+            .find_map(|r| r.carried(colour, transparent, specular))
             .unwrap_or(colour)
     }
 

@@ -55,6 +55,12 @@ pub enum RayFault {
         /// Glass rays', not mirror rays'.
         transparent: bool,
     },
+    /// What a mirror ray (or, with `transparent`, a glass ray) brings back multiplied by the
+    /// material's specular colour, not its colour for the ray.
+    SpecularCarried {
+        /// Glass rays', not mirror rays'.
+        transparent: bool,
+    },
     /// Snell's formula written otherwise than the course's, in the way of this form.
     Snell(SnellForm),
     /// The mirror direction as normalize(d + β (d·n) n), β being this (check's fit; the
@@ -172,10 +178,18 @@ impl RayFault {
 
     /// What a mirror (or glass) ray's colour is multiplied by, where not the material's
     /// `colour` for it.
-    pub(super) fn carried(&self, colour: Vec3A, transparent: bool) -> Option<Vec3A> {
+    pub(super) fn carried(
+        &self,
+        colour: Vec3A,
+        transparent: bool,
+        specular: Vec3A,
+    ) -> Option<Vec3A> {
         match *self {
             RayFault::ColourIgnored { transparent: which } if which == transparent => {
                 Some(Vec3A::ONE)
+            }
+            RayFault::SpecularCarried { transparent: which } if which == transparent => {
+                Some(specular)
             }
             RayFault::SecondaryMissing { glass_only: true } if transparent => Some(Vec3A::ZERO),
             RayFault::ColourPower {
@@ -258,6 +272,22 @@ fn only(fault: RayFault) -> Vec<Candidate> {
 /// colour other than white: there a colour left out changes the picture.
 pub(crate) fn has_tinted_material(line: &LineScene, transparent: bool) -> bool {
     material_colours(line, transparent).any(|colour| colour != glam::Vec3::ONE)
+}
+
+/// Whether a Phong material of the line that reflects (or, with `transparent`, refracts) has
+/// a specular colour other than its colour for that ray.
+fn specular_differs(line: &LineScene, transparent: bool) -> bool {
+    line.description.materials.iter().any(|m| match m {
+        crate::parse::description::MaterialSpec::Phong(p) => {
+            let colour = if transparent {
+                p.transparent
+            } else {
+                p.reflective
+            };
+            colour != glam::Vec3::ZERO && colour != p.specular
+        }
+        crate::parse::description::MaterialSpec::Texture(_) => false,
+    })
 }
 
 /// The reflective (or, with `transparent`, transparent) colours of the line's Phong materials
@@ -567,7 +597,8 @@ pub(super) const SECONDARY_COLOUR: Fault = Fault {
     name: "secondary_colour",
     assignment: 4,
     sentence: "I add what my mirror rays (form 0) or glass rays (form 1) bring back whole, not \
-               multiplied by the material's reflective or transparent colour.",
+               multiplied by the material's reflective or transparent colour; or multiplied by \
+               its specular colour instead (mirror rays: form 2; glass rays: form 3).",
     look_for: "Where a mirror or glass ray's colour is added to the hit's: colour += \
                reflectiveColor × traceRay(mirror ray), and transparentColor × traceRay(glass \
                ray).",
@@ -575,15 +606,23 @@ pub(super) const SECONDARY_COLOUR: Fault = Fault {
         if !bounces(line) {
             return Vec::new();
         }
-        // Numbered over both forms, then only those that can change this line kept.
-        Candidate::forms(
-            [false, true].map(|transparent| Planted::Ray(RayFault::ColourIgnored { transparent })),
-        )
-        .into_iter()
-        .zip([false, true])
-        .filter(|&(_, transparent)| has_tinted_material(line, transparent))
-        .map(|(candidate, _)| candidate)
-        .collect()
+        // Numbered over every form, then only those that can change this line kept.
+        let ignored =
+            [false, true].map(|transparent| Planted::Ray(RayFault::ColourIgnored { transparent }));
+        let specular = [false, true]
+            .map(|transparent| Planted::Ray(RayFault::SpecularCarried { transparent }));
+        let shows = [
+            has_tinted_material(line, false),
+            has_tinted_material(line, true),
+            specular_differs(line, false),
+            specular_differs(line, true),
+        ];
+        Candidate::forms(ignored.into_iter().chain(specular))
+            .into_iter()
+            .zip(shows)
+            .filter(|&(_, shows)| shows)
+            .map(|(candidate, _)| candidate)
+            .collect()
     },
 };
 
