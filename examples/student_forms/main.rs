@@ -323,6 +323,9 @@ enum Form {
     /// A mirror's ray weighed by the material's specular colour, not its reflective colour
     /// (made while the scene is read).
     MirrorOfTheSpecularColour,
+    /// A glass ray weighed by the material's specular colour, not its transparent colour (made
+    /// while the scene is read).
+    GlassOfTheSpecularColour,
     /// The Background's `ambientLight` read into a local variable that hides the scene's own:
     /// the scene's ambient light stays black.
     AmbientNeverStored,
@@ -509,6 +512,7 @@ impl Form {
             "highlight_of_the_diffuse_colour" => Form::HighlightOfTheDiffuseColour,
             "highlight_left_white" => Form::HighlightLeftWhite,
             "mirror_of_the_specular_colour" => Form::MirrorOfTheSpecularColour,
+            "glass_of_the_specular_colour" => Form::GlassOfTheSpecularColour,
             "ambient_never_stored" => Form::AmbientNeverStored,
             "plane_offset_negated" => Form::PlaneOffsetNegated,
             "edges_from_the_middle_corner" => Form::EdgesFromTheMiddleCorner,

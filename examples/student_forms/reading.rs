@@ -51,13 +51,23 @@ pub(crate) fn read_as(form: &str, description: &mut SceneDescription) {
                 }
             }
         }
-        // A mirror's ray weighed by the specular colour, where the material has a mirror.
+        // A mirror's (or glass's) ray weighed by the specular colour, where the material has a
+        // mirror (or is glass).
         "mirror_of_the_specular_colour" => {
             for material in &mut description.materials {
                 if let MaterialSpec::Phong(phong) = material
                     && phong.reflective != raycast::Vec3::ZERO
                 {
                     phong.reflective = phong.specular;
+                }
+            }
+        }
+        "glass_of_the_specular_colour" => {
+            for material in &mut description.materials {
+                if let MaterialSpec::Phong(phong) = material
+                    && phong.transparent != raycast::Vec3::ZERO
+                {
+                    phong.transparent = phong.specular;
                 }
             }
         }

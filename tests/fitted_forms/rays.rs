@@ -168,7 +168,7 @@ fn a_mirror_colour_weighed_twice_is_the_secondary_colour_with_its_power() {
 }
 
 #[test]
-fn a_mirror_weighed_by_the_specular_colour_is_the_secondary_colour() {
+fn a_mirror_or_glass_weighed_by_the_specular_colour_is_the_secondary_colour() {
     if common::later_dir("the fitted forms of assignments 4 and 6").is_none() {
         return;
     }
@@ -183,6 +183,17 @@ fn a_mirror_weighed_by_the_specular_colour_is_the_secondary_colour() {
             "form 2)"
         ),
         8
+    );
+    // Their glass likewise (where the specular colour is white, the glass's ray added whole
+    // draws the same, and is named as form 1).
+    assert_eq!(
+        later_named(
+            "glass_of_the_specular_colour",
+            &["scene4_05", "scene4_06", "scene4_14", "scene6_12"],
+            "secondary_colour",
+            "form 3)"
+        ),
+        12
     );
 }
 
