@@ -247,7 +247,7 @@ impl TraceSeam for Form {
         }
     }
 
-    fn carried(&self, colour: Vec3A, transparent: bool, _specular: Vec3A) -> Vec3A {
+    fn carried(&self, colour: Vec3A, transparent: bool, _surface: &Surface<'_>) -> Vec3A {
         match self {
             Form::MirrorColourTwice if !transparent => colour * colour,
             Form::GlassColourIgnored if transparent => Vec3A::ONE,

@@ -84,6 +84,14 @@ impl HighlightColour {
         HighlightColour::Diffuse,
         HighlightColour::White,
     ];
+
+    /// The other colours, in the order of `specular_colour`'s forms.
+    pub const OTHERS: [HighlightColour; 2] = [HighlightColour::Diffuse, HighlightColour::White];
+
+    /// Its form of `specular_colour` (none for the course's).
+    pub fn form(self) -> Option<usize> {
+        HighlightColour::OTHERS.iter().position(|&c| c == self)
+    }
 }
 
 /// One member of the family of highlights: each field's default is the course's.

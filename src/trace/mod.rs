@@ -142,10 +142,10 @@ pub trait TraceSeam: Copy + Send + Sync {
     }
 
     /// What the colour a mirror ray (or, with `transparent`, a glass ray) brings back is
-    /// multiplied by, the material's reflective (or transparent) colour being `colour` and its
-    /// specular colour `specular`.
+    /// multiplied by, the material's reflective (or transparent) colour being `colour`; its
+    /// other colours are `surface`'s, asked for only by a seam that needs them.
     #[inline(always)]
-    fn carried(&self, colour: Vec3A, _transparent: bool, _specular: Vec3A) -> Vec3A {
+    fn carried(&self, colour: Vec3A, _transparent: bool, _surface: &Surface<'_>) -> Vec3A {
         colour
     }
 
@@ -657,9 +657,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, transparent: bool, direction: Vec3A| {
                 let weight = self.variant.ray_weight(branch.weight, colour);
-                let carried = self
-                    .variant
-                    .carried(colour, transparent, surface.specular());
+                let carried = self.variant.carried(colour, transparent, &surface);
                 let throughput = branch.throughput * carried;
                 let cutoff = self.variant.cutoff_weight(self.settings.cutoff_weight);
                 if worth_tracing(cutoff, weight, throughput) {

@@ -523,9 +523,9 @@ impl TraceSeam for Plant {
         self.rays().fold(weight, |w, r| r.cutoff_weight(w))
     }
 
-    fn carried(&self, colour: Vec3A, transparent: bool, specular: Vec3A) -> Vec3A {
+    fn carried(&self, colour: Vec3A, transparent: bool, surface: &Surface<'_>) -> Vec3A {
         self.rays()
-            .find_map(|r| r.carried(colour, transparent, specular))
+            .find_map(|r| r.carried(colour, transparent, surface))
             .unwrap_or(colour)
     }
 

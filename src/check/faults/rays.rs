@@ -182,14 +182,14 @@ impl RayFault {
         &self,
         colour: Vec3A,
         transparent: bool,
-        specular: Vec3A,
+        surface: &crate::scene::Surface<'_>,
     ) -> Option<Vec3A> {
         match *self {
             RayFault::ColourIgnored { transparent: which } if which == transparent => {
                 Some(Vec3A::ONE)
             }
             RayFault::SpecularCarried { transparent: which } if which == transparent => {
-                Some(specular)
+                Some(surface.specular())
             }
             RayFault::SecondaryMissing { glass_only: true } if transparent => Some(Vec3A::ZERO),
             RayFault::ColourPower {

@@ -497,10 +497,10 @@ pub(super) const SPECULAR_COLOUR: Fault = Fault {
                 HighlightColour::Specular => false,
             })
         };
-        [HighlightColour::Diffuse, HighlightColour::White]
+        HighlightColour::OTHERS
             .into_iter()
-            .enumerate()
-            .filter(|&(_, colour)| shows(colour))
+            .filter(|&colour| shows(colour))
+            .filter_map(|colour| Some((colour.form()?, colour)))
             .map(|(form, colour)| Candidate {
                 planted: Planted::Shading(ShadingFault::Highlight(Highlight::Formed(
                     HighlightForm {

@@ -424,9 +424,13 @@ fn fit_highlight(cost: impl Fn(HighlightForm) -> f64, course: f64) -> (Highlight
             (form, value) = (scaled(least.at[0]), least.value);
         }
     }
-    // An H scaled to nothing is no highlight at all.
+    // An H scaled to nothing draws no highlight (but for an exponent of 0): where the absent
+    // highlight is as near, it is the one named.
     if !form.absent && !form.mirror && form.half_scale.abs() < 1e-3 {
-        form = absent;
+        let nothing = cost(absent);
+        if nothing <= value * (1.0 + ROUND_SHARE) + ROUND_LEVELS {
+            (form, value) = (absent, nothing);
+        }
     }
     (form, value)
 }
@@ -621,12 +625,8 @@ fn name(
             colour: highlight.colour,
             ..HighlightForm::default()
         };
-        if !highlight.absent && highlight.colour != HighlightColour::Specular {
+        if let Some(form) = highlight.colour.form().filter(|_| !highlight.absent) {
             faults.push(fault("specular_colour")?);
-            let form = HighlightColour::ALL
-                .iter()
-                .position(|&c| c == highlight.colour)
-                .map_or(0, |at| at - 1);
             numbers.push(("form", form as f64));
         }
         if highlight.absent {
@@ -772,13 +772,7 @@ mod tests {
     fn a_picture_without_highlights_fits_the_absent_highlight() {
         // A picture without highlights: a member that draws none costs nothing, the others
         // what their highlights are worth.
-        let cost = |form: HighlightForm| {
-            if form.absent || (!form.mirror && form.half_scale == 0.0) {
-                0.0
-            } else {
-                10.0 + f64::from(form.half_scale)
-            }
-        };
+        let cost = |form: HighlightForm| if form.absent { 0.0 } else { 10.0 };
         let (form, value) = fit_highlight(cost, 11.0);
         assert!(form.absent, "{form:?}");
         assert_eq!(value, 0.0);
