@@ -55,6 +55,8 @@ enum Form {
     /// Marble's veins as `sin(2 pi frequency x + amplitude noise)`: the file's frequency taken
     /// as turns per unit, not radians.
     MarbleInTurns,
+    /// Marble's stripes across y: `sin(frequency * y + amplitude * N)`.
+    MarbleAlongY,
     /// A point light dimmed as light falls off in the world, `colour / (d * d)`, whatever the
     /// file's attenuation says.
     InverseSquareLight,
@@ -399,6 +401,7 @@ impl Form {
             "tiny_normal_offset" => Form::TinyNormalOffset,
             "filter_half_pixel_wider" => Form::FilterHalfPixelWider,
             "marble_in_turns" => Form::MarbleInTurns,
+            "marble_along_y" => Form::MarbleAlongY,
             "inverse_square_light" => Form::InverseSquareLight,
             "double_precision" => Form::DoublePrecision,
             "heckbert_outward_normal" => Form::HeckbertOutwardNormal,

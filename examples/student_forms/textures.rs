@@ -22,6 +22,21 @@ pub(crate) fn marble_in_turns(texture: &Texture, point: Vec3A) -> f32 {
     (0.5 * ((turns + amplitude * noise).sin() + 1.0)) as f32
 }
 
+/// Where `point` falls between a texture's materials, Marble's stripes running across y, not x.
+pub(crate) fn marble_along_y(texture: &Texture, point: Vec3A) -> f32 {
+    let Pattern::Marble {
+        octaves,
+        frequency,
+        amplitude,
+    } = texture.pattern
+    else {
+        return texture.weight(point);
+    };
+    let p = texture.to_texture.transform_point3(point.as_dvec3());
+    let noise = octave_noise(p.x, p.y, p.z, octaves);
+    (0.5 * ((frequency * p.y + amplitude * noise).sin() + 1.0)) as f32
+}
+
 /// Where `point` falls between a texture's materials, its noise summed from the second octave:
 /// `noise(2^i p) / 2^i` for i = 1 to octaves.
 pub(crate) fn noise_from_second_octave(texture: &Texture, point: Vec3A) -> f32 {

@@ -20,7 +20,8 @@ use raycast::trace::{BackFace, LightPlace, ThroughGlass, TraceSeam};
 
 use crate::Form;
 use crate::textures::{
-    checker, marble_in_turns, noise_from_second_octave, noise_octaves_unweighed, noise_unmapped,
+    checker, marble_along_y, marble_in_turns, noise_from_second_octave, noise_octaves_unweighed,
+    noise_unmapped,
 };
 
 impl TraceSeam for Form {
@@ -89,6 +90,7 @@ impl TraceSeam for Form {
     fn weigh(&self, surface: &mut Surface<'_>, point: Vec3A) {
         match self {
             Form::MarbleInTurns => surface.weigh(point, marble_in_turns),
+            Form::MarbleAlongY => surface.weigh(point, marble_along_y),
             Form::NoiseFromSecondOctave => surface.weigh(point, noise_from_second_octave),
             Form::NoiseOctavesUnweighed => surface.weigh(point, noise_octaves_unweighed),
             Form::NoiseUnmapped => surface.weigh(point, noise_unmapped),

@@ -39,6 +39,28 @@ fn marble_in_turns_per_unit_is_the_noise_constants_with_a_frequency_of_two_pi() 
 }
 
 #[test]
+fn marble_along_another_axis_is_the_noise_constants_with_its_axis() {
+    if common::later_dir("the fitted forms of assignments 6 and 7").is_none() {
+        return;
+    }
+    // sin(frequency * y + amplitude * N): fitted where each pixel is one ray (the vase's lines
+    // of many samples a pixel fail too, and no fit reads them).
+    assert_eq!(
+        later_named(
+            "marble_along_y",
+            &[
+                "scene6_15_marble_cubes.txt",
+                "output6_17a.tga",
+                "output7_03a.tga"
+            ],
+            "noise_constants",
+            "axis 1)"
+        ),
+        3
+    );
+}
+
+#[test]
 fn a_checkerboard_wrong_for_negative_coordinates_is_the_checker_truncation() {
     if common::later_dir("the fitted forms of assignment 6").is_none() {
         return;

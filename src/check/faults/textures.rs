@@ -45,6 +45,9 @@ pub enum TextureFault {
         /// Each octave's weight over the last's (the course's ½; 1: the octaves summed
         /// unweighed).
         octave_ratio: f32,
+        /// The texture-space axis Marble's sine runs along (0: x, the course's; 1: y; 2: z),
+        /// and Wood's rings' axis swapped with y likewise.
+        axis: u8,
     },
 }
 
@@ -145,9 +148,17 @@ impl TextureFault {
                 amplitude,
                 noise_scale,
                 octave_ratio,
+                axis,
             } => {
                 let scale = f64::from(*noise_scale);
                 let ratio = f64::from(*octave_ratio);
+                // The pattern is handed the point with x and the axis swapped, and the noise
+                // swaps them back: only the sine's (or the rings') axis moves.
+                let swap = |q: glam::DVec3| match axis {
+                    1 => glam::DVec3::new(q.y, q.x, q.z),
+                    2 => glam::DVec3::new(q.z, q.y, q.x),
+                    _ => q,
+                };
                 with_constants(
                     texture.pattern,
                     *octaves,
@@ -155,9 +166,9 @@ impl TextureFault {
                     f64::from(*amplitude),
                 )
                 .weight_with_noise(
-                    texture.to_texture.transform_point3(world),
+                    swap(texture.to_texture.transform_point3(world)),
                     |q, octaves| {
-                        let q = q * scale;
+                        let q = swap(q) * scale;
                         crate::scene::perlin::octave_noise_weighed(q.x, q.y, q.z, octaves, ratio)
                             / scale
                     },
@@ -244,7 +255,7 @@ pub(super) const NOISE_CONSTANTS: Fault = Fault {
     sentence: "My Noise, Marble or Wood uses other numbers than the file gives (octaves: how \
                many more octaves are summed; frequency and amplitude: how many times the \
                file's; the first octave's frequency: 2 where the octaves are summed from the \
-               second).",
+               second; the axis: Marble's sine along y (1) or z (2), not x).",
     look_for: "The texture's noise: the sum over exactly the file's number of octaves (octave i \
                at 2^i times the frequency and 1/2^i of the weight); Marble is sin(frequency·x + \
                amplitude·noise), Wood the same of the distance from the y axis, with the \
@@ -263,6 +274,7 @@ pub(super) const NOISE_CONSTANTS: Fault = Fault {
                         amplitude: 1.0,
                         noise_scale: 1.0,
                         octave_ratio: 0.5,
+                        axis: 0,
                     }),
                     "octaves",
                     f64::from(more),
@@ -328,6 +340,7 @@ mod tests {
             amplitude: 1.0,
             noise_scale: 1.0,
             octave_ratio: 0.5,
+            axis: 0,
         };
         assert_eq!(same.weight(&course, p), course.weight(p));
         let other = TextureFault::Constants {
@@ -336,6 +349,7 @@ mod tests {
             amplitude: 0.5,
             noise_scale: 1.0,
             octave_ratio: 0.5,
+            axis: 0,
         };
         assert_eq!(other.weight(&course, p), marble(2, 4.0, 0.75).weight(p));
         // No fewer than no octaves.
@@ -346,8 +360,22 @@ mod tests {
             amplitude: 1.0,
             noise_scale: 1.0,
             octave_ratio: 0.5,
+            axis: 0,
         };
         assert_eq!(fewer.weight(&noise, p), noise.weight(p));
+        // The sine along y: the course's formula with y in x's place, the noise where it was.
+        let along_y = TextureFault::Constants {
+            octaves: 0,
+            frequency: 1.0,
+            amplitude: 1.0,
+            noise_scale: 1.0,
+            octave_ratio: 0.5,
+            axis: 1,
+        };
+        let q = course.to_texture.transform_point3(p.as_dvec3());
+        let n = crate::scene::perlin::octave_noise(q.x, q.y, q.z, 3);
+        let by_hand = 0.5 * ((2.0 * q.y + 1.5 * n).sin() + 1.0);
+        assert!((f64::from(along_y.weight(&course, p)) - by_hand).abs() < 1e-6);
     }
 
     #[test]
@@ -366,6 +394,7 @@ mod tests {
             amplitude: 1.0,
             noise_scale: 2.0,
             octave_ratio: 0.5,
+            axis: 0,
         };
         for p in [Vec3A::new(0.3, -0.7, 1.1), Vec3A::new(-2.2, 0.4, 0.05)] {
             let q = course.to_texture.transform_point3(p.as_dvec3());

@@ -48,9 +48,10 @@ const ROUND_SHARE: f64 = 0.02;
 struct Read {
     /// The student's weight of the second material.
     weight: f64,
-    /// Along what the sine runs: texture space's x (Marble) or the distance from its y axis
-    /// (Wood), times the file's frequency.
-    phase: f64,
+    /// Along what the sine runs, times the file's frequency, for each axis Marble's sine may
+    /// be written along: texture space's x (the course's), y or z; Wood's distance from its
+    /// y axis, the same for all three.
+    phase: [f64; 3],
     /// The file's amplitude.
     amplitude: f64,
     /// The noise in each of the ways of [`NOISES`].
@@ -79,23 +80,32 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
     if read.is_empty() {
         return None;
     }
-    let off = |octaves: usize, frequency: f64, amplitude: f64| {
+    let off_along = |axis: usize, octaves: usize, frequency: f64, amplitude: f64| {
         read.iter()
             .map(|r| {
                 let w = 0.5
-                    * ((frequency * r.phase + amplitude * r.amplitude * r.noise[octaves]).sin()
+                    * ((frequency * r.phase[axis] + amplitude * r.amplitude * r.noise[octaves])
+                        .sin()
                         + 1.0);
                 (w - r.weight).abs()
             })
             .sum::<f64>()
             / read.len() as f64
     };
-    let course = off(0, 1.0, 1.0);
+    let course = off_along(0, 0, 1.0, 1.0);
     let factor = |steps: usize, i: usize| {
         (RANGE.0.ln() + (RANGE.1.ln() - RANGE.0.ln()) * i as f64 / (steps - 1) as f64).exp()
     };
-    let mut best = (0usize, 1.0, 1.0, course);
-    for octaves in 0..NOISES.len() {
+    let mut best = (0usize, 0usize, 1.0, 1.0, course);
+    // Along x with every noise; along y and z (a sine written along another axis) with the
+    // file's noise alone.
+    let searches = (0..NOISES.len())
+        .map(|octaves| (0, octaves))
+        .chain([(1, 0), (2, 0)]);
+    for (axis, octaves) in searches {
+        let off = |octaves: usize, frequency: f64, amplitude: f64| {
+            off_along(axis, octaves, frequency, amplitude)
+        };
         // The frequency first (the stripes' spacing), then the amplitude (how far the noise
         // bends them) at that frequency, then the frequency again at that amplitude.
         let mut frequency = 1.0;
@@ -120,11 +130,14 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
             |a| off(octaves, frequency, a),
         );
         let value = off(octaves, frequency, amplitude);
-        if value < best.3 {
-            best = (octaves, frequency, amplitude, value);
+        if value < best.4 {
+            best = (axis, octaves, frequency, amplitude, value);
         }
     }
-    let (octaves, mut frequency, mut amplitude, value) = best;
+    let (axis, octaves, mut frequency, mut amplitude, value) = best;
+    let off = |octaves: usize, frequency: f64, amplitude: f64| {
+        off_along(axis, octaves, frequency, amplitude)
+    };
     if value > course - GAIN {
         return None;
     }
@@ -154,6 +167,9 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
     if amplitude != 1.0 {
         numbers.push(("amplitude", amplitude));
     }
+    if axis != 0 {
+        numbers.push(("axis", axis as f64));
+    }
     if numbers.is_empty() {
         return None;
     }
@@ -163,6 +179,7 @@ pub fn fit_texture(line: &LineScene, shaded: &Image) -> Option<(Planted, Named)>
         amplitude: amplitude as f32,
         noise_scale: noise_scale as f32,
         octave_ratio: octave_ratio as f32,
+        axis: axis as u8,
     });
     Some((plant, (vec![fault], numbers)))
 }
@@ -228,7 +245,7 @@ fn read_weights(line: &LineScene, shaded: &Image) -> Vec<Read> {
                 octaves,
                 frequency,
                 amplitude,
-            } => (octaves, frequency, amplitude, p.x),
+            } => (octaves, frequency, amplitude, [p.x, p.y, p.z]),
             Pattern::Wood {
                 octaves,
                 frequency,
@@ -237,7 +254,7 @@ fn read_weights(line: &LineScene, shaded: &Image) -> Vec<Read> {
                 octaves,
                 frequency,
                 amplitude,
-                (p.x * p.x + p.z * p.z).sqrt(),
+                [(p.x * p.x + p.z * p.z).sqrt(); 3],
             ),
             Pattern::Checkerboard | Pattern::Noise { .. } => continue,
         };
@@ -253,7 +270,7 @@ fn read_weights(line: &LineScene, shaded: &Image) -> Vec<Read> {
         let weight = ((student - a).dot(apart) / apart.length_squared()).clamp(0.0, 1.0);
         read.push(Read {
             weight: f64::from(weight),
-            phase: frequency * along,
+            phase: along.map(|a| frequency * a),
             amplitude,
             noise: NOISES.map(|(more, scale, ratio)| {
                 let q = p * scale;
