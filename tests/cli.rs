@@ -32,7 +32,7 @@ fn raycast(dir: &Path, args: &[&str]) -> Output {
         .args(args)
         .current_dir(dir)
         .output()
-        .expect("the binary should start")
+        .unwrap_or_else(|e| panic!("the binary should start: {e}"))
 }
 
 fn stderr(output: &Output) -> String {
