@@ -8,22 +8,19 @@ use raycast::scene::perlin::{noise as perlin_noise, octave_noise};
 
 /// Where `point` falls between a texture's materials, Marble's frequency in turns.
 pub(crate) fn marble_in_turns(texture: &Texture, point: Vec3A) -> f32 {
-    let Pattern::Marble {
-        octaves,
-        frequency,
-        amplitude,
-    } = texture.pattern
-    else {
-        return texture.weight(point);
-    };
-    let p = texture.to_texture.transform_point3(point.as_dvec3());
-    let noise = octave_noise(p.x, p.y, p.z, octaves);
-    let turns = std::f64::consts::TAU * frequency * p.x;
-    (0.5 * ((turns + amplitude * noise).sin() + 1.0)) as f32
+    marble_with(texture, point, |p, frequency| {
+        std::f64::consts::TAU * frequency * p.x
+    })
 }
 
 /// Where `point` falls between a texture's materials, Marble's stripes running across y, not x.
 pub(crate) fn marble_along_y(texture: &Texture, point: Vec3A) -> f32 {
+    marble_with(texture, point, |p, frequency| frequency * p.y)
+}
+
+/// Where `point` falls between a Marble's materials with the sine's phase (before the noise)
+/// the student's `phase` of the texture's point and the file's frequency.
+fn marble_with(texture: &Texture, point: Vec3A, phase: impl Fn(DVec3, f64) -> f64) -> f32 {
     let Pattern::Marble {
         octaves,
         frequency,
@@ -34,7 +31,7 @@ pub(crate) fn marble_along_y(texture: &Texture, point: Vec3A) -> f32 {
     };
     let p = texture.to_texture.transform_point3(point.as_dvec3());
     let noise = octave_noise(p.x, p.y, p.z, octaves);
-    (0.5 * ((frequency * p.y + amplitude * noise).sin() + 1.0)) as f32
+    (0.5 * ((phase(p, frequency) + amplitude * noise).sin() + 1.0)) as f32
 }
 
 /// Where `point` falls between a texture's materials, its noise summed from the second octave:

@@ -88,6 +88,16 @@ impl HighlightColour {
     /// The other colours, in the order of `specular_colour`'s forms.
     pub const OTHERS: [HighlightColour; 2] = [HighlightColour::Diffuse, HighlightColour::White];
 
+    /// The colour it takes on a material of these `diffuse` and `specular` colours.
+    #[inline]
+    pub fn of(self, diffuse: Vec3A, specular: Vec3A) -> Vec3A {
+        match self {
+            HighlightColour::Specular => specular,
+            HighlightColour::Diffuse => diffuse,
+            HighlightColour::White => Vec3A::ONE,
+        }
+    }
+
     /// Its form of `specular_colour` (none for the course's).
     pub fn form(self) -> Option<usize> {
         HighlightColour::OTHERS.iter().position(|&c| c == self)

@@ -7,7 +7,7 @@
 use arrayvec::ArrayVec;
 use glam::{DAffine3, Vec3A};
 
-use super::highlight::{Highlight, HighlightAt, HighlightColour};
+use super::highlight::{Highlight, HighlightAt};
 use super::perlin::octave_noise;
 use crate::parse::MAX_TEXTURE_DEPTH;
 use crate::parse::description::{self, Pattern};
@@ -351,12 +351,7 @@ impl Phong {
             if falloff == SpecularFalloff::Fade {
                 term *= n_dot_l;
             }
-            let weight = match highlight.colour() {
-                HighlightColour::Specular => self.specular,
-                HighlightColour::Diffuse => self.diffuse,
-                HighlightColour::White => Vec3A::ONE,
-            };
-            colour += weight * term;
+            colour += highlight.colour().of(self.diffuse, self.specular) * term;
         }
         colour * light
     }

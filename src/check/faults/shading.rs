@@ -478,37 +478,26 @@ pub(super) const SPECULAR_COLOUR: Fault = Fault {
         if !highlights_show(line) {
             return Vec::new();
         }
-        // A form shows only where a material with a highlight has another colour there.
-        let highlighted: Vec<(glam::Vec3, glam::Vec3)> = line
-            .description
-            .materials
-            .iter()
-            .filter_map(|m| match m {
-                MaterialSpec::Phong(p) if p.specular != glam::Vec3::ZERO => {
-                    Some((p.diffuse, p.specular))
-                }
-                _ => None,
-            })
-            .collect();
+        // A form shows only where a material with a highlight takes another colour with it.
         let shows = |colour: HighlightColour| {
-            highlighted.iter().any(|&(diffuse, specular)| match colour {
-                HighlightColour::Diffuse => diffuse != specular,
-                HighlightColour::White => specular != glam::Vec3::ONE,
-                HighlightColour::Specular => false,
+            line.description.materials.iter().any(|m| match m {
+                MaterialSpec::Phong(p) if p.specular != glam::Vec3::ZERO => {
+                    let specular = p.specular.into();
+                    colour.of(p.diffuse.into(), specular) != specular
+                }
+                _ => false,
             })
         };
         HighlightColour::OTHERS
             .into_iter()
             .filter(|&colour| shows(colour))
-            .filter_map(|colour| Some((colour.form()?, colour)))
-            .map(|(form, colour)| Candidate {
-                planted: Planted::Shading(ShadingFault::Highlight(Highlight::Formed(
-                    HighlightForm {
+            .filter_map(|colour| {
+                let planted =
+                    Planted::Shading(ShadingFault::Highlight(Highlight::Formed(HighlightForm {
                         colour,
                         ..HighlightForm::default()
-                    },
-                ))),
-                parameter: Some(("form", form as f64)),
+                    })));
+                Some(Candidate::with(planted, "form", colour.form()? as f64))
             })
             .collect()
     },

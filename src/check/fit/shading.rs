@@ -356,39 +356,45 @@ pub fn fit_shading(
 /// course's costing `course`), with its cost; the course's unless another is nearer by more
 /// than a round value's allowance. H's scale is searched once the rest of the form is chosen.
 fn fit_highlight(cost: impl Fn(HighlightForm) -> f64, course: f64) -> (HighlightForm, f64) {
-    let mut forms = Vec::new();
-    for colour in HighlightColour::ALL {
-        for view_along_ray in [false, true] {
-            for base in [
-                HighlightBase::Clamped,
-                HighlightBase::Absolute,
-                HighlightBase::Whole,
-            ] {
-                for ungated in [false, true] {
-                    let form = HighlightForm {
-                        view_along_ray,
-                        base,
-                        ungated,
-                        colour,
-                        ..HighlightForm::default()
-                    };
-                    forms.push(HighlightForm {
-                        mirror: true,
-                        ..form
-                    });
-                    for half_not_unit in [false, true] {
-                        for half_scale in HALF_SCALES {
-                            forms.push(HighlightForm {
-                                half_not_unit,
-                                half_scale,
-                                ..form
-                            });
-                        }
+    let mut shapes = Vec::new();
+    for view_along_ray in [false, true] {
+        for base in [
+            HighlightBase::Clamped,
+            HighlightBase::Absolute,
+            HighlightBase::Whole,
+        ] {
+            for ungated in [false, true] {
+                let form = HighlightForm {
+                    view_along_ray,
+                    base,
+                    ungated,
+                    ..HighlightForm::default()
+                };
+                shapes.push(HighlightForm {
+                    mirror: true,
+                    ..form
+                });
+                for half_not_unit in [false, true] {
+                    for half_scale in HALF_SCALES {
+                        shapes.push(HighlightForm {
+                            half_not_unit,
+                            half_scale,
+                            ..form
+                        });
                     }
                 }
             }
         }
     }
+    // Each shape in each colour, the course's colour first.
+    let mut forms: Vec<HighlightForm> = HighlightColour::ALL
+        .into_iter()
+        .flat_map(|colour| {
+            shapes
+                .iter()
+                .map(move |&shape| HighlightForm { colour, ..shape })
+        })
+        .collect();
     // Last: where a vector that puts the highlight nowhere draws the same, the vector is named.
     let absent = HighlightForm {
         absent: true,
