@@ -88,6 +88,17 @@ enum Form {
     /// The mirror ray's colour weighed by the reflective colour twice (once where the ray is
     /// made, once where its colour is added).
     MirrorColourTwice,
+    /// The recursion's own test for a miss, written apart from the camera's: a mirror or glass
+    /// ray that hits nothing adds nothing (black), where the camera's ray sees the background.
+    MissesAddNothing,
+    /// The recursion passes t_min 0 to the mirror and glass rays, where the shadow test passes
+    /// the course's offset.
+    SecondaryFromZero,
+    /// The shadow test starts at t = 0, where the mirror and glass rays start off the surface.
+    ShadowsFromZero,
+    /// Only the mirror ray's miss adds nothing: the glass ray goes through `traceRay`, whose
+    /// miss is the background.
+    MirrorMissAddsNothing,
     /// The checkerboard's cells counted with C's `fmod(x, 2) < 1` per axis, which is true for
     /// every negative coordinate.
     CheckerFmod,
@@ -414,6 +425,10 @@ impl Form {
             "total_internal_nan" => Form::TotalInternalNan,
             "total_internal_mirror" => Form::TotalInternalMirror,
             "mirror_colour_twice" => Form::MirrorColourTwice,
+            "misses_add_nothing" => Form::MissesAddNothing,
+            "secondary_from_zero" => Form::SecondaryFromZero,
+            "shadows_from_zero" => Form::ShadowsFromZero,
+            "mirror_miss_adds_nothing" => Form::MirrorMissAddsNothing,
             "checker_fmod" => Form::CheckerFmod,
             "checker_absolute" => Form::CheckerAbsolute,
             "uniform_edge_to_edge" => Form::UniformEdgeToEdge,

@@ -162,7 +162,16 @@ impl TraceSeam for Form {
         match self {
             Form::TinyNormalOffset => 1e-7 / direction.dot(normal).abs(),
             Form::AbsoluteEpsilonAlongRay => 1e-6,
+            Form::ShadowsFromZero => 0.0,
             _ => raycast::trace::start_t(clearance, direction, normal),
+        }
+    }
+
+    fn secondary_start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
+        match self {
+            Form::SecondaryFromZero => 0.0,
+            Form::ShadowsFromZero => raycast::trace::start_t(clearance, direction, normal),
+            _ => self.start_t(clearance, direction, normal),
         }
     }
 
@@ -255,6 +264,14 @@ impl TraceSeam for Form {
             Form::GlassColourIgnored if transparent => Vec3A::ONE,
             Form::GlassNeverTraced if transparent => Vec3A::ZERO,
             _ => colour,
+        }
+    }
+
+    fn escaped(&self, background: Vec3A, transparent: bool) -> Vec3A {
+        match self {
+            Form::MissesAddNothing => Vec3A::ZERO,
+            Form::MirrorMissAddsNothing if !transparent => Vec3A::ZERO,
+            _ => background,
         }
     }
 

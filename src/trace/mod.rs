@@ -122,6 +122,13 @@ pub trait TraceSeam: Copy + Send + Sync {
         start_t(clearance, direction, normal)
     }
 
+    /// [`TraceSeam::start_t`] for a mirror or glass ray (a tracer may start its shadow rays
+    /// one way and its secondary rays another).
+    #[inline(always)]
+    fn secondary_start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
+        self.start_t(clearance, direction, normal)
+    }
+
     /// How many times a camera ray may be reflected or refracted, given `-bounces`.
     #[inline(always)]
     fn bounces(&self, bounces: u32) -> u32 {
@@ -147,6 +154,13 @@ pub trait TraceSeam: Copy + Send + Sync {
     #[inline(always)]
     fn carried(&self, colour: Vec3A, _transparent: bool, _surface: &Surface<'_>) -> Vec3A {
         colour
+    }
+
+    /// What a mirror ray (or, with `transparent`, a glass ray) that meets nothing brings back,
+    /// the scene's background being `background`.
+    #[inline(always)]
+    fn escaped(&self, background: Vec3A, _transparent: bool) -> Vec3A {
+        background
     }
 
     /// The mirror direction of unit `direction` about unit `normal`.
@@ -290,6 +304,8 @@ struct Pending {
     /// The least t of a hit: past the surface the ray leaves.
     t_min: f32,
     branch: Branch,
+    /// A glass ray, not a mirror ray.
+    transparent: bool,
 }
 
 /// Where a ray stands in the ray tree.
@@ -552,9 +568,13 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 break;
             }
             scratch.counts.secondary += 1;
-            let hit = self.intersect(&next.ray, next.t_min, scratch);
-            colour += next.branch.throughput
-                * self.visit(&next.ray, next.branch, hit.as_ref(), scratch, None);
+            let seen = match self.intersect(&next.ray, next.t_min, scratch) {
+                None => self
+                    .variant
+                    .escaped(self.scene.background, next.transparent),
+                Some(hit) => self.visit(&next.ray, next.branch, Some(&hit), scratch, None),
+            };
+            colour += next.branch.throughput * seen;
         }
         colour
     }
@@ -663,12 +683,13 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 if worth_tracing(cutoff, weight, throughput) {
                     scratch.pending.push(Pending {
                         ray: Ray::new(point, direction),
-                        t_min: self.variant.start_t(clearance, direction, normal),
+                        t_min: self.variant.secondary_start_t(clearance, direction, normal),
                         branch: Branch {
                             bounces_left: branch.bounces_left - 1,
                             weight,
                             throughput,
                         },
+                        transparent,
                     });
                 }
             };
@@ -951,6 +972,39 @@ mod tests {
         };
         let c = Tracer::new(&scene, settings).trace(&ray, 0.0, &mut Scratch::default());
         assert_eq!(c, Vec3A::new(0.5, 0.125, 0.0));
+    }
+
+    #[test]
+    fn what_an_escaped_mirror_ray_brings_is_the_seams_and_a_camera_miss_stays_the_background() {
+        #[derive(Clone, Copy)]
+        struct Black;
+        impl TraceSeam for Black {
+            fn escaped(&self, _background: Vec3A, _transparent: bool) -> Vec3A {
+                Vec3A::ZERO
+            }
+        }
+        let scene = scene(
+            "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+             Background { color 0.5 0.25 1 ambientLight 1 1 1 }
+             Materials { numMaterials 1 Material { diffuseColor 0.25 0 0 reflectiveColor 1 0.5 0 } }
+             Group { numObjects 1 MaterialIndex 0 Plane { normal 0 0 1 offset 0 } }",
+        );
+        let settings = TraceSettings {
+            bounces: 1,
+            ..TraceSettings::default()
+        };
+        let tracer = Tracer::with_variant(&scene, settings, Black);
+        let mut scratch = Scratch::default();
+        let down = Ray::new(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z);
+        assert_eq!(
+            tracer.camera_ray(&down, true, &mut scratch).0,
+            Vec3A::new(0.25, 0.0, 0.0)
+        );
+        let along = Ray::new(Vec3A::new(0.0, 0.0, 10.0), Vec3A::X);
+        assert_eq!(
+            tracer.camera_ray(&along, true, &mut scratch).0,
+            Vec3A::new(0.5, 0.25, 1.0)
+        );
     }
 
     #[test]

@@ -409,3 +409,71 @@ fn a_rays_weight_made_of_other_numbers_than_the_colours_magnitude_is_the_weight_
         );
     }
 }
+
+#[test]
+fn a_mirror_or_glass_ray_that_misses_bringing_black_is_the_secondary_background() {
+    if common::later_dir("the fitted forms of assignments 4 and 6").is_none() {
+        return;
+    }
+    // The recursion's own test for a miss adds nothing: a mirror sphere and glass spheres
+    // before a coloured background show black where they show the background.
+    assert_eq!(
+        later_named(
+            "misses_add_nothing",
+            &["output4_04b.tga", "scene4_07", "scene6_14"],
+            "secondary_background",
+            "form 0)"
+        ),
+        3
+    );
+    // The mirror's miss alone, where glass rays still see the background (with two bounces
+    // or fewer, the bars' glass rays never miss: both forms draw the same, and form 0 is named).
+    assert_eq!(
+        later_named(
+            "mirror_miss_adds_nothing",
+            &["scene4_05", "output4_06d.tga", "scene6_14"],
+            "secondary_background",
+            "form 1)"
+        ),
+        3
+    );
+}
+
+#[test]
+fn shadow_or_secondary_rays_alone_from_the_surface_are_the_shadow_acne_of_those_rays() {
+    if common::later_dir("the fitted forms of assignments 4 and 6").is_none() {
+        return;
+    }
+    // The recursion passes 0 where the shadow test passes an offset: the mirror floor and
+    // sphere, and the glass bars, see themselves in speckles, their shadows clean.
+    assert_eq!(
+        later_named(
+            "secondary_from_zero",
+            &["scene4_03", "output4_04b.tga", "output4_06c.tga"],
+            "shadow_acne",
+            "form 2)"
+        ),
+        3
+    );
+    // The other way round.
+    assert_eq!(
+        later_named(
+            "shadows_from_zero",
+            &["scene4_03", "output4_06c.tga"],
+            "shadow_acne",
+            "form 1)"
+        ),
+        2
+    );
+    // Where a line traces no mirror or glass ray, every ray it casts starts on the surface:
+    // form 0.
+    assert_eq!(
+        later_named(
+            "shadows_from_zero",
+            &["scene4_01"],
+            "shadow_acne",
+            "form 0)"
+        ),
+        1
+    );
+}

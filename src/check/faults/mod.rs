@@ -32,7 +32,7 @@ pub use camera::{CameraFault, Mapping, RayForm};
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
 pub(crate) use intersection::{has_triangles, lengths_change};
 pub use pictures::PictureFault;
-pub use rays::{CriticalAngle, RayFault};
+pub use rays::{CriticalAngle, RayFault, Secondary};
 pub(crate) use rays::{bounces, glass_index, has_material, has_tinted_material};
 pub use samples::{SampleFault, gaussian_radius};
 pub use shading::{Attenuation, LightGrey, ShadingFault};
@@ -123,6 +123,21 @@ impl Candidate {
             .map(|(form, planted)| Candidate::with(planted, "form", form as f64))
             .collect()
     }
+
+    /// [`Candidate::forms`], numbered over every form, then only those whose `shows` is true
+    /// kept: the forms that can draw another picture of the line than the course's, and than
+    /// each other's.
+    pub fn forms_shown(
+        forms: impl IntoIterator<Item = Planted>,
+        shows: impl IntoIterator<Item = bool>,
+    ) -> Vec<Candidate> {
+        Candidate::forms(forms)
+            .into_iter()
+            .zip(shows)
+            .filter(|&(_, shows)| shows)
+            .map(|(candidate, _)| candidate)
+            .collect()
+    }
 }
 
 /// A fault as planted in a render: which seam it changes, and how.
@@ -201,6 +216,7 @@ pub static FAULTS: &[Fault] = &[
     rays::WEIGHT_CUTOFF,
     rays::SECONDARY_RAYS_MISSING,
     rays::SECONDARY_COLOUR,
+    rays::SECONDARY_BACKGROUND,
     samples::JITTER_WHOLE_PIXEL,
     samples::UNIFORM_CORNERS,
     samples::FILTER_RADIUS,
@@ -515,6 +531,12 @@ impl TraceSeam for Plant {
             .unwrap_or_else(|| crate::trace::start_t(clearance, direction, normal))
     }
 
+    fn secondary_start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
+        self.rays()
+            .find_map(|r| r.secondary_start_t(clearance, direction, normal))
+            .unwrap_or_else(|| crate::trace::start_t(clearance, direction, normal))
+    }
+
     fn bounces(&self, bounces: u32) -> u32 {
         self.rays().fold(bounces, |b, r| r.bounces(b))
     }
@@ -527,6 +549,12 @@ impl TraceSeam for Plant {
         self.rays()
             .find_map(|r| r.carried(colour, transparent, surface))
             .unwrap_or(colour)
+    }
+
+    fn escaped(&self, background: Vec3A, transparent: bool) -> Vec3A {
+        self.rays()
+            .find_map(|r| r.escaped(transparent))
+            .unwrap_or(background)
     }
 
     fn reflect(&self, direction: Vec3A, normal: Vec3A) -> Vec3A {

@@ -10,6 +10,12 @@ use super::{Candidate, Fault, LineScene, Planted};
 pub enum RayFault {
     /// Shadow and secondary rays start with no offset: surfaces shadow and reflect themselves.
     NoOffset,
+    /// Only these rays start with no offset: shadow rays (`secondary` false), or mirror and
+    /// glass rays; the others leave as the course's do.
+    NoOffsetFor {
+        /// Mirror and glass rays, not shadow rays.
+        secondary: bool,
+    },
     /// Shadow rays toward a point light go on past the light.
     PastLight,
     /// No shadow ray ever meets anything: every light reaches every point.
@@ -77,9 +83,34 @@ pub enum RayFault {
     },
     /// Shadow rays toward a point light stop at another t than the light's distance.
     ShadowReach(ShadowReach),
+    /// These mirror or glass rays, where they meet nothing, bring back black, not the
+    /// background.
+    MissesBlack(Secondary),
     /// Glass lets light through to what it shadows, in this way: an allowed answer (the
     /// handout's optional transparent shadows), or, `Whole`, the fault `shadow_skips_glass`.
     ThroughGlass(crate::trace::ThroughGlass),
+}
+
+/// Which of a hit's secondary rays a fault changes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Secondary {
+    /// Mirror and glass rays alike.
+    Both,
+    /// Mirror rays alone.
+    Mirror,
+    /// Glass rays alone.
+    Glass,
+}
+
+impl Secondary {
+    /// Whether a mirror ray (or, with `transparent`, a glass ray) is one of these.
+    fn includes(self, transparent: bool) -> bool {
+        match self {
+            Secondary::Both => true,
+            Secondary::Mirror => !transparent,
+            Secondary::Glass => transparent,
+        }
+    }
 }
 
 /// Where a student's shadow ray toward a point light stops.
@@ -143,12 +174,28 @@ impl RayFault {
     /// offset; the fixed epsilon; as far as takes the ray `offset` off the surface.
     pub(super) fn start_t(&self, direction: Vec3A, normal: Vec3A) -> Option<f32> {
         match *self {
-            RayFault::NoOffset => Some(0.0),
+            RayFault::NoOffset | RayFault::NoOffsetFor { secondary: false } => Some(0.0),
             RayFault::FixedStart(epsilon) => Some(epsilon),
             RayFault::NormalOffset(offset) => {
                 Some(crate::trace::start_t(offset, direction, normal))
             }
             _ => None,
+        }
+    }
+
+    /// [`RayFault::start_t`] for a mirror or glass ray leaving a hit of `clearance`.
+    pub(super) fn secondary_start_t(
+        &self,
+        clearance: f32,
+        direction: Vec3A,
+        normal: Vec3A,
+    ) -> Option<f32> {
+        match *self {
+            RayFault::NoOffsetFor { secondary: true } => Some(0.0),
+            RayFault::NoOffsetFor { secondary: false } => {
+                Some(crate::trace::start_t(clearance, direction, normal))
+            }
+            _ => self.start_t(direction, normal),
         }
     }
 
@@ -196,6 +243,14 @@ impl RayFault {
                 transparent: which,
                 power,
             } if which == transparent => Some(colour.powf(power)),
+            _ => None,
+        }
+    }
+
+    /// What a mirror (or glass) ray that meets nothing brings back, where not the background.
+    pub(super) fn escaped(&self, transparent: bool) -> Option<Vec3A> {
+        match *self {
+            RayFault::MissesBlack(which) if which.includes(transparent) => Some(Vec3A::ZERO),
             _ => None,
         }
     }
@@ -333,16 +388,28 @@ pub(super) const SHADOW_ACNE: Fault = Fault {
     name: "shadow_acne",
     assignment: 4,
     sentence: "My shadow, mirror and glass rays start exactly on the surface, which then shadows \
-               and reflects itself in speckles.",
+               and reflects itself in speckles (form 0: all of them; form 1: the shadow rays \
+               alone; form 2: the mirror and glass rays alone).",
     look_for: "Where a shadow or secondary ray is made: start it a little off the surface (by \
                a distance that grows with the point's coordinates), or ignore hits nearer than \
-               a small epsilon (the course's 1e-4).",
+               a small epsilon (the course's 1e-4); the same for shadow, mirror and glass rays.",
     candidates: |line: &LineScene| {
-        if line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0) {
-            only(RayFault::NoOffset)
-        } else {
-            Vec::new()
-        }
+        let shadows = line.has_image() && line.options.trace.shadows;
+        let secondary = bounces(line) && (has_material(line, false) || has_material(line, true));
+        // Where a line casts one kind of ray, its form draws what form 0 draws.
+        Candidate::forms_shown(
+            [
+                RayFault::NoOffset,
+                RayFault::NoOffsetFor { secondary: false },
+                RayFault::NoOffsetFor { secondary: true },
+            ]
+            .map(Planted::Ray),
+            [
+                line.has_image() && (line.options.trace.shadows || line.options.trace.bounces > 0),
+                shadows && secondary,
+                shadows && secondary,
+            ],
+        )
     },
 };
 
@@ -577,19 +644,13 @@ pub(super) const SECONDARY_RAYS_MISSING: Fault = Fault {
         if !bounces(line) {
             return Vec::new();
         }
-        // Numbered over both forms, then only those that can change this line kept.
-        let reaches = [
-            has_material(line, false) || has_material(line, true),
-            has_material(line, true),
-        ];
-        Candidate::forms(
+        Candidate::forms_shown(
             [false, true].map(|glass_only| Planted::Ray(RayFault::SecondaryMissing { glass_only })),
+            [
+                has_material(line, false) || has_material(line, true),
+                has_material(line, true),
+            ],
         )
-        .into_iter()
-        .zip(reaches)
-        .filter(|&(_, reaches)| reaches)
-        .map(|(candidate, _)| candidate)
-        .collect()
     },
 };
 
@@ -606,23 +667,42 @@ pub(super) const SECONDARY_COLOUR: Fault = Fault {
         if !bounces(line) {
             return Vec::new();
         }
-        // Numbered over every form, then only those that can change this line kept.
         let ignored =
             [false, true].map(|transparent| Planted::Ray(RayFault::ColourIgnored { transparent }));
         let specular = [false, true]
             .map(|transparent| Planted::Ray(RayFault::SpecularCarried { transparent }));
-        let shows = [
-            has_tinted_material(line, false),
-            has_tinted_material(line, true),
-            specular_differs(line, false),
-            specular_differs(line, true),
-        ];
-        Candidate::forms(ignored.into_iter().chain(specular))
-            .into_iter()
-            .zip(shows)
-            .filter(|&(_, shows)| shows)
-            .map(|(candidate, _)| candidate)
-            .collect()
+        Candidate::forms_shown(
+            ignored.into_iter().chain(specular),
+            [
+                has_tinted_material(line, false),
+                has_tinted_material(line, true),
+                specular_differs(line, false),
+                specular_differs(line, true),
+            ],
+        )
+    },
+};
+
+pub(super) const SECONDARY_BACKGROUND: Fault = Fault {
+    name: "secondary_background",
+    assignment: 4,
+    sentence: "My mirror and glass rays that meet nothing bring back black, not the background \
+               colour (form 0: both; form 1: mirror rays alone; form 2: glass rays alone): only \
+               the camera's rays see the background.",
+    look_for: "traceRay: a ray that hits nothing returns the background colour, whether it is \
+               the camera's ray or a mirror or glass ray (one function for all of them, or the \
+               same test in each).",
+    candidates: |line: &LineScene| {
+        if !bounces(line) || line.description.background == glam::Vec3::ZERO {
+            return Vec::new();
+        }
+        let (mirrors, glass) = (has_material(line, false), has_material(line, true));
+        // With one kind of secondary ray, its form draws what form 0 draws.
+        Candidate::forms_shown(
+            [Secondary::Both, Secondary::Mirror, Secondary::Glass]
+                .map(|which| Planted::Ray(RayFault::MissesBlack(which))),
+            [mirrors || glass, mirrors && glass, mirrors && glass],
+        )
     },
 };
 
