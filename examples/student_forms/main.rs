@@ -91,6 +91,17 @@ enum Form {
     /// The recursion's own test for a miss, written apart from the camera's: a mirror or glass
     /// ray that hits nothing adds nothing (black), where the camera's ray sees the background.
     MissesAddNothing,
+    /// The sphere test returns `(-b - sqrt(d)) / 2a` if it is past t_min, else nothing: a
+    /// ray from inside a sphere never meets it.
+    SphereMinusRootOnly,
+    /// The sphere test returns `(-b + sqrt(d)) / 2a`, the sign of the root written the wrong
+    /// way round.
+    SpherePlusRootOnly,
+    /// A texture's `getDiffuseColor()` without the point is the base class's colour, black:
+    /// textured objects get no ambient light.
+    TextureAmbientBlack,
+    /// A texture's `getDiffuseColor()` without the point answers with its first material's.
+    TextureAmbientFirstMaterial,
     /// The recursion passes t_min 0 to the mirror and glass rays, where the shadow test passes
     /// the course's offset.
     SecondaryFromZero,
@@ -426,6 +437,10 @@ impl Form {
             "total_internal_mirror" => Form::TotalInternalMirror,
             "mirror_colour_twice" => Form::MirrorColourTwice,
             "misses_add_nothing" => Form::MissesAddNothing,
+            "sphere_minus_root_only" => Form::SphereMinusRootOnly,
+            "sphere_plus_root_only" => Form::SpherePlusRootOnly,
+            "texture_ambient_black" => Form::TextureAmbientBlack,
+            "texture_ambient_first_material" => Form::TextureAmbientFirstMaterial,
             "secondary_from_zero" => Form::SecondaryFromZero,
             "shadows_from_zero" => Form::ShadowsFromZero,
             "mirror_miss_adds_nothing" => Form::MirrorMissAddsNothing,

@@ -10,7 +10,7 @@ use raycast::accel::grid::{Extent, Primitive};
 use raycast::accel::{Hit, Struck};
 use raycast::camera::Camera;
 use raycast::geometry::Aabb;
-use raycast::geometry::Ray;
+use raycast::geometry::{Ray, Sphere};
 use raycast::glam::{Mat4, Vec3};
 use raycast::parse::description::Projection;
 use raycast::scene::{
@@ -42,7 +42,9 @@ impl TraceSeam for Form {
             | Form::GridCellsUpperLeftOut
             | Form::GridOriginCellLeftOut
             | Form::GridOriginInsideLeftOut
-            | Form::GridOriginInSlabsLeftOut => Some(ThroughGlass::Opaque),
+            | Form::GridOriginInSlabsLeftOut
+            | Form::SphereMinusRootOnly
+            | Form::SpherePlusRootOnly => Some(ThroughGlass::Opaque),
             _ => None,
         }
     }
@@ -267,6 +269,14 @@ impl TraceSeam for Form {
         }
     }
 
+    fn ambient_diffuse(&self, surface: &Surface<'_>) -> Vec3A {
+        match self {
+            Form::TextureAmbientBlack if surface.is_textured() => Vec3A::ZERO,
+            Form::TextureAmbientFirstMaterial => surface.side_diffuse(false),
+            _ => surface.diffuse(),
+        }
+    }
+
     fn escaped(&self, background: Vec3A, transparent: bool) -> Vec3A {
         match self {
             Form::MissesAddNothing => Vec3A::ZERO,
@@ -339,6 +349,21 @@ impl TraceSeam for Form {
         let hit = hit?;
         match self {
             Form::FarthestFifty if hit.t * ray.direction.length() > 50.0 => return None,
+            Form::SphereMinusRootOnly | Form::SpherePlusRootOnly => {
+                let sign = if matches!(self, Form::SpherePlusRootOnly) {
+                    1.0
+                } else {
+                    -1.0
+                };
+                return scene.world.intersect_spheres_by(
+                    ray,
+                    t_min,
+                    |local, sphere, t_min, t_max| {
+                        textbook_sphere_root(local, sphere, sign)
+                            .filter(|t| (t_min..=t_max).contains(t))
+                    },
+                );
+            }
             Form::MollerTrumboreEdges | Form::MollerTrumboreDeterminant => {
                 let (edge, determinant) = match self {
                     Form::MollerTrumboreEdges => (5e-3, 0.0),
@@ -787,4 +812,14 @@ fn plane_plus_offset(scene: &Scene, ray: &Ray, t_min: f32) -> Option<Hit> {
         }
     }
     nearest
+}
+
+/// One root of the sphere's quadratic, as the textbook writes it: `(-b ± sqrt(b² - 4ac)) / 2a`.
+fn textbook_sphere_root(ray: &Ray, sphere: &Sphere, sign: f32) -> Option<f32> {
+    let oc = ray.origin - sphere.center;
+    let a = ray.direction.dot(ray.direction);
+    let b = 2.0 * oc.dot(ray.direction);
+    let c = oc.dot(oc) - sphere.radius * sphere.radius;
+    let discriminant = b * b - 4.0 * a * c;
+    (discriminant >= 0.0).then(|| (-b + sign * discriminant.sqrt()) / (2.0 * a))
 }

@@ -12,7 +12,7 @@ mod triangle8;
 pub use aabb::Aabb;
 pub use plane::{Plane, intersect_plane};
 pub use ray::{Ray, RayFrame};
-pub use sphere::{Sphere, intersect_sphere};
+pub use sphere::{Sphere, intersect_sphere, sphere_roots};
 pub use transform::{Transform, unit_normal};
 pub(crate) use triangle::intersect_triangle_in;
 pub use triangle::{intersect_triangle, triangle_normal};

@@ -32,6 +32,19 @@ impl Sphere {
 /// side. The direction need not be unit length.
 #[inline(always)]
 pub fn intersect_sphere(ray: &Ray, sphere: &Sphere, t_min: f32, t_max: f32) -> Option<f32> {
+    let (near, far) = sphere_roots(ray, sphere)?;
+    if near >= t_min && near <= t_max {
+        Some(near)
+    } else if far >= t_min && far <= t_max {
+        Some(far)
+    } else {
+        None
+    }
+}
+
+/// Both t where the ray's line meets the sphere, the nearer first; none where it passes by.
+#[inline(always)]
+pub fn sphere_roots(ray: &Ray, sphere: &Sphere) -> Option<(f32, f32)> {
     let oc = ray.origin - sphere.center;
     let d = ray.direction;
     let a = d.length_squared();
@@ -47,14 +60,7 @@ pub fn intersect_sphere(ray: &Ray, sphere: &Sphere, t_min: f32, t_max: f32) -> O
     let q = -(half_b + half_b.signum() * discriminant.sqrt());
     let c = oc.length_squared() - r2;
     let (t0, t1) = (c / q, q / a);
-    let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-    if near >= t_min && near <= t_max {
-        Some(near)
-    } else if far >= t_min && far <= t_max {
-        Some(far)
-    } else {
-        None
-    }
+    Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
 }
 
 #[cfg(test)]

@@ -280,6 +280,24 @@ impl<'a> Surface<'a> {
         self.blend(&|phong| phong.diffuse)
     }
 
+    /// Whether the material is a texture (its colours depend on the point).
+    pub fn is_textured(&self) -> bool {
+        matches!(self.materials.get(self.index), Material::Texture(_))
+    }
+
+    /// The diffuse colour of a texture's first material (or, with `second`, its second),
+    /// through nested textures likewise: a colour the texture has nowhere in particular, as a
+    /// tracer that asks a texture for one colour without the point may take.
+    pub fn side_diffuse(&self, second: bool) -> Vec3A {
+        let mut index = self.index;
+        loop {
+            match self.materials.get(index) {
+                Material::Phong(phong) => return phong.diffuse,
+                Material::Texture(texture) => index = texture.materials[usize::from(second)],
+            }
+        }
+    }
+
     /// The light of one light source reflected toward the eye (the course's `Material::Shade`).
     /// `normal` and `to_light` are unit length, `normal` on the eye's side of the surface;
     /// `view` is the direction the eye looks along, of any length.

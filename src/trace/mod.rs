@@ -80,6 +80,13 @@ pub trait TraceSeam: Copy + Send + Sync {
         term
     }
 
+    /// The colour the ambient light is multiplied by at a hit on `surface` (its diffuse colour
+    /// there).
+    #[inline(always)]
+    fn ambient_diffuse(&self, surface: &Surface<'_>) -> Vec3A {
+        surface.diffuse()
+    }
+
     /// How many of the scene's `lights` lights the loop over them visits, from the first.
     #[inline(always)]
     fn lights_visited(&self, lights: usize) -> usize {
@@ -608,7 +615,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 BackFace::Ambient => {
                     let mut surface = Surface::unweighed(&scene.materials, hit.material);
                     self.variant.weigh(&mut surface, point);
-                    let diffuse = surface.diffuse();
+                    let diffuse = self.variant.ambient_diffuse(&surface);
                     return self
                         .variant
                         .ambient(scene.ambient * diffuse, scene.lights.len());
@@ -620,9 +627,10 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         self.variant.weigh(&mut surface, point);
         // How far the rays this hit sends must clear its surface: once for all of them.
         let clearance = clearance(point, ray.origin);
-        let mut colour = self
-            .variant
-            .ambient(scene.ambient * surface.diffuse(), scene.lights.len());
+        let mut colour = self.variant.ambient(
+            scene.ambient * self.variant.ambient_diffuse(&surface),
+            scene.lights.len(),
+        );
         let visited = self.variant.lights_visited(scene.lights.len());
         for (light_index, light) in scene.lights.iter().enumerate().take(visited) {
             let Some(light) = self.variant.illuminate(light, point) else {

@@ -690,3 +690,41 @@ fn an_orthographic_size_taken_as_half_the_view_is_the_field_of_view_with_its_siz
         4
     );
 }
+
+#[test]
+fn a_sphere_test_that_takes_one_root_is_the_sphere_root() {
+    // The textbook's minus root alone: the camera inside the sphere sees nothing of it, in
+    // every picture (the shaded one also what a back face ignored draws: named first).
+    assert_eq!(
+        conformance_named(
+            "sphere_minus_root_only",
+            &["scene2_05_inside_sphere.txt"],
+            "sphere_root",
+            "form 0)"
+        ),
+        3
+    );
+    // The plus root alone: spheres show their far side, the depth picture its far depth.
+    assert_eq!(
+        conformance_named(
+            "sphere_plus_root_only",
+            &["scene1_01.txt", "scene2_01_diffuse.txt"],
+            "sphere_root",
+            "form 1)"
+        ),
+        3
+    );
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // Glass spheres: the glass ray inside misses the sphere and sees the background.
+    assert_eq!(
+        later_named(
+            "sphere_minus_root_only",
+            &["scene4_07", "scene4_09"],
+            "sphere_root",
+            "form 0)"
+        ),
+        2
+    );
+}

@@ -313,3 +313,33 @@ fn a_gaussian_written_otherwise_is_the_filter_shape() {
         1
     );
 }
+
+#[test]
+fn an_ambient_term_that_asks_a_texture_for_one_colour_is_the_texture_ambient() {
+    if common::later_dir("the fitted forms of assignments 6 and 7").is_none() {
+        return;
+    }
+    // A texture's colour without the point is its first material's: the checkerboards and
+    // the marble cubes lit ambiently in one colour.
+    assert_eq!(
+        later_named(
+            "texture_ambient_first_material",
+            &["scene6_13", "scene6_15", "output7_02.tga"],
+            "texture_ambient",
+            "form 1)"
+        ),
+        3
+    );
+    // Black: where every object is textured, the same picture as the ambient term left out;
+    // the glass sphere's line, whose sphere is not textured and keeps its ambient light, says
+    // which it is, and the verdict puts texture_ambient first on both.
+    assert_eq!(
+        later_named(
+            "texture_ambient_black",
+            &["scene6_13", "scene6_14"],
+            "texture_ambient",
+            "form 0)"
+        ),
+        2
+    );
+}

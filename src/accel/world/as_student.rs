@@ -9,7 +9,7 @@ use glam::{Vec3, Vec3A};
 use super::{Found, Hit, Item, Listing, Nearest, World, search_limit};
 use crate::accel::Grid;
 use crate::accel::grid::Primitive;
-use crate::geometry::{Plane, Ray, intersect_sphere};
+use crate::geometry::{Plane, Ray, Sphere, intersect_sphere};
 
 /// What a hit lies on, in its object's own space, for [`World::intersect_noting`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -227,6 +227,40 @@ impl World {
         }
         self.nearest_beyond_planes(ray, t_min, &mut nearest, &mut ());
         nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// The nearest hit with each sphere met where `sphere_t` says (the ray in the sphere's own
+    /// space, the sphere, and the range of t searched; `None` for no hit): a tracer whose
+    /// sphere test takes another root of its quadratic. Planes and triangles as the course's,
+    /// every object tested in turn (a ray's t is the same in every object's space).
+    pub fn intersect_spheres_by(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        sphere_t: impl Fn(&Ray, &Sphere, f32, f32) -> Option<f32>,
+    ) -> Option<Hit> {
+        let mut nearest = self.nearest_plane(ray, t_min).map(|n| (n.t, n.found));
+        for (i, item) in self.items.iter().enumerate() {
+            let local = self.ray_into(item, ray);
+            let limit = nearest.map_or(f32::INFINITY, |(t, _)| t);
+            let hit = match *item {
+                Item::Sphere { sphere, .. } => {
+                    sphere_t(&local, &sphere, t_min, limit).map(|t| (t, 0))
+                }
+                Item::Mesh { mesh, .. } => {
+                    self.meshes[mesh as usize].intersect(&local, t_min, limit)
+                }
+            };
+            if let Some((t, triangle)) = hit {
+                let found = Found::Item {
+                    item: i as u32,
+                    triangle,
+                };
+                nearest = Some((t, found));
+            }
+        }
+        let (t, found) = nearest?;
+        Some(self.hit(ray, t, found))
     }
 
     /// The course's nearest hit, and what it lies on: for a tracer that makes its normals

@@ -3,7 +3,7 @@
 use super::{Candidate, Fault, LineScene, Planted};
 use crate::accel::{Hit, Listing, Struck};
 use crate::camera::Camera;
-use crate::geometry::{Plane, Ray, Transform, intersect_plane};
+use crate::geometry::{Plane, Ray, Transform, intersect_plane, sphere_roots};
 use crate::parse::description::{Projection, Shape};
 use crate::scene::Scene;
 use glam::Vec3A;
@@ -59,6 +59,12 @@ pub enum HitFault {
     SphereNormalUnit,
     /// Normals of the length check's shading fit found: see [`normal_length`].
     NormalLength([f32; 3]),
+    /// A sphere met only at one root of its quadratic: the nearer (`far` false), so a ray
+    /// that starts inside misses it, or the farther, so its far side shows.
+    SphereRoot {
+        /// The farther root, not the nearer.
+        far: bool,
+    },
 }
 
 /// The length of a normal of unit direction `normal` on an object placed by `transform`, as a
@@ -124,7 +130,10 @@ impl HitFault {
     /// Whether the student's shadow rays go through the search this fault plants (a grid of
     /// their own stops their shadow rays as it finds their camera rays' hits).
     pub(super) fn searches_shadows(&self) -> bool {
-        matches!(self, HitFault::ListedBy(_) | HitFault::WalkedFromOutside)
+        matches!(
+            self,
+            HitFault::ListedBy(_) | HitFault::WalkedFromOutside | HitFault::SphereRoot { .. }
+        )
     }
 
     pub(super) fn found(
@@ -140,6 +149,15 @@ impl HitFault {
             HitFault::CameraTMin(_) => hit,
             HitFault::ObjectSpaceT(power) => scene.world.intersect_stretched_t(ray, t_min, power),
             HitFault::FirstCellHit => scene.world.intersect_first_cell(ray, t_min),
+            HitFault::SphereRoot { far } => {
+                scene
+                    .world
+                    .intersect_spheres_by(ray, t_min, |local, sphere, t_min, t_max| {
+                        let (near, farther) = sphere_roots(local, sphere)?;
+                        let t = if far { farther } else { near };
+                        (t >= t_min && t <= t_max).then_some(t)
+                    })
+            }
             HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
             HitFault::ListedBy(listed) => scene.world.intersect_listed_by(listed, ray, t_min),
             HitFault::WalkedFromOutside => scene.world.intersect_walked_from_outside(ray, t_min),
@@ -630,6 +648,41 @@ pub(super) const SPHERE_NORMAL_LENGTH: Fault = Fault {
     },
 };
 
+pub(super) const SPHERE_ROOT: Fault = Fault {
+    name: "sphere_root",
+    assignment: 1,
+    sentence: "My sphere test takes one root of the quadratic whatever t_min says (form 0: the \
+               nearer, (-b - √d) / 2a, so a ray that starts inside a sphere, as a glass ray \
+               does, misses it; form 1: the farther, (-b + √d) / 2a, so a sphere shows its far \
+               side from within).",
+    look_for: "Sphere's intersect: of the two roots, the nearer one if it is at least t_min, \
+               else the farther one if that is (a ray that starts inside the sphere meets it \
+               on its way out).",
+    candidates: |line: &LineScene| {
+        let description = &line.description;
+        let eye = description.camera.center;
+        // Whether a sphere may hold the camera (one under a Transform is not worked out).
+        let mut holds_camera = false;
+        let mut spheres = false;
+        for object in &description.objects {
+            if let Shape::Sphere { center, radius } = object.shape {
+                spheres = true;
+                holds_camera |= object.transform.is_some() || center.distance(eye) < radius;
+            }
+        }
+        if !spheres || !line.has_traced_picture() {
+            return Vec::new();
+        }
+        // The nearer root alone differs only for rays that start inside a sphere: glass rays,
+        // or the camera's from within one.
+        let from_inside = holds_camera || (super::bounces(line) && super::has_material(line, true));
+        Candidate::forms_shown(
+            [false, true].map(|far| Planted::Hit(HitFault::SphereRoot { far })),
+            [from_inside, true],
+        )
+    },
+};
+
 pub(super) const GRID_PLANES: Fault = Fault {
     name: "grid_planes",
     assignment: 5,
@@ -674,6 +727,30 @@ mod tests {
     fn found(fault: HitFault, scene: &Scene, ray: &Ray) -> Option<Hit> {
         let hit = scene.world.intersect(ray, 0.0);
         fault.found(scene, ray, 0.0, hit)
+    }
+
+    #[test]
+    fn a_sphere_met_at_one_root_by_hand() {
+        let scene = scene(
+            "Group { numObjects 2
+                 MaterialIndex 0 Sphere { center 0 0 0 radius 1 }
+                 MaterialIndex 1 Plane { normal 0 1 0 offset -3 } }",
+        );
+        let (near, far) = (
+            HitFault::SphereRoot { far: false },
+            HitFault::SphereRoot { far: true },
+        );
+        let down = Ray::new(Vec3A::new(0.0, 5.0, 0.0), -Vec3A::Y);
+        // From outside: the top at t = 4, the bottom (its normal facing down) at t = 6.
+        assert_eq!(found(near, &scene, &down).unwrap().t, 4.0);
+        let back = found(far, &scene, &down).unwrap();
+        assert_eq!((back.t, back.normal), (6.0, -Vec3A::Y));
+        // From the centre the nearer root is behind the ray: the floor at y = -3 instead.
+        let inside = Ray::new(Vec3A::ZERO, -Vec3A::Y);
+        assert_eq!(scene.world.intersect(&inside, 0.0).unwrap().t, 1.0);
+        let missed = found(near, &scene, &inside).unwrap();
+        assert_eq!((missed.t, missed.material), (3.0, 1));
+        assert_eq!(found(far, &scene, &inside).unwrap().t, 1.0);
     }
 
     #[test]

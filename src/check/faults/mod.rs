@@ -227,6 +227,7 @@ pub static FAULTS: &[Fault] = &[
     textures::CHECKER_TRUNCATION,
     textures::TEXTURE_TRANSFORM,
     textures::NOISE_CONSTANTS,
+    textures::TEXTURE_AMBIENT,
     pictures::DEPTH_RANGE,
     intersection::NORMAL_TRANSFORM,
     intersection::NORMAL_LENGTH,
@@ -236,6 +237,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::TRIANGLE_WINDING,
     intersection::TRIANGLE_NORMAL_LENGTH,
     intersection::SPHERE_NORMAL_LENGTH,
+    intersection::SPHERE_ROOT,
     intersection::GRID_FIRST_HIT,
     intersection::GRID_TRANSFORMED_BOX,
     intersection::GRID_CELLS_MISSED,
@@ -444,6 +446,12 @@ impl TraceSeam for Plant {
     fn lights_visited(&self, lights: usize) -> usize {
         self.shadings()
             .fold(lights, |lights, s| s.lights_visited(lights))
+    }
+
+    fn ambient_diffuse(&self, surface: &Surface<'_>) -> Vec3A {
+        self.textures()
+            .find_map(|t| t.ambient_diffuse(surface))
+            .unwrap_or_else(|| surface.diffuse())
     }
 
     fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {

@@ -31,6 +31,10 @@ pub enum TextureFault {
     MarbleClamped,
     /// An allowed answer: Marble's sine taken as its absolute value.
     MarbleAbsolute,
+    /// The ambient term of a textured hit multiplied by one colour for the whole texture, not
+    /// its materials' diffuse colours interpolated at the point: black (`None`), or its first
+    /// material's (`Some(false)`) or second's (`Some(true)`).
+    AmbientOfOneSide(Option<bool>),
     /// Noise, Marble and Wood with other numbers than the file's.
     Constants {
         /// How many octaves more (or fewer) are summed.
@@ -174,10 +178,21 @@ impl TextureFault {
                     },
                 )
             }
+            TextureFault::AmbientOfOneSide(_) => texture.weight(point),
             TextureFault::MatrixIgnored => texture.pattern.weight(world),
             TextureFault::MatrixInverted => texture
                 .pattern
                 .weight(texture.to_texture.inverse().transform_point3(world)),
+        }
+    }
+
+    /// The colour ambient light is multiplied by on `surface`, where not its diffuse colour.
+    pub(super) fn ambient_diffuse(&self, surface: &crate::scene::Surface<'_>) -> Option<Vec3A> {
+        match *self {
+            TextureFault::AmbientOfOneSide(side) if surface.is_textured() => {
+                Some(side.map_or(Vec3A::ZERO, |second| surface.side_diffuse(second)))
+            }
+            _ => None,
         }
     }
 }
@@ -281,6 +296,27 @@ pub(super) const NOISE_CONSTANTS: Fault = Fault {
                 )
             })
             .collect()
+    },
+};
+
+pub(super) const TEXTURE_AMBIENT: Fault = Fault {
+    name: "texture_ambient",
+    assignment: 6,
+    sentence: "My ambient term asks a texture for one diffuse colour, not the colour at the hit \
+               point (form 0: a texture's colour is black, so textured objects get no ambient \
+               light; 1: its first material's colour everywhere; 2: its second's).",
+    look_for: "The ambient term of a textured hit: ambient light times the diffuse colour of \
+               the texture at that point, its two materials' diffuse colours interpolated by \
+               the pattern's weight there (the handout's update of 11/2: accessors that take \
+               the world-space point).",
+    candidates: |line: &LineScene| {
+        if textures(line).next().is_none() || line.description.ambient == glam::Vec3::ZERO {
+            return Vec::new();
+        }
+        Candidate::forms(
+            [None, Some(false), Some(true)]
+                .map(|side| Planted::Texture(TextureFault::AmbientOfOneSide(side))),
+        )
     },
 };
 
