@@ -49,6 +49,10 @@ impl CameraSeam for Form {
                 film_to_screen(film(i, width), film(j, height), width, height)
             }
             Form::FarCorner => film_to_screen(i as f32 + 1.0, j as f32 + 1.0, width, height),
+            Form::LoopsSwapped => film_to_screen(j as f32 + 0.5, i as f32 + 0.5, width, height),
+            Form::LoopsSwappedFromTheTop => {
+                film_to_screen((height - 1 - j) as f32 + 0.5, i as f32 + 0.5, width, height)
+            }
             Form::VFromTheTop | Form::UMirrored => {
                 let (u, v) = film_to_screen(i as f32 + 0.5, j as f32 + 0.5, width, height);
                 match self {

@@ -91,6 +91,17 @@ enum Form {
     /// The recursion's own test for a miss, written apart from the camera's: a mirror or glass
     /// ray that hits nothing adds nothing (black), where the camera's ray sees the background.
     MissesAddNothing,
+    /// `if (reflective) colour = reflective * trace(mirror ray); else colour = shading`: a
+    /// mirror or glass shows no shading of its own.
+    MirrorOrShading,
+    /// The shading mixed with what the mirror and glass rays bring back, `(1 - kr - kt) *
+    /// shading`, each channel at least 0.
+    ShadingMixedWithMirror,
+    /// The pixel loop's indices swapped: pixel (i, j) gets the ray of (j, i).
+    LoopsSwapped,
+    /// The indices swapped and the rows counted from the top: pixel (i, j) gets the ray of
+    /// (height − 1 − j, i), a quarter turn.
+    LoopsSwappedFromTheTop,
     /// The sphere test returns `(-b - sqrt(d)) / 2a` if it is past t_min, else nothing: a
     /// ray from inside a sphere never meets it.
     SphereMinusRootOnly,
@@ -437,6 +448,10 @@ impl Form {
             "total_internal_mirror" => Form::TotalInternalMirror,
             "mirror_colour_twice" => Form::MirrorColourTwice,
             "misses_add_nothing" => Form::MissesAddNothing,
+            "mirror_or_shading" => Form::MirrorOrShading,
+            "shading_mixed_with_mirror" => Form::ShadingMixedWithMirror,
+            "loops_swapped" => Form::LoopsSwapped,
+            "loops_swapped_from_the_top" => Form::LoopsSwappedFromTheTop,
             "sphere_minus_root_only" => Form::SphereMinusRootOnly,
             "sphere_plus_root_only" => Form::SpherePlusRootOnly,
             "texture_ambient_black" => Form::TextureAmbientBlack,

@@ -277,6 +277,15 @@ impl TraceSeam for Form {
         }
     }
 
+    fn local_weight(&self, surface: &Surface<'_>) -> Vec3A {
+        let secondary = surface.reflective() + surface.transparent();
+        match self {
+            Form::MirrorOrShading if secondary != Vec3A::ZERO => Vec3A::ZERO,
+            Form::ShadingMixedWithMirror => (Vec3A::ONE - secondary).max(Vec3A::ZERO),
+            _ => Vec3A::ONE,
+        }
+    }
+
     fn escaped(&self, background: Vec3A, transparent: bool) -> Vec3A {
         match self {
             Form::MissesAddNothing => Vec3A::ZERO,

@@ -87,6 +87,13 @@ pub trait TraceSeam: Copy + Send + Sync {
         surface.diffuse()
     }
 
+    /// What a hit's own terms (ambient, and each light's diffuse and specular) are multiplied
+    /// by on `surface`, before its mirror and glass rays add theirs.
+    #[inline(always)]
+    fn local_weight(&self, _surface: &Surface<'_>) -> Vec3A {
+        Vec3A::ONE
+    }
+
     /// How many of the scene's `lights` lights the loop over them visits, from the first.
     #[inline(always)]
     fn lights_visited(&self, lights: usize) -> usize {
@@ -627,10 +634,12 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
         self.variant.weigh(&mut surface, point);
         // How far the rays this hit sends must clear its surface: once for all of them.
         let clearance = clearance(point, ray.origin);
-        let mut colour = self.variant.ambient(
-            scene.ambient * self.variant.ambient_diffuse(&surface),
-            scene.lights.len(),
-        );
+        let local = self.variant.local_weight(&surface);
+        let mut colour = local
+            * self.variant.ambient(
+                scene.ambient * self.variant.ambient_diffuse(&surface),
+                scene.lights.len(),
+            );
         let visited = self.variant.lights_visited(scene.lights.len());
         for (light_index, light) in scene.lights.iter().enumerate().take(visited) {
             let Some(light) = self.variant.illuminate(light, point) else {
@@ -655,7 +664,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                     index: light_index,
                     of: scene.lights.len(),
                 },
-            );
+            ) * local;
             if self.settings.shadows {
                 // A light that adds nothing here needs no shadow ray.
                 if shaded == Vec3A::ZERO {

@@ -728,3 +728,28 @@ fn a_sphere_test_that_takes_one_root_is_the_sphere_root() {
         2
     );
 }
+
+#[test]
+fn a_pixel_loop_with_its_indices_swapped_is_the_pixels_transposed() {
+    let lines = [
+        "scene1_03.txt",
+        "scene2_01_diffuse.txt",
+        "scene2_03_colored_lights.txt",
+    ];
+    assert_eq!(
+        conformance_named("loops_swapped", &lines, "pixels_transposed", "form 0)"),
+        4
+    );
+    // Rows from the top as well: a quarter turn (where the scene is symmetric about an axis,
+    // another form draws the same picture and may be the one named; where it is symmetric
+    // about the middle row, flipped rows draw it too, and are named beside it).
+    assert_eq!(
+        conformance_named(
+            "loops_swapped_from_the_top",
+            &lines,
+            "pixels_transposed",
+            ""
+        ),
+        5
+    );
+}

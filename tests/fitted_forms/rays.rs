@@ -477,3 +477,30 @@ fn shadow_or_secondary_rays_alone_from_the_surface_are_the_shadow_acne_of_those_
         1
     );
 }
+
+#[test]
+fn a_mirror_or_glass_that_shows_its_rays_instead_of_its_shading_is_the_shading_replaced() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // An if and an else: the floor, sphere, bars and glass ball show their rays alone.
+    assert_eq!(
+        later_named(
+            "mirror_or_shading",
+            &["scene4_03", "output4_04b.tga", "scene4_05", "scene4_07"],
+            "shading_replaced",
+            "form 0)"
+        ),
+        4
+    );
+    // A mix, (1 - kr - kt) × shading (where kr + kt is white, the same as the if and else).
+    assert_eq!(
+        later_named(
+            "shading_mixed_with_mirror",
+            &["scene4_03", "output4_04b.tga", "output4_06c.tga"],
+            "shading_replaced",
+            "form 1)"
+        ),
+        3
+    );
+}

@@ -19,6 +19,8 @@ pub enum CameraFault {
     FlipVertical,
     /// Columns counted from the other end.
     FlipHorizontal,
+    /// A square picture's x and y exchanged, in the way of this [`Turn`].
+    Transposed(Turn),
     /// Another camera: a wrong field of view, or a frame made another way.
     Other(Camera),
     /// Rays at equal angles across the field of view rather than through an image plane.
@@ -73,12 +75,39 @@ pub enum RayForm {
     TangentPerAxis,
 }
 
+/// How a square picture's x and y are exchanged: which of the course's pixels pixel (i, j)
+/// shows, in a picture of side n.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Turn {
+    /// (j, i): mirrored across the diagonal from the lower left.
+    Transpose,
+    /// (n − 1 − j, n − 1 − i): mirrored across the other diagonal.
+    OtherDiagonal,
+    /// (j, n − 1 − i): turned a quarter turn one way.
+    QuarterTurn,
+    /// (n − 1 − j, i): turned a quarter turn the other way.
+    OtherQuarterTurn,
+}
+
+impl Turn {
+    /// Which of the course's pixels pixel (i, j) of a picture of side `n` shows.
+    fn source(self, i: u32, j: u32, n: u32) -> (u32, u32) {
+        match self {
+            Turn::Transpose => (j, i),
+            Turn::OtherDiagonal => (n - 1 - j, n - 1 - i),
+            Turn::QuarterTurn => (j, n - 1 - i),
+            Turn::OtherQuarterTurn => (n - 1 - j, i),
+        }
+    }
+}
+
 impl CameraFault {
     /// The pixel whose point is used for pixel (i, j).
     pub(super) fn pixel(&self, i: u32, j: u32, width: u32, height: u32) -> (u32, u32) {
         match *self {
             CameraFault::FlipVertical => (i, height - 1 - j),
             CameraFault::FlipHorizontal => (width - 1 - i, j),
+            CameraFault::Transposed(turn) if width == height => turn.source(i, j, width),
             _ => (i, j),
         }
     }
@@ -225,6 +254,32 @@ pub(super) const FLIP_HORIZONTAL: Fault = Fault {
         vec![Candidate::plain(Planted::Camera(
             CameraFault::FlipHorizontal,
         ))]
+    },
+};
+
+pub(super) const PIXELS_TRANSPOSED: Fault = Fault {
+    name: "pixels_transposed",
+    assignment: 1,
+    sentence: "My square picture has its x and y exchanged: pixel (i, j) shows what the \
+               camera's pixel (j, i) sees (form 0: the loops' or SetPixel's arguments swapped), \
+               or the same with rows or columns counted from the other end (form 1: mirrored \
+               across the other diagonal; forms 2 and 3: turned a quarter turn).",
+    look_for: "Where the pixel loop makes a ray and writes its colour: the ray of column i and \
+               row j (from the bottom) goes to SetPixel(i, j), x first; check both loops' \
+               bounds and the order of the arguments.",
+    candidates: |line: &LineScene| {
+        if line.options.width != line.options.height || line.options.width < 2 {
+            return Vec::new();
+        }
+        Candidate::forms(
+            [
+                Turn::Transpose,
+                Turn::OtherDiagonal,
+                Turn::QuarterTurn,
+                Turn::OtherQuarterTurn,
+            ]
+            .map(|turn| Planted::Camera(CameraFault::Transposed(turn))),
+        )
     },
 };
 

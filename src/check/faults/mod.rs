@@ -28,7 +28,7 @@ use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surfa
 use crate::shade::PictureSeam;
 use crate::trace::{BackFace, LightPlace, TraceSeam};
 
-pub use camera::{CameraFault, Mapping, RayForm};
+pub use camera::{CameraFault, Mapping, RayForm, Turn};
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
 pub(crate) use intersection::{has_triangles, lengths_change};
 pub use pictures::PictureFault;
@@ -165,6 +165,7 @@ pub static FAULTS: &[Fault] = &[
     camera::PIXEL_SPAN_MINUS_ONE,
     camera::FLIP_VERTICAL,
     camera::FLIP_HORIZONTAL,
+    camera::PIXELS_TRANSPOSED,
     camera::FIELD_OF_VIEW,
     camera::EQUAL_ANGLE_RAYS,
     camera::CAMERA_BASIS,
@@ -217,6 +218,7 @@ pub static FAULTS: &[Fault] = &[
     rays::SECONDARY_RAYS_MISSING,
     rays::SECONDARY_COLOUR,
     rays::SECONDARY_BACKGROUND,
+    rays::SHADING_REPLACED,
     samples::JITTER_WHOLE_PIXEL,
     samples::UNIFORM_CORNERS,
     samples::FILTER_RADIUS,
@@ -557,6 +559,12 @@ impl TraceSeam for Plant {
         self.rays()
             .find_map(|r| r.carried(colour, transparent, surface))
             .unwrap_or(colour)
+    }
+
+    fn local_weight(&self, surface: &Surface<'_>) -> Vec3A {
+        self.rays()
+            .find_map(|r| r.local_weight(surface))
+            .unwrap_or(Vec3A::ONE)
     }
 
     fn escaped(&self, background: Vec3A, transparent: bool) -> Vec3A {

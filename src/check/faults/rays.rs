@@ -86,6 +86,13 @@ pub enum RayFault {
     /// These mirror or glass rays, where they meet nothing, bring back black, not the
     /// background.
     MissesBlack(Secondary),
+    /// A surface that reflects or refracts shows what its rays bring back instead of its own
+    /// terms: those left out (`weighed` false), or weighed by one minus its reflective and
+    /// transparent colours.
+    LocalReplaced {
+        /// Weighed by 1 − reflective − transparent (at least 0), not left out.
+        weighed: bool,
+    },
     /// Glass lets light through to what it shadows, in this way: an allowed answer (the
     /// handout's optional transparent shadows), or, `Whole`, the fault `shadow_skips_glass`.
     ThroughGlass(crate::trace::ThroughGlass),
@@ -245,6 +252,22 @@ impl RayFault {
             } if which == transparent => Some(colour.powf(power)),
             _ => None,
         }
+    }
+
+    /// What a hit's own terms are multiplied by on `surface`, where not 1.
+    pub(super) fn local_weight(&self, surface: &crate::scene::Surface<'_>) -> Option<Vec3A> {
+        let RayFault::LocalReplaced { weighed } = *self else {
+            return None;
+        };
+        let (reflective, transparent) = (surface.reflective(), surface.transparent());
+        if reflective == Vec3A::ZERO && transparent == Vec3A::ZERO {
+            return None;
+        }
+        Some(if weighed {
+            (Vec3A::ONE - reflective - transparent).max(Vec3A::ZERO)
+        } else {
+            Vec3A::ZERO
+        })
     }
 
     /// What a mirror (or glass) ray that meets nothing brings back, where not the background.
@@ -703,6 +726,28 @@ pub(super) const SECONDARY_BACKGROUND: Fault = Fault {
                 .map(|which| Planted::Ray(RayFault::MissesBlack(which))),
             [mirrors || glass, mirrors && glass, mirrors && glass],
         )
+    },
+};
+
+pub(super) const SHADING_REPLACED: Fault = Fault {
+    name: "shading_replaced",
+    assignment: 4,
+    sentence: "Where a material reflects or refracts, my tracer shows what its mirror and glass \
+               rays bring back instead of the surface's own shading (form 0: the ambient, \
+               diffuse and specular terms left out, an if and an else; form 1: weighed by 1 − \
+               the reflective and transparent colours, a mix).",
+    look_for: "traceRay: the colour of a hit is its ambient term plus each light's diffuse and \
+               specular terms, and then, added to all of that, reflectiveColor × the mirror \
+               ray's colour and transparentColor × the glass ray's; none of them replaces or \
+               scales the others.",
+    candidates: |line: &LineScene| {
+        if line.has_image() && (has_material(line, false) || has_material(line, true)) {
+            Candidate::forms(
+                [false, true].map(|weighed| Planted::Ray(RayFault::LocalReplaced { weighed })),
+            )
+        } else {
+            Vec::new()
+        }
     },
 };
 
