@@ -239,10 +239,10 @@ impl World {
         t_min: f32,
         sphere_t: impl Fn(&Ray, &Sphere, f32, f32) -> Option<f32>,
     ) -> Option<Hit> {
-        let mut nearest = self.nearest_plane(ray, t_min).map(|n| (n.t, n.found));
+        let mut nearest = self.nearest_plane(ray, t_min);
         for (i, item) in self.items.iter().enumerate() {
             let local = self.ray_into(item, ray);
-            let limit = nearest.map_or(f32::INFINITY, |(t, _)| t);
+            let limit = search_limit(&nearest);
             let hit = match *item {
                 Item::Sphere { sphere, .. } => {
                     sphere_t(&local, &sphere, t_min, limit).map(|t| (t, 0))
@@ -252,15 +252,11 @@ impl World {
                 }
             };
             if let Some((t, triangle)) = hit {
-                let found = Found::Item {
-                    item: i as u32,
-                    triangle,
-                };
-                nearest = Some((t, found));
+                // Ties broken as the course's search breaks them: planes, then the first item.
+                Nearest::item(t, i as u32, triangle).replaces(&mut nearest);
             }
         }
-        let (t, found) = nearest?;
-        Some(self.hit(ray, t, found))
+        nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
     /// The course's nearest hit, and what it lies on: for a tracer that makes its normals

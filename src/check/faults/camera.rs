@@ -19,8 +19,8 @@ pub enum CameraFault {
     FlipVertical,
     /// Columns counted from the other end.
     FlipHorizontal,
-    /// A square picture's x and y exchanged, in the way of this [`Turn`].
-    Transposed(Turn),
+    /// A square picture's x and y exchanged, in the way of this [`Exchange`].
+    Transposed(Exchange),
     /// Another camera: a wrong field of view, or a frame made another way.
     Other(Camera),
     /// Rays at equal angles across the field of view rather than through an image plane.
@@ -78,7 +78,7 @@ pub enum RayForm {
 /// How a square picture's x and y are exchanged: which of the course's pixels pixel (i, j)
 /// shows, in a picture of side n.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Turn {
+pub enum Exchange {
     /// (j, i): mirrored across the diagonal from the lower left.
     Transpose,
     /// (n − 1 − j, n − 1 − i): mirrored across the other diagonal.
@@ -89,14 +89,14 @@ pub enum Turn {
     OtherQuarterTurn,
 }
 
-impl Turn {
+impl Exchange {
     /// Which of the course's pixels pixel (i, j) of a picture of side `n` shows.
     fn source(self, i: u32, j: u32, n: u32) -> (u32, u32) {
         match self {
-            Turn::Transpose => (j, i),
-            Turn::OtherDiagonal => (n - 1 - j, n - 1 - i),
-            Turn::QuarterTurn => (j, n - 1 - i),
-            Turn::OtherQuarterTurn => (n - 1 - j, i),
+            Exchange::Transpose => (j, i),
+            Exchange::OtherDiagonal => (n - 1 - j, n - 1 - i),
+            Exchange::QuarterTurn => (j, n - 1 - i),
+            Exchange::OtherQuarterTurn => (n - 1 - j, i),
         }
     }
 }
@@ -107,7 +107,7 @@ impl CameraFault {
         match *self {
             CameraFault::FlipVertical => (i, height - 1 - j),
             CameraFault::FlipHorizontal => (width - 1 - i, j),
-            CameraFault::Transposed(turn) if width == height => turn.source(i, j, width),
+            CameraFault::Transposed(exchange) if width == height => exchange.source(i, j, width),
             _ => (i, j),
         }
     }
@@ -273,12 +273,12 @@ pub(super) const PIXELS_TRANSPOSED: Fault = Fault {
         }
         Candidate::forms(
             [
-                Turn::Transpose,
-                Turn::OtherDiagonal,
-                Turn::QuarterTurn,
-                Turn::OtherQuarterTurn,
+                Exchange::Transpose,
+                Exchange::OtherDiagonal,
+                Exchange::QuarterTurn,
+                Exchange::OtherQuarterTurn,
             ]
-            .map(|turn| Planted::Camera(CameraFault::Transposed(turn))),
+            .map(|exchange| Planted::Camera(CameraFault::Transposed(exchange))),
         )
     },
 };
@@ -391,3 +391,51 @@ pub(super) const CAMERA_BASIS: Fault = Fault {
                horizontal × direction; use up', not the file's up.",
     candidates: camera_basis,
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_exchange_of_x_and_y_is_its_own_map_of_the_square() {
+        let all = [
+            Exchange::Transpose,
+            Exchange::OtherDiagonal,
+            Exchange::QuarterTurn,
+            Exchange::OtherQuarterTurn,
+        ];
+        let n = 3;
+        let maps: Vec<Vec<(u32, u32)>> = all
+            .iter()
+            .map(|e| {
+                (0..n)
+                    .flat_map(|j| (0..n).map(move |i| e.source(i, j, n)))
+                    .collect()
+            })
+            .collect();
+        for (map, exchange) in maps.iter().zip(all) {
+            // Every pixel of the square shown once.
+            let mut sorted = map.clone();
+            sorted.sort_unstable();
+            sorted.dedup();
+            assert_eq!(sorted.len(), 9, "{exchange:?}");
+        }
+        for (a, first) in maps.iter().enumerate() {
+            assert!(maps[a + 1..].iter().all(|other| other != first));
+        }
+        // By hand, in a picture of side 3: the lower-right pixel (2, 0) shows the upper
+        // left (0, 2) across the diagonal, and itself across the other; a quarter turn one
+        // way shows (0, 0) there, the other way (2, 2).
+        assert_eq!(Exchange::Transpose.source(2, 0, n), (0, 2));
+        assert_eq!(Exchange::OtherDiagonal.source(2, 0, n), (2, 0));
+        assert_eq!(Exchange::QuarterTurn.source(2, 0, n), (0, 0));
+        assert_eq!(Exchange::OtherQuarterTurn.source(2, 0, n), (2, 2));
+        // Two quarter turns the same way: the half turn.
+        let twice = |i, j| {
+            let (i, j) = Exchange::QuarterTurn.source(i, j, n);
+            Exchange::QuarterTurn.source(i, j, n)
+        };
+        assert_eq!(twice(0, 0), (2, 2));
+        assert_eq!(twice(2, 1), (0, 1));
+    }
+}

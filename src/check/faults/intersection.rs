@@ -661,13 +661,19 @@ pub(super) const SPHERE_ROOT: Fault = Fault {
     candidates: |line: &LineScene| {
         let description = &line.description;
         let eye = description.camera.center;
-        // Whether a sphere may hold the camera (one under a Transform is not worked out).
+        // Whether a sphere may hold the camera's eye (one under a Transform is not worked
+        // out); an orthographic camera's rays take hits behind them, so both roots anyway.
+        let perspective = matches!(
+            description.camera.projection,
+            crate::parse::description::Projection::Perspective { .. }
+        );
         let mut holds_camera = false;
         let mut spheres = false;
         for object in &description.objects {
             if let Shape::Sphere { center, radius } = object.shape {
                 spheres = true;
-                holds_camera |= object.transform.is_some() || center.distance(eye) < radius;
+                holds_camera |=
+                    perspective && (object.transform.is_some() || center.distance(eye) < radius);
             }
         }
         if !spheres || !line.has_traced_picture() {

@@ -28,7 +28,7 @@ use crate::scene::{Highlight, Illumination, Light, Scene, SpecularFalloff, Surfa
 use crate::shade::PictureSeam;
 use crate::trace::{BackFace, LightPlace, TraceSeam};
 
-pub use camera::{CameraFault, Mapping, RayForm, Turn};
+pub use camera::{CameraFault, Exchange, Mapping, RayForm};
 pub use intersection::{HitFault, length_from, normal_length, normal_stretch};
 pub(crate) use intersection::{has_triangles, lengths_change};
 pub use pictures::PictureFault;
@@ -127,10 +127,7 @@ impl Candidate {
     /// [`Candidate::forms`], numbered over every form, then only those whose `shows` is true
     /// kept: the forms that can draw another picture of the line than the course's, and than
     /// each other's.
-    pub fn forms_shown(
-        forms: impl IntoIterator<Item = Planted>,
-        shows: impl IntoIterator<Item = bool>,
-    ) -> Vec<Candidate> {
+    pub fn forms_shown<const N: usize>(forms: [Planted; N], shows: [bool; N]) -> Vec<Candidate> {
         Candidate::forms(forms)
             .into_iter()
             .zip(shows)

@@ -690,12 +690,14 @@ pub(super) const SECONDARY_COLOUR: Fault = Fault {
         if !bounces(line) {
             return Vec::new();
         }
-        let ignored =
-            [false, true].map(|transparent| Planted::Ray(RayFault::ColourIgnored { transparent }));
-        let specular = [false, true]
-            .map(|transparent| Planted::Ray(RayFault::SpecularCarried { transparent }));
         Candidate::forms_shown(
-            ignored.into_iter().chain(specular),
+            [
+                RayFault::ColourIgnored { transparent: false },
+                RayFault::ColourIgnored { transparent: true },
+                RayFault::SpecularCarried { transparent: false },
+                RayFault::SpecularCarried { transparent: true },
+            ]
+            .map(Planted::Ray),
             [
                 has_tinted_material(line, false),
                 has_tinted_material(line, true),
@@ -741,13 +743,21 @@ pub(super) const SHADING_REPLACED: Fault = Fault {
                ray's colour and transparentColor × the glass ray's; none of them replaces or \
                scales the others.",
     candidates: |line: &LineScene| {
-        if line.has_image() && (has_material(line, false) || has_material(line, true)) {
-            Candidate::forms(
-                [false, true].map(|weighed| Planted::Ray(RayFault::LocalReplaced { weighed })),
-            )
-        } else {
-            Vec::new()
+        if !line.has_image() || !(has_material(line, false) || has_material(line, true)) {
+            return Vec::new();
         }
+        // Where reflective plus transparent is white or more, the mix leaves the shading out.
+        let mixes = line.description.materials.iter().any(|m| match m {
+            crate::parse::description::MaterialSpec::Phong(p) => {
+                let secondary = p.reflective + p.transparent;
+                secondary != glam::Vec3::ZERO && secondary.min_element() < 1.0
+            }
+            crate::parse::description::MaterialSpec::Texture(_) => false,
+        });
+        Candidate::forms_shown(
+            [false, true].map(|weighed| Planted::Ray(RayFault::LocalReplaced { weighed })),
+            [true, mixes],
+        )
     },
 };
 

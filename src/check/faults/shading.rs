@@ -553,15 +553,10 @@ pub(super) const ATTENUATION: Fault = Fault {
                 LightSpec::Directional { .. } => None,
             })
             .collect();
-        // Numbered over all the forms, then only those that can change this line kept.
-        Candidate::forms(
+        Candidate::forms_shown(
             Attenuation::ALL.map(|way| Planted::Shading(ShadingFault::Attenuation(way))),
+            Attenuation::ALL.map(|way| terms.iter().any(|t| way.differs(*t))),
         )
-        .into_iter()
-        .zip(Attenuation::ALL)
-        .filter(|(_, way)| terms.iter().any(|t| way.differs(*t)))
-        .map(|(candidate, _)| candidate)
-        .collect()
     },
 };
 
