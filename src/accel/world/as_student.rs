@@ -7,8 +7,8 @@ use std::ops::ControlFlow;
 use glam::{Vec3, Vec3A};
 
 use super::{Found, Hit, Item, Listing, Nearest, World, search_limit};
-use crate::accel::Grid;
 use crate::accel::grid::Primitive;
+use crate::accel::{Grid, TriangleMesh};
 use crate::geometry::{Plane, Ray, Sphere, intersect_sphere};
 
 /// What a hit lies on, in its object's own space, for [`World::intersect_noting`].
@@ -231,32 +231,14 @@ impl World {
 
     /// The nearest hit with each sphere met where `sphere_t` says (the ray in the sphere's own
     /// space, the sphere, and the range of t searched; `None` for no hit): a tracer whose
-    /// sphere test takes another root of its quadratic. Planes and triangles as the course's,
-    /// every object tested in turn (a ray's t is the same in every object's space).
+    /// sphere test takes another root of its quadratic. Planes and triangles as the course's.
     pub fn intersect_spheres_by(
         &self,
         ray: &Ray,
         t_min: f32,
         sphere_t: impl Fn(&Ray, &Sphere, f32, f32) -> Option<f32>,
     ) -> Option<Hit> {
-        let mut nearest = self.nearest_plane(ray, t_min);
-        for (i, item) in self.items.iter().enumerate() {
-            let local = self.ray_into(item, ray);
-            let limit = search_limit(&nearest);
-            let hit = match *item {
-                Item::Sphere { sphere, .. } => {
-                    sphere_t(&local, &sphere, t_min, limit).map(|t| (t, 0))
-                }
-                Item::Mesh { mesh, .. } => {
-                    self.meshes[mesh as usize].intersect(&local, t_min, limit)
-                }
-            };
-            if let Some((t, triangle)) = hit {
-                // Ties broken as the course's search breaks them: planes, then the first item.
-                Nearest::item(t, i as u32, triangle).replaces(&mut nearest);
-            }
-        }
-        nearest.map(|n| self.hit(ray, n.t, n.found))
+        self.intersect_each_item(ray, t_min, sphere_t, TriangleMesh::intersect)
     }
 
     /// The course's nearest hit, and what it lies on: for a tracer that makes its normals

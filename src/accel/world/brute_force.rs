@@ -2,7 +2,8 @@
 //! compare the trees and the grid with.
 
 use super::{Hit, Item, Nearest, World, search_limit};
-use crate::geometry::{Ray, intersect_sphere};
+use crate::accel::TriangleMesh;
+use crate::geometry::{Ray, Sphere, intersect_sphere};
 
 impl World {
     /// [`World::occluded`] without either tree: its brute-force twin.
@@ -13,16 +14,35 @@ impl World {
 
     /// The same answer as [`World::intersect`] without either tree: the brute-force twin.
     pub fn intersect_brute_force(&self, ray: &Ray, t_min: f32) -> Option<Hit> {
+        self.intersect_each_item(
+            ray,
+            t_min,
+            intersect_sphere,
+            TriangleMesh::intersect_brute_force,
+        )
+    }
+
+    /// The nearest hit with every object tested in turn (no tree above them: a ray's t is the
+    /// same in every object's space), each sphere by `sphere_t` and each mesh by `mesh_t` (the
+    /// ray in the object's space and the range of t searched), ties broken as the course's
+    /// search breaks them: planes, then the first item.
+    pub(super) fn intersect_each_item(
+        &self,
+        ray: &Ray,
+        t_min: f32,
+        sphere_t: impl Fn(&Ray, &Sphere, f32, f32) -> Option<f32>,
+        mesh_t: impl Fn(&TriangleMesh, &Ray, f32, f32) -> Option<(f32, u32)>,
+    ) -> Option<Hit> {
         let mut nearest = self.nearest_plane(ray, t_min);
         for (i, item) in self.items.iter().enumerate() {
             let t_max = search_limit(&nearest);
             let local = self.ray_into(item, ray);
             let hit = match *item {
                 Item::Sphere { sphere, .. } => {
-                    intersect_sphere(&local, &sphere, t_min, t_max).map(|t| (t, 0))
+                    sphere_t(&local, &sphere, t_min, t_max).map(|t| (t, 0))
                 }
                 Item::Mesh { mesh, .. } => {
-                    self.meshes[mesh as usize].intersect_brute_force(&local, t_min, t_max)
+                    mesh_t(&self.meshes[mesh as usize], &local, t_min, t_max)
                 }
             };
             if let Some((t, triangle)) = hit {
