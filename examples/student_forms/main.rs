@@ -108,6 +108,32 @@ enum Form {
     /// The sphere test returns `(-b + sqrt(d)) / 2a`, the sign of the root written the wrong
     /// way round.
     SpherePlusRootOnly,
+    /// The shadow ray made as `Ray(point, point - lightPosition)`, normalised, or along a
+    /// directional light's direction as the file gives it: from the light, not toward it.
+    ShadowFromTheLight,
+    /// The shadow ray toward a point light made as `Ray(point, point - lightPosition)`; toward
+    /// a directional light, right.
+    PointShadowFromTheLight,
+    /// The mirror's and glass's colours added inside the loop over the lights (the
+    /// ambient term before it).
+    MirrorsInTheLightLoop,
+    /// Two mistakes at once: the ambient term inside the loop over the lights, and each
+    /// light's diffuse term never clamped (`kd * light * N.L`).
+    AmbientInLoopNeverClamped,
+    /// The shading sum started with `color = ambientLight`, the diffuse colour forgotten.
+    AmbientLightAlone,
+    /// Each light's diffuse term `kd * light * N.L`, the `max(0, ...)` forgotten: a light
+    /// behind the surface darkens it (the highlight gated as the course's).
+    DiffuseNeverClamped,
+    /// The Transform's ray carried with `Matrix::Transform(Vec4f(direction, 1))`: the
+    /// inverse's translation added to the direction.
+    DirectionCarriedAsPoint,
+    /// The Transform's ray carried by the matrix as the file composes it, never inverted.
+    RaysByTheMatrix,
+    /// The Transform's ray origin carried with `TransformDirection`: its translation lost (the
+    /// reader keeps each object's matrix without its translation, the normals' matrix is the
+    /// same either way).
+    RaysLoseTheTranslation,
     /// A texture's `getDiffuseColor()` without the point is the base class's colour, black:
     /// textured objects get no ambient light.
     TextureAmbientBlack,
@@ -453,6 +479,15 @@ impl Form {
             "loops_swapped" => Form::LoopsSwapped,
             "loops_swapped_from_the_top" => Form::LoopsSwappedFromTheTop,
             "sphere_minus_root_only" => Form::SphereMinusRootOnly,
+            "diffuse_never_clamped" => Form::DiffuseNeverClamped,
+            "ambient_light_alone" => Form::AmbientLightAlone,
+            "ambient_in_loop_never_clamped" => Form::AmbientInLoopNeverClamped,
+            "mirrors_in_the_light_loop" => Form::MirrorsInTheLightLoop,
+            "shadow_from_the_light" => Form::ShadowFromTheLight,
+            "point_shadow_from_the_light" => Form::PointShadowFromTheLight,
+            "direction_carried_as_point" => Form::DirectionCarriedAsPoint,
+            "rays_by_the_matrix" => Form::RaysByTheMatrix,
+            "rays_lose_the_translation" => Form::RaysLoseTheTranslation,
             "sphere_plus_root_only" => Form::SpherePlusRootOnly,
             "texture_ambient_black" => Form::TextureAmbientBlack,
             "texture_ambient_first_material" => Form::TextureAmbientFirstMaterial,
@@ -590,6 +625,9 @@ static ROUNDED: AtomicBool = AtomicBool::new(false);
 /// The line's samples a pixel (the student divides by it).
 static PIXEL_SAMPLES: AtomicU32 = AtomicU32::new(1);
 
+/// The scene's lights (the student's loop over them runs this many times).
+static LIGHTS: AtomicU32 = AtomicU32::new(0);
+
 fn run(args: Vec<String>) -> Result<(), String> {
     let (form, course) = args
         .split_first()
@@ -626,6 +664,7 @@ fn run(args: Vec<String>) -> Result<(), String> {
     let form = Form::named(form, camera.up.into(), raw_direction, hits, depth_near)
         .ok_or_else(|| format!("unknown form '{form}'"))?;
     PIXEL_SAMPLES.store(options.sampling.sampler.samples(), Ordering::Relaxed);
+    LIGHTS.store(scene.lights.len() as u32, Ordering::Relaxed);
     let pending = reserve_outputs(&options).map_err(|e| e.to_string())?;
     render_to_files(&options, &scene, form, pending).map_err(|e| e.to_string())?;
     Ok(())

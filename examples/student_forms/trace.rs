@@ -7,7 +7,7 @@ use raycast::Scene;
 use raycast::Vec3A;
 use raycast::accel::Grid;
 use raycast::accel::grid::{Extent, Primitive};
-use raycast::accel::{Hit, Struck};
+use raycast::accel::{Carry, Hit, Struck};
 use raycast::camera::Camera;
 use raycast::geometry::Aabb;
 use raycast::geometry::{Ray, Sphere};
@@ -44,7 +44,9 @@ impl TraceSeam for Form {
             | Form::GridOriginInsideLeftOut
             | Form::GridOriginInSlabsLeftOut
             | Form::SphereMinusRootOnly
-            | Form::SpherePlusRootOnly => Some(ThroughGlass::Opaque),
+            | Form::SpherePlusRootOnly
+            | Form::DirectionCarriedAsPoint
+            | Form::RaysByTheMatrix => Some(ThroughGlass::Opaque),
             _ => None,
         }
     }
@@ -177,6 +179,15 @@ impl TraceSeam for Form {
         }
     }
 
+    fn shadow_direction(&self, light: &Illumination) -> Vec3A {
+        match self {
+            Form::ShadowFromTheLight => -light.to_light,
+            // (A directional light is infinitely far.)
+            Form::PointShadowFromTheLight if light.distance.is_finite() => -light.to_light,
+            _ => light.to_light,
+        }
+    }
+
     fn bounces(&self, bounces: u32) -> u32 {
         match self {
             Form::DepthCountedFromOne => bounces.saturating_sub(1),
@@ -195,7 +206,9 @@ impl TraceSeam for Form {
 
     fn ambient(&self, term: Vec3A, lights: usize) -> Vec3A {
         match self {
-            Form::AmbientInLoopCosineSquared => (0..lights).map(|_| term).sum(),
+            Form::AmbientInLoopCosineSquared | Form::AmbientInLoopNeverClamped => {
+                (0..lights).map(|_| term).sum()
+            }
             Form::AmbientOnlyWithoutLights if lights > 0 => Vec3A::ZERO,
             Form::AmbientTimesLights => term * lights.max(1) as f32,
             _ => term,
@@ -246,6 +259,12 @@ impl TraceSeam for Form {
             // The diffuse term alone, from the other side: no highlight there.
             return shade(-normal, falloff, Highlight::Own(|_| 0.0));
         }
+        if let Form::DiffuseNeverClamped | Form::AmbientInLoopNeverClamped = self
+            && normal.dot(to_light) < 0.0
+        {
+            // kd * light * N.L below zero: the term from the other side, negated.
+            return -shade(-normal, falloff, Highlight::Own(|_| 0.0));
+        }
         if let Form::SpecularAlwaysFaded = self {
             return shade(normal, SpecularFalloff::Fade, Highlight::Course);
         }
@@ -265,6 +284,9 @@ impl TraceSeam for Form {
             Form::MirrorColourTwice if !transparent => colour * colour,
             Form::GlassColourIgnored if transparent => Vec3A::ONE,
             Form::GlassNeverTraced if transparent => Vec3A::ZERO,
+            Form::MirrorsInTheLightLoop => {
+                colour * crate::LIGHTS.load(std::sync::atomic::Ordering::Relaxed) as f32
+            }
             _ => colour,
         }
     }
@@ -273,6 +295,7 @@ impl TraceSeam for Form {
         match self {
             Form::TextureAmbientBlack if surface.is_textured() => Vec3A::ZERO,
             Form::TextureAmbientFirstMaterial => surface.side_diffuse(false),
+            Form::AmbientLightAlone => Vec3A::ONE,
             _ => surface.diffuse(),
         }
     }
@@ -351,9 +374,19 @@ impl TraceSeam for Form {
     }
 
     fn found(&self, scene: &Scene, ray: &Ray, t_min: f32, hit: Option<Hit>) -> Option<Hit> {
-        // (A plane met where the course's rays meet nothing.)
-        if let Form::PlanePlusOffset = self {
-            return plane_plus_offset(scene, ray, t_min);
+        // (A plane, or an object carried another way, met where the course's rays meet
+        // nothing.)
+        match self {
+            Form::PlanePlusOffset => return plane_plus_offset(scene, ray, t_min),
+            Form::DirectionCarriedAsPoint => {
+                return scene
+                    .world
+                    .intersect_carried(ray, t_min, Carry::DirectionAsPoint);
+            }
+            Form::RaysByTheMatrix => {
+                return scene.world.intersect_carried(ray, t_min, Carry::ByMatrix);
+            }
+            _ => {}
         }
         let hit = hit?;
         match self {

@@ -19,7 +19,7 @@ pub(crate) fn test_uniform(state: &mut u64) -> f32 {
 pub use bvh::{Bvh, LeafSize, PACKET, PacketBounds, PartLanes, ray_meets_box};
 pub use grid::{Grid, GridError};
 pub use mesh::{ASKS_NOTHING, TriangleMesh};
-pub use world::{Hit, Item, Listing, Struck, World, WorldStats};
+pub use world::{Carry, Hit, Item, Listing, Struck, World, WorldStats};
 
 /// What a search counts for the course's `-stats`: primitives tested (whether hit or not) and
 /// grid cells entered. The searches are generic over it, so that `()`, which counts nothing,

@@ -753,3 +753,52 @@ fn a_pixel_loop_with_its_indices_swapped_is_the_pixels_transposed() {
         5
     );
 }
+
+#[test]
+fn a_transform_that_carries_the_ray_another_way_is_the_ray_transform() {
+    // The direction carried as a point: the translation bends every ray into the object.
+    assert_eq!(
+        conformance_named(
+            "direction_carried_as_point",
+            &["scene2_09_bunny_200.txt", "scene2_16_t_scale.txt"],
+            "ray_transform",
+            "form 0)"
+        ),
+        3
+    );
+    // The origin carried as a direction, written as a reader that keeps no translation: the
+    // objects stand where their Transforms would put them with the translation left out.
+    assert_eq!(
+        conformance_named(
+            "rays_lose_the_translation",
+            &["scene2_14_axes_cube.txt", "scene2_16_t_scale.txt"],
+            "ray_transform",
+            "form 1)"
+        ),
+        3
+    );
+    // The matrix never inverted: scaled objects shrink where they should grow.
+    assert_eq!(
+        conformance_named(
+            "rays_by_the_matrix",
+            &["scene2_14_axes_cube.txt", "scene2_15_crazy_transforms.txt"],
+            "ray_transform",
+            "form 2)"
+        ),
+        2
+    );
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // With mirrors and shadows: the student's shadow rays meet the objects where the
+    // student's camera rays do.
+    assert_eq!(
+        later_named(
+            "direction_carried_as_point",
+            &["scene4_03", "scene6_08"],
+            "ray_transform",
+            "form 0)"
+        ),
+        3
+    );
+}

@@ -504,3 +504,59 @@ fn a_mirror_or_glass_that_shows_its_rays_instead_of_its_shading_is_the_shading_r
         3
     );
 }
+
+#[test]
+fn a_shadow_ray_cast_from_the_light_is_the_shadow_direction() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // Directional lights (4_01, 4_03) and point lights (4_10, 4_11): lit sides shadow
+    // themselves, and what stands behind a point casts its shadow.
+    assert_eq!(
+        later_named(
+            "shadow_from_the_light",
+            &["output4_01", "output4_03", "output4_10", "output4_11"],
+            "shadow_direction",
+            ""
+        ),
+        4
+    );
+    // Only toward point lights: the lines of directional lights pass; 4_10's point light
+    // and directional light need the form of its own.
+    assert_eq!(
+        later_named(
+            "point_shadow_from_the_light",
+            &["output4_01", "output4_11"],
+            "shadow_direction",
+            ""
+        ),
+        1
+    );
+    assert_eq!(
+        later_named(
+            "point_shadow_from_the_light",
+            &["output4_10"],
+            "shadow_direction",
+            "form 1)"
+        ),
+        1
+    );
+}
+
+#[test]
+fn mirrors_added_inside_the_loop_over_the_lights_are_the_secondary_per_light() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // Two lights: the mirrored floor's reflection, the glass bars' and the glass ball's
+    // views, each twice as bright.
+    assert_eq!(
+        later_named(
+            "mirrors_in_the_light_loop",
+            &["output4_03", "output4_06b", "output6_14"],
+            "secondary_per_light",
+            ""
+        ),
+        3
+    );
+}

@@ -253,6 +253,54 @@ fn a_diffuse_term_of_the_absolute_cosine_alone_is_the_shade_back_abs() {
 }
 
 #[test]
+fn an_ambient_light_added_alone_is_the_ambient_uncoloured() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // `color = ambientLight`, bytes rounded besides: a grey wash over every object (2_03's
+    // are white, the same either way).
+    assert_eq!(
+        conformance_named(
+            "ambient_light_alone+rounded",
+            &["scene2_02_ambient.txt", "scene2_04_perspective.txt"],
+            "ambient_uncoloured",
+            ""
+        ),
+        2
+    );
+}
+
+#[test]
+fn a_diffuse_term_never_clamped_is_the_diffuse_unclamped() {
+    if conformance_dir().is_none() {
+        return;
+    }
+    // kd * light * N.L below zero: the far side of each sphere darker than its ambient light
+    // alone, the coloured lights taking from each other.
+    assert_eq!(
+        conformance_named(
+            "diffuse_never_clamped",
+            &["scene2_02_ambient.txt", "scene2_03_colored_lights.txt"],
+            "diffuse_unclamped",
+            ""
+        ),
+        2
+    );
+    // With the ambient term inside the loop besides: the shading's fit finds both, the
+    // ambient weight at the number of lights and N·L taken as it is.
+    let failing = failing(
+        "ambient_in_loop_never_clamped",
+        &["scene2_03_colored_lights.txt"],
+    );
+    assert_eq!(failing.len(), 1, "{}", failing.join("\n"));
+    assert!(
+        failing[0].contains("off: diffuse_unclamped+ambient_per_light: "),
+        "{}",
+        failing[0]
+    );
+}
+
+#[test]
 fn normals_never_turned_toward_the_ray_are_the_back_faces_mistake_of_each_line() {
     if conformance_dir().is_none() {
         return;

@@ -9,7 +9,7 @@ use glam::{Vec3, Vec3A};
 use super::{Found, Hit, Item, Listing, Nearest, World, search_limit};
 use crate::accel::grid::Primitive;
 use crate::accel::{Grid, TriangleMesh};
-use crate::geometry::{Plane, Ray, Sphere, intersect_sphere};
+use crate::geometry::{Plane, Ray, Sphere, Transform, intersect_sphere};
 
 /// What a hit lies on, in its object's own space, for [`World::intersect_noting`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,6 +30,40 @@ pub enum Struck {
         /// Whether a Transform places it.
         transformed: bool,
     },
+}
+
+/// How a student's Transform carries a ray into its object's space, for
+/// [`World::intersect_carried`] (the course's: origin and direction by the inverse of the
+/// object's matrix, the one as a point, the other as a direction).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Carry {
+    /// The direction carried as a point, (d, 1): the inverse's translation added to it.
+    DirectionAsPoint,
+    /// The origin carried as a direction, (o, 0): the inverse's translation left out.
+    OriginAsDirection,
+    /// Both carried by the object's matrix, not by its inverse.
+    ByMatrix,
+}
+
+impl Carry {
+    /// `ray` in the space of the object that `transform` places, carried this way.
+    pub fn ray(self, transform: &Transform, ray: &Ray) -> Ray {
+        let inverse = &transform.world_to_object;
+        match self {
+            Carry::DirectionAsPoint => Ray::new(
+                inverse.transform_point3a(ray.origin),
+                inverse.transform_point3a(ray.direction),
+            ),
+            Carry::OriginAsDirection => Ray::new(
+                inverse.transform_vector3a(ray.origin),
+                inverse.transform_vector3a(ray.direction),
+            ),
+            Carry::ByMatrix => Ray::new(
+                transform.object_to_world.transform_point3a(ray.origin),
+                transform.object_to_world.transform_vector3a(ray.direction),
+            ),
+        }
+    }
 }
 
 /// The most hits one search skips before it gives up on a ray (a mesh whose every triangle
@@ -238,7 +272,30 @@ impl World {
         t_min: f32,
         sphere_t: impl Fn(&Ray, &Sphere, f32, f32) -> Option<f32>,
     ) -> Option<Hit> {
-        self.intersect_each_item(ray, t_min, sphere_t, TriangleMesh::intersect)
+        self.intersect_each_item(
+            ray,
+            t_min,
+            |item, ray| self.ray_into(item, ray),
+            sphere_t,
+            TriangleMesh::intersect,
+        )
+    }
+
+    /// The nearest hit when each object under a Transform meets the ray carried into its
+    /// space as `carry` says: a tracer whose Transform moves the ray another way than by the
+    /// inverse of its matrix, points as points and directions as directions. Each object's t
+    /// is still the world ray's parameter, as the course's Transform keeps it.
+    pub fn intersect_carried(&self, ray: &Ray, t_min: f32, carry: Carry) -> Option<Hit> {
+        self.intersect_each_item(
+            ray,
+            t_min,
+            |item, ray| match item.transform() {
+                Item::WORLD_SPACE => *ray,
+                t => carry.ray(&self.transforms[t as usize], ray),
+            },
+            intersect_sphere,
+            TriangleMesh::intersect,
+        )
     }
 
     /// The course's nearest hit, and what it lies on: for a tracer that makes its normals

@@ -1,7 +1,7 @@
 //! The brute-force twins of the searches: every surface tested, no tree, for the tests to
 //! compare the trees and the grid with.
 
-use super::{Hit, Item, Nearest, World, search_limit};
+use super::{Found, Hit, Item, Nearest, World, search_limit};
 use crate::accel::TriangleMesh;
 use crate::geometry::{Ray, Sphere, intersect_sphere};
 
@@ -17,26 +17,29 @@ impl World {
         self.intersect_each_item(
             ray,
             t_min,
+            |item, ray| self.ray_into(item, ray),
             intersect_sphere,
             TriangleMesh::intersect_brute_force,
         )
     }
 
     /// The nearest hit with every object tested in turn (no tree above them: a ray's t is the
-    /// same in every object's space), each sphere by `sphere_t` and each mesh by `mesh_t` (the
-    /// ray in the object's space and the range of t searched), ties broken as the course's
-    /// search breaks them: planes, then the first item.
+    /// same in every object's space), the ray carried into each object's space by `into`, each
+    /// sphere met by `sphere_t` and each mesh by `mesh_t` (the ray in the object's space and the
+    /// range of t searched), ties broken as the course's search breaks them: planes, then the
+    /// first item. A sphere's normal is taken where its own ray meets it.
     pub(super) fn intersect_each_item(
         &self,
         ray: &Ray,
         t_min: f32,
+        into: impl Fn(&Item, &Ray) -> Ray,
         sphere_t: impl Fn(&Ray, &Sphere, f32, f32) -> Option<f32>,
         mesh_t: impl Fn(&TriangleMesh, &Ray, f32, f32) -> Option<(f32, u32)>,
     ) -> Option<Hit> {
         let mut nearest = self.nearest_plane(ray, t_min);
         for (i, item) in self.items.iter().enumerate() {
             let t_max = search_limit(&nearest);
-            let local = self.ray_into(item, ray);
+            let local = into(item, ray);
             let hit = match *item {
                 Item::Sphere { sphere, .. } => {
                     sphere_t(&local, &sphere, t_min, t_max).map(|t| (t, 0))
@@ -49,6 +52,18 @@ impl World {
                 Nearest::item(t, i as u32, triangle).replaces(&mut nearest);
             }
         }
-        nearest.map(|n| self.hit(ray, n.t, n.found))
+        let Nearest { t, found, .. } = nearest?;
+        Some(match found {
+            Found::Item { item, .. } => match self.items[item as usize] {
+                Item::Sphere {
+                    sphere, material, ..
+                } => {
+                    let local = into(&self.items[item as usize], ray);
+                    self.hit_with(ray, t, found, (sphere.normal_at(local.at(t)), material))
+                }
+                Item::Mesh { .. } => self.hit(ray, t, found),
+            },
+            Found::Plane(_) => self.hit(ray, t, found),
+        })
     }
 }

@@ -14,7 +14,7 @@
 //! - the hit record (`Hit`): what a search's winner becomes, its normal worked out once.
 
 mod as_student;
-pub use as_student::Struck;
+pub use as_student::{Carry, Struck};
 mod brute_force;
 mod grid_search;
 pub use grid_search::Listing;

@@ -1,7 +1,7 @@
 //! Faults of the search for the nearest hit: the range of t it accepts.
 
 use super::{Candidate, Fault, LineScene, Planted};
-use crate::accel::{Hit, Listing, Struck};
+use crate::accel::{Carry, Hit, Listing, Struck};
 use crate::camera::Camera;
 use crate::geometry::{Plane, Ray, Transform, intersect_plane, sphere_roots};
 use crate::parse::description::{Projection, Shape};
@@ -65,6 +65,9 @@ pub enum HitFault {
         /// The farther root, not the nearer.
         far: bool,
     },
+    /// Each object under a Transform meets the ray carried into its space another way than
+    /// the course's.
+    RayCarried(Carry),
 }
 
 /// The length of a normal of unit direction `normal` on an object placed by `transform`, as a
@@ -132,7 +135,10 @@ impl HitFault {
     pub(super) fn searches_shadows(&self) -> bool {
         matches!(
             self,
-            HitFault::ListedBy(_) | HitFault::WalkedFromOutside | HitFault::SphereRoot { .. }
+            HitFault::ListedBy(_)
+                | HitFault::WalkedFromOutside
+                | HitFault::SphereRoot { .. }
+                | HitFault::RayCarried(_)
         )
     }
 
@@ -158,6 +164,7 @@ impl HitFault {
                         (t >= t_min && t <= t_max).then_some(t)
                     })
             }
+            HitFault::RayCarried(carry) => scene.world.intersect_carried(ray, t_min, carry),
             HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
             HitFault::ListedBy(listed) => scene.world.intersect_listed_by(listed, ray, t_min),
             HitFault::WalkedFromOutside => scene.world.intersect_walked_from_outside(ray, t_min),
@@ -689,6 +696,45 @@ pub(super) const SPHERE_ROOT: Fault = Fault {
     },
 };
 
+pub(super) const RAY_TRANSFORM: Fault = Fault {
+    name: "ray_transform",
+    assignment: 2,
+    sentence: "My Transform carries the ray into the object's space another way than by the \
+               inverse of its matrix (form 0: the direction as a point, (d, 1), so the \
+               translation bends it; 1: the origin as a direction, (o, 0), so the translation \
+               is lost; 2: by the matrix itself, not its inverse).",
+    look_for: "Transform's intersect: with M⁻¹ the inverse of the object's matrix, the origin \
+               is M⁻¹ (o, 1) and the direction M⁻¹ (d, 0), left unnormalised so that t \
+               needs no change on the way back.",
+    candidates: |line: &LineScene| {
+        let description = &line.description;
+        let mut placed = false;
+        let mut moved = false;
+        for object in &description.objects {
+            if let Some(matrix) = object
+                .transform
+                .and_then(|i| description.transforms.get(i as usize))
+            {
+                placed = true;
+                moved |= matrix.w_axis.truncate() != glam::DVec3::ZERO;
+            }
+        }
+        if !placed || !line.has_traced_picture() {
+            return Vec::new();
+        }
+        // Without a translation, a point and a direction are carried alike.
+        Candidate::forms_shown(
+            [
+                Carry::DirectionAsPoint,
+                Carry::OriginAsDirection,
+                Carry::ByMatrix,
+            ]
+            .map(|carry| Planted::Hit(HitFault::RayCarried(carry))),
+            [moved, moved, true],
+        )
+    },
+};
+
 pub(super) const GRID_PLANES: Fault = Fault {
     name: "grid_planes",
     assignment: 5,
@@ -733,6 +779,34 @@ mod tests {
     fn found(fault: HitFault, scene: &Scene, ray: &Ray) -> Option<Hit> {
         let hit = scene.world.intersect(ray, 0.0);
         fault.found(scene, ray, 0.0, hit)
+    }
+
+    #[test]
+    fn a_ray_carried_another_way_by_hand() {
+        // A unit sphere moved to x = 2: the course meets it from (2, 0, 10) at t = 9.
+        let scene = scene(
+            "Group { numObjects 1 MaterialIndex 0
+                 Transform { Translate 2 0 0 Sphere { center 0 0 0 radius 1 } } }",
+        );
+        let down_from = |x: f32| Ray::new(Vec3A::new(x, 0.0, 10.0), -Vec3A::Z);
+        let t = |carry, x| found(HitFault::RayCarried(carry), &scene, &down_from(x)).map(|h| h.t);
+        assert_eq!(scene.world.intersect(&down_from(2.0), 0.0).unwrap().t, 9.0);
+        // The direction as a point, (0, 0, −1, 1): (−2, 0, −1), past the sphere.
+        assert_eq!(t(Carry::DirectionAsPoint, 2.0), None);
+        // The origin as a direction: the sphere stays at the origin.
+        assert_eq!(t(Carry::OriginAsDirection, 2.0), None);
+        assert_eq!(t(Carry::OriginAsDirection, 0.0), Some(9.0));
+        // By the matrix: moved the other way, to x = −2.
+        assert_eq!(t(Carry::ByMatrix, 2.0), None);
+        assert_eq!(t(Carry::ByMatrix, -2.0), Some(9.0));
+        // The normal where the student's ray meets the sphere: its top seen from above.
+        let hit = found(
+            HitFault::RayCarried(Carry::ByMatrix),
+            &scene,
+            &down_from(-2.0),
+        )
+        .unwrap();
+        assert_eq!(hit.normal, Vec3A::Z);
     }
 
     #[test]

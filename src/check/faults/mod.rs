@@ -35,7 +35,7 @@ pub use pictures::PictureFault;
 pub use rays::{CriticalAngle, RayFault, Secondary};
 pub(crate) use rays::{bounces, glass_index, has_material, has_tinted_material};
 pub use samples::{SampleFault, gaussian_radius};
-pub use shading::{Attenuation, LightGrey, ShadingFault};
+pub use shading::{Attenuation, Cosine, LightGrey, ShadingFault};
 pub use textures::TextureFault;
 pub(crate) use textures::shows_veins;
 
@@ -176,8 +176,10 @@ pub static FAULTS: &[Fault] = &[
     shading::AMBIENT_ON_BACK_FACES,
     shading::BACK_FACES_LIT,
     shading::SHADE_BACK_ABS,
+    shading::DIFFUSE_UNCLAMPED,
     shading::AMBIENT_PER_LIGHT,
     shading::AMBIENT_MISSING,
+    shading::AMBIENT_UNCOLOURED,
     shading::COSINE_TWICE,
     pictures::NO_CLAMP,
     intersection::DEPTH_TMIN,
@@ -203,6 +205,7 @@ pub static FAULTS: &[Fault] = &[
     shading::HIGHLIGHT_ONE_LIGHT,
     rays::SHADOW_ACNE,
     rays::SHADOW_PAST_LIGHT,
+    rays::SHADOW_DIRECTION,
     rays::SHADOWS_MISSING,
     rays::SHADOW_REACH,
     rays::SHADOW_SKIPS_GLASS,
@@ -214,6 +217,7 @@ pub static FAULTS: &[Fault] = &[
     rays::WEIGHT_CUTOFF,
     rays::SECONDARY_RAYS_MISSING,
     rays::SECONDARY_COLOUR,
+    rays::SECONDARY_PER_LIGHT,
     rays::SECONDARY_BACKGROUND,
     rays::SHADING_REPLACED,
     samples::JITTER_WHOLE_PIXEL,
@@ -237,6 +241,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::TRIANGLE_NORMAL_LENGTH,
     intersection::SPHERE_NORMAL_LENGTH,
     intersection::SPHERE_ROOT,
+    intersection::RAY_TRANSFORM,
     intersection::GRID_FIRST_HIT,
     intersection::GRID_TRANSFORMED_BOX,
     intersection::GRID_CELLS_MISSED,
@@ -448,6 +453,12 @@ impl TraceSeam for Plant {
     }
 
     fn ambient_diffuse(&self, surface: &Surface<'_>) -> Vec3A {
+        if self
+            .shadings()
+            .any(|s| s == ShadingFault::AmbientUncoloured)
+        {
+            return Vec3A::ONE;
+        }
         self.textures()
             .find_map(|t| t.ambient_diffuse(surface))
             .unwrap_or_else(|| surface.diffuse())
@@ -532,6 +543,19 @@ impl TraceSeam for Plant {
         })
     }
 
+    fn shadow_direction(&self, light: &Illumination) -> Vec3A {
+        // (A directional light is infinitely far.)
+        let reversed = self.rays().any(|r| match r {
+            RayFault::ShadowReversed { points_only } => !points_only || light.distance.is_finite(),
+            _ => false,
+        });
+        if reversed {
+            -light.to_light
+        } else {
+            light.to_light
+        }
+    }
+
     fn start_t(&self, clearance: f32, direction: Vec3A, normal: Vec3A) -> f32 {
         self.rays()
             .find_map(|r| r.start_t(direction, normal))
@@ -550,6 +574,14 @@ impl TraceSeam for Plant {
 
     fn cutoff_weight(&self, weight: f32) -> f32 {
         self.rays().fold(weight, |w, r| r.cutoff_weight(w))
+    }
+
+    fn secondary_times(&self, lights: usize) -> f32 {
+        if self.rays().any(|r| r == RayFault::SecondaryPerLight) {
+            lights as f32
+        } else {
+            1.0
+        }
     }
 
     fn carried(&self, colour: Vec3A, transparent: bool, surface: &Surface<'_>) -> Vec3A {

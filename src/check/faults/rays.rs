@@ -18,6 +18,15 @@ pub enum RayFault {
     },
     /// Shadow rays toward a point light go on past the light.
     PastLight,
+    /// Shadow rays cast away from the light, along the way its light travels: toward every
+    /// light, or toward point lights alone.
+    ShadowReversed {
+        /// Only the shadow rays toward point lights.
+        points_only: bool,
+    },
+    /// The colours of a hit's mirror and glass rays added inside the loop over the lights:
+    /// once for each light.
+    SecondaryPerLight,
     /// No shadow ray ever meets anything: every light reaches every point.
     NoShadows,
     /// No mirror or glass ray traced (`-bounces` never read), or (`glass_only`) no glass ray.
@@ -475,6 +484,50 @@ pub(super) const SHADOW_PAST_LIGHT: Fault = Fault {
     candidates: |line: &LineScene| {
         if line.has_image() && line.options.trace.shadows && has_point_light(line) {
             only(RayFault::PastLight)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const SHADOW_DIRECTION: Fault = Fault {
+    name: "shadow_direction",
+    assignment: 4,
+    sentence: "My shadow rays go away from the light, along the way its light travels (from the \
+               light to the point, or a directional light's direction as the file gives it): \
+               what lies behind the point casts the shadows, and a lit side shadows itself \
+               (form 0: toward every light; form 1: toward point lights alone).",
+    look_for: "The shadow ray starts at the point and heads toward the light: the same unit \
+               vector L as the diffuse term's (for a directional light, minus its direction).",
+    candidates: |line: &LineScene| {
+        if !line.has_image() || !line.options.trace.shadows || line.scene.lights.is_empty() {
+            return Vec::new();
+        }
+        // Toward point lights alone differs from every light only where both kinds shine.
+        let directional = line
+            .description
+            .lights
+            .iter()
+            .any(|l| matches!(l, crate::parse::description::LightSpec::Directional { .. }));
+        Candidate::forms_shown(
+            [false, true].map(|points_only| Planted::Ray(RayFault::ShadowReversed { points_only })),
+            [true, directional && has_point_light(line)],
+        )
+    },
+};
+
+pub(super) const SECONDARY_PER_LIGHT: Fault = Fault {
+    name: "secondary_per_light",
+    assignment: 4,
+    sentence: "I add the mirror's and the glass's rays inside the loop over the lights: their \
+               colours count once for each light (and not at all in a scene without lights).",
+    look_for: "The loop over the lights holds each light's shadow test and its diffuse and \
+               specular terms alone; the reflected and refracted colours are added once, after \
+               it.",
+    candidates: |line: &LineScene| {
+        let secondary = has_material(line, false) || has_material(line, true);
+        if bounces(line) && secondary && line.scene.lights.len() != 1 {
+            only(RayFault::SecondaryPerLight)
         } else {
             Vec::new()
         }

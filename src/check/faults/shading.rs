@@ -46,6 +46,8 @@ pub enum ShadingFault {
     AmbientPerLight,
     /// No ambient term.
     AmbientMissing,
+    /// The ambient light added as it is, not times the surface's diffuse colour.
+    AmbientUncoloured,
     /// Back faces that should be black show the ambient term.
     AmbientOnBackFaces,
     /// Each light's term multiplied by N·L once more.
@@ -71,20 +73,34 @@ pub enum ShadingFault {
     /// dimming, which the course's light folds into its colour), or a grey as bright as the
     /// colour's brightest channel or its channels' mean.
     LightColourIgnored(LightGrey),
+    /// Each light's diffuse term with N·L as it is: a light behind the surface takes its
+    /// light away.
+    SignedCosine,
     /// The terms weighed by numbers check's shading fit found.
     Weighed {
         /// What the ambient term is multiplied by.
         ambient: f32,
         /// The power of each light's N·L (its term is multiplied by N·L `power - 1` more times).
         power: f32,
-        /// Whether a surface lit from behind is shaded as if from in front (|N·L|).
-        absolute: bool,
+        /// How each light's N·L is taken where the light is behind the surface.
+        cosine: Cosine,
         /// A point light's colour at distance d divided by these terms' x + y·d + z·d², not
         /// by the file's c + l·d + q·d².
         divisor: Option<[f32; 3]>,
         /// The highlight's form.
         highlight: HighlightForm,
     },
+}
+
+/// How a student's tracer takes each light's N·L where the light is behind the surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Cosine {
+    /// The course's max(N·L, 0): that light brings nothing.
+    Clamped,
+    /// |N·L|: lit as if from in front.
+    Absolute,
+    /// N·L as it is: its diffuse term is taken away from the rest.
+    Signed,
 }
 
 /// How a student's tracer dims a point light with distance d, the file giving c, l and q.
@@ -201,6 +217,9 @@ impl ShadingFault {
             ShadingFault::AbsoluteCosine if normal.dot(to_light) < 0.0 => {
                 shade(-normal, falloff, highlight)
             }
+            ShadingFault::SignedCosine if normal.dot(to_light) < 0.0 => {
+                shade(normal, falloff, highlight) - shade(-normal, falloff, Highlight::Absent)
+            }
             ShadingFault::CosineTwice => {
                 shade(normal, falloff, highlight) * normal.dot(to_light).max(0.0)
             }
@@ -215,7 +234,7 @@ impl ShadingFault {
             ShadingFault::Highlight(student) => shade(normal, falloff, student),
             ShadingFault::Weighed {
                 power,
-                absolute,
+                cosine: form_of_cosine,
                 highlight: form,
                 ..
             } => {
@@ -225,16 +244,24 @@ impl ShadingFault {
                     Highlight::Formed(form)
                 };
                 let cosine = normal.dot(to_light);
-                let (turned, cosine) = if absolute && cosine < 0.0 {
-                    (-normal, -cosine)
-                } else {
-                    (normal, cosine.max(0.0))
+                let more_cosines = |shaded: Vec3A, cosine: f32| {
+                    if power == 1.0 {
+                        shaded
+                    } else {
+                        shaded * cosine.powf(power - 1.0)
+                    }
                 };
-                let shaded = shade(turned, falloff, highlight);
-                if power == 1.0 {
-                    shaded
-                } else {
-                    shaded * cosine.powf(power - 1.0)
+                match form_of_cosine {
+                    Cosine::Absolute if cosine < 0.0 => {
+                        more_cosines(shade(-normal, falloff, highlight), -cosine)
+                    }
+                    // The diffuse term from the other side, taken away (its highlight is the
+                    // front's, which its own gate decides).
+                    Cosine::Signed if cosine < 0.0 => {
+                        shade(normal, falloff, highlight)
+                            - more_cosines(shade(-normal, falloff, Highlight::Absent), -cosine)
+                    }
+                    _ => more_cosines(shade(normal, falloff, highlight), cosine.max(0.0)),
                 }
             }
             _ => shade(normal, falloff, highlight),
@@ -296,6 +323,44 @@ pub(super) const SHADE_BACK_ABS: Fault = Fault {
     candidates: |line: &LineScene| {
         if line.has_image() && !line.scene.lights.is_empty() {
             only(ShadingFault::AbsoluteCosine)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const DIFFUSE_UNCLAMPED: Fault = Fault {
+    name: "diffuse_unclamped",
+    assignment: 2,
+    sentence: "I take each light's N·L as it is, never clamped at 0: a light behind the surface \
+               takes its light away from the ambient term and the other lights.",
+    look_for: "The diffuse term: k_d × light × max(N·L, 0); a light behind the surface brings \
+               nothing (it does not subtract).",
+    candidates: |line: &LineScene| {
+        // Taken away from something: the ambient term or another light.
+        let description = &line.description;
+        let something_lit = description.ambient != glam::Vec3::ZERO || description.lights.len() > 1;
+        if line.has_image() && !line.scene.lights.is_empty() && something_lit {
+            only(ShadingFault::SignedCosine)
+        } else {
+            Vec::new()
+        }
+    },
+};
+
+pub(super) const AMBIENT_UNCOLOURED: Fault = Fault {
+    name: "ambient_uncoloured",
+    assignment: 2,
+    sentence: "I add the ambient light as it is, not multiplied by the surface's diffuse \
+               colour: every object gets the same grey wash.",
+    look_for: "The shading sum starts with ambient light × the material's diffuse colour (at \
+               the point, for a texture), component by component.",
+    candidates: |line: &LineScene| {
+        let description = &line.description;
+        // (Without lights, the course's pictures are flat colours, no sum of terms.)
+        let lit = !line.scene.lights.is_empty();
+        if line.has_image() && lit && description.ambient != glam::Vec3::ZERO {
+            only(ShadingFault::AmbientUncoloured)
         } else {
             Vec::new()
         }

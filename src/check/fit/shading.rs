@@ -2,11 +2,12 @@
 //! is a sum of terms raycast knows at the hit (the ambient term, each light's diffuse and
 //! specular terms with its shadow, and what mirrors and glass bring), so how the student's
 //! colours depend on those terms can be found without a render per guess. The family: the
-//! ambient term's weight, the power of each light's N·L, N·L clamped or taken whole (|N·L|), and
+//! ambient term's weight, the power of each light's N·L, N·L clamped, taken whole (|N·L|) or as
+//! it is (a light behind the surface takes its light away), and
 //! the normal's length as a function over each object's surface (see
 //! [`crate::check::faults::normal_length`]). The fitted numbers name the faults: an ambient
 //! weight of 0 is `ambient_missing`, one of the number of lights `ambient_per_light`, a power of
-//! 2 `cosine_twice`, |N·L| `shade_back_abs`, a normal of any other length `normal_length`; a
+//! 2 `cosine_twice`, |N·L| `shade_back_abs`, N·L as it is `diffuse_unclamped`, a normal of any other length `normal_length`; a
 //! number that lands nowhere named names nothing.
 
 use glam::Vec3A;
@@ -15,7 +16,7 @@ use super::camera::Named;
 use super::minimise::{Start, minimise};
 use crate::camera::pixel_to_screen;
 use crate::check::faults::{
-    FAULTS, Fault, HitFault, LineScene, Planted, ShadingFault, length_from, normal_stretch,
+    Cosine, FAULTS, Fault, HitFault, LineScene, Planted, ShadingFault, length_from, normal_stretch,
 };
 use crate::geometry::Ray;
 use crate::sample::Sampler;
@@ -180,7 +181,15 @@ pub fn fit_shading(
         };
         let colour = tracer.colour(&ray, Some(&hit), &mut scratch);
         let (highlight, count) = (HighlightForm::default(), scene.lights.len());
-        one.rest = colour - shade(&one, &course, false, highlight, count, settings.specular);
+        one.rest = colour
+            - shade(
+                &one,
+                &course,
+                Cosine::Clamped,
+                highlight,
+                count,
+                settings.specular,
+            );
         seen.push(one);
     }
     if seen.is_empty() {
@@ -188,11 +197,11 @@ pub fn fit_shading(
     }
     let lights = scene.lights.len();
     let falloff = settings.specular;
-    let cost_with = |numbers: &[f64], absolute: bool, highlight: HighlightForm| -> f64 {
+    let cost_with = |numbers: &[f64], cosine: Cosine, highlight: HighlightForm| -> f64 {
         let mut sum = 0.0;
         for one in &seen {
             if let Some(shaded) = shaded {
-                let colour = shade(one, numbers, absolute, highlight, lights, falloff);
+                let colour = shade(one, numbers, cosine, highlight, lights, falloff);
                 sum += levels_off(colour, shaded.pixels[one.pixel]);
             }
             if let Some(normals) = normals {
@@ -203,9 +212,9 @@ pub fn fit_shading(
         sum / seen.len() as f64
     };
     let cost =
-        |numbers: &[f64], absolute: bool| cost_with(numbers, absolute, HighlightForm::default());
-    let course_cost = cost(&course, false);
-    // |N·L| only where some light is behind a surface it would light.
+        |numbers: &[f64], cosine: Cosine| cost_with(numbers, cosine, HighlightForm::default());
+    let course_cost = cost(&course, Cosine::Clamped);
+    // N·L taken otherwise only where some light is behind a surface it would light.
     let behind = seen.iter().any(|one| {
         one.lights
             .iter()
@@ -227,21 +236,19 @@ pub fn fit_shading(
         }
         round
     };
-    // The numbers fitted with the highlight's form `highlight`: each with |N·L| and without.
+    // The numbers fitted with the highlight's form `highlight`: with each way of taking N·L.
     let search_numbers = |highlight: HighlightForm| {
-        let cost = |numbers: &[f64], absolute: bool| cost_with(numbers, absolute, highlight);
-        let mut best: Option<([f64; NUMBERS], bool, f64)> = None;
-        for absolute in [false, true].into_iter().filter(|&a| !a || behind) {
+        let cost = |numbers: &[f64], cosine: Cosine| cost_with(numbers, cosine, highlight);
+        let mut best: Option<([f64; NUMBERS], Cosine, f64)> = None;
+        for cosine in [Cosine::Clamped, Cosine::Absolute, Cosine::Signed]
+            .into_iter()
+            .filter(|&c| c == Cosine::Clamped || behind)
+        {
             // Each stage's numbers alone first (the normal's length and a light's divisor trade
             // off against each other: searched together from the course's, they settle anywhere
             // along the valley between), the best of those, then every number from there.
             let search = |start: [f64; NUMBERS], searched: &[usize]| {
-                search_from(
-                    start,
-                    searched,
-                    |numbers| cost(numbers, absolute),
-                    &scale_of,
-                )
+                search_from(start, searched, |numbers| cost(numbers, cosine), &scale_of)
             };
             let mut at = course;
             let mut value = f64::INFINITY;
@@ -275,7 +282,7 @@ pub fn fit_shading(
             // A round value is taken where the picture is (almost) as near as the search's least.
             let near_enough = value * (1.0 + ROUND_SHARE) + ROUND_LEVELS;
             let mut current = value;
-            let there = cost(&nearest, absolute);
+            let there = cost(&nearest, cosine);
             if there <= near_enough {
                 (at, current) = (nearest, there);
             }
@@ -287,7 +294,7 @@ pub fn fit_shading(
                     for r in round_values(index) {
                         let mut tried = at;
                         tried[index] = r;
-                        let there = cost(&tried, absolute);
+                        let there = cost(&tried, cosine);
                         if there <= near_enough && there < choice.1 {
                             choice = (r, there);
                         }
@@ -308,7 +315,7 @@ pub fn fit_shading(
                 for whole in [[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [q, l, c]] {
                     let mut tried = at;
                     tried[5..8].copy_from_slice(&whole);
-                    let there = cost(&tried, absolute);
+                    let there = cost(&tried, cosine);
                     if there <= near_enough {
                         (at, current) = (tried, there);
                         break;
@@ -317,12 +324,12 @@ pub fn fit_shading(
             }
             let value = current;
             if best.is_none_or(|(_, _, v)| value < v) {
-                best = Some((at, absolute, value));
+                best = Some((at, cosine, value));
             }
         }
         best
     };
-    let (mut at, mut absolute, mut value) = search_numbers(HighlightForm::default())?;
+    let (mut at, mut cosine, mut value) = search_numbers(HighlightForm::default())?;
     // The highlight's form: a highlight is a few pixels of a picture, too few to steer the
     // numbers' search, which may settle on numbers that draw it another way; so its family is
     // searched at the course's numbers and at those found, and the numbers again with each form
@@ -330,26 +337,27 @@ pub fn fit_shading(
     let mut highlight = HighlightForm::default();
     if shaded.is_some() && value > 0.0 {
         let mut forms: Vec<HighlightForm> = Vec::new();
-        for (numbers, whole) in [(course, false), (at, absolute)] {
-            let course_cost = cost(&numbers, whole);
-            let (form, _) = fit_highlight(|form| cost_with(&numbers, whole, form), course_cost);
+        for (numbers, taken) in [(course, Cosine::Clamped), (at, cosine)] {
+            let course_cost = cost(&numbers, taken);
+            let (form, _) = fit_highlight(|form| cost_with(&numbers, taken, form), course_cost);
             if form != HighlightForm::default() && !forms.contains(&form) {
                 forms.push(form);
             }
         }
         for form in forms {
-            if let Some((there, whole, cost_there)) = search_numbers(form)
+            if let Some((there, taken, cost_there)) = search_numbers(form)
                 && cost_there < value
             {
-                (at, absolute, value, highlight) = (there, whole, cost_there, form);
+                (at, cosine, value, highlight) = (there, taken, cost_there, form);
             }
         }
     }
-    let unchanged = at == course && !absolute && highlight == HighlightForm::default();
+    let unchanged =
+        at == course && cosine == Cosine::Clamped && highlight == HighlightForm::default();
     if value >= course_cost * (1.0 - least_share) || unchanged {
         return None;
     }
-    name(at, absolute, highlight, lights, [c, l, q])
+    name(at, cosine, highlight, lights, [c, l, q])
 }
 
 /// The member of the highlights' family that draws the picture nearest (by `cost`, the
@@ -491,13 +499,13 @@ fn search_from(
 fn shade(
     one: &Seen<'_>,
     numbers: &[f64],
-    absolute: bool,
+    cosine: Cosine,
     highlight: HighlightForm,
     lights: usize,
     falloff: crate::scene::SpecularFalloff,
 ) -> Vec3A {
     // (Point lights dimmed below, from the file's divisor.)
-    let fault = weighed(numbers, absolute, false, highlight);
+    let fault = weighed(numbers, cosine, false, highlight);
     let normal = one.normal * length(one, numbers);
     let mut colour = fault.ambient(one.ambient, lights) + one.rest;
     for &(index, lit, divisor) in &one.lights {
@@ -534,14 +542,14 @@ fn shade(
 /// (`divided`: with the numbers' own divisor for point lights.)
 fn weighed(
     numbers: &[f64],
-    absolute: bool,
+    cosine: Cosine,
     divided: bool,
     highlight: HighlightForm,
 ) -> ShadingFault {
     ShadingFault::Weighed {
         ambient: numbers[0] as f32,
         power: numbers[1] as f32,
-        absolute,
+        cosine,
         divisor: divided.then(|| [numbers[5], numbers[6], numbers[7]].map(|n| n as f32)),
         highlight,
     }
@@ -575,7 +583,7 @@ fn levels_off(colour: Vec3A, student: [u8; 3]) -> f64 {
 /// course's lands on no fault. `terms` are the file's attenuation (c, l, q).
 fn name(
     at: [f64; NUMBERS],
-    absolute: bool,
+    cosine: Cosine,
     highlight: HighlightForm,
     lights: usize,
     [c, l, q]: [f64; 3],
@@ -587,7 +595,8 @@ fn name(
     let [ambient, power, a, b, n, x, y, z] = at;
     let divided = [x, y, z] != [c, l, q];
     let highlighted = highlight != HighlightForm::default();
-    if ambient != 1.0 || power != 1.0 || absolute || divided || highlighted {
+    let turned = cosine != Cosine::Clamped;
+    if ambient != 1.0 || power != 1.0 || turned || divided || highlighted {
         if ambient == 0.0 {
             faults.push(fault("ambient_missing")?);
         } else if ambient == lights as f64 && lights > 1 {
@@ -600,8 +609,10 @@ fn name(
         } else if power != 1.0 {
             return None;
         }
-        if absolute {
-            faults.push(fault("shade_back_abs")?);
+        match cosine {
+            Cosine::Clamped => {}
+            Cosine::Absolute => faults.push(fault("shade_back_abs")?),
+            Cosine::Signed => faults.push(fault("diffuse_unclamped")?),
         }
         if divided {
             faults.push(fault("attenuation")?);
@@ -654,11 +665,11 @@ fn name(
                 numbers.push(("H scaled by", f64::from(highlight.half_scale)));
             }
         }
-        if ambient != 1.0 || power != 1.0 || absolute {
+        if ambient != 1.0 || power != 1.0 || turned {
             numbers.push(("ambient weight", ambient));
             numbers.push(("power of N·L", power));
         }
-        plants.push(Planted::Shading(weighed(&at, absolute, divided, highlight)));
+        plants.push(Planted::Shading(weighed(&at, cosine, divided, highlight)));
     }
     if [a, b, n] != [1.0, 0.0, 0.0] {
         faults.push(fault("normal_length")?);
@@ -690,31 +701,37 @@ mod tests {
 
     #[test]
     fn numbers_land_on_names() {
-        let named = |at: [f64; 5], absolute| {
+        let named = |at: [f64; 5], cosine| {
             let at = [at[0], at[1], at[2], at[3], at[4], 1.0, 0.0, 0.0];
-            name(at, absolute, HighlightForm::default(), 2, [1.0, 0.0, 0.0])
+            name(at, cosine, HighlightForm::default(), 2, [1.0, 0.0, 0.0])
                 .map(|(_, (faults, _))| faults.iter().map(|f| f.name).collect::<Vec<_>>())
         };
         assert_eq!(
-            named([2.0, 1.0, 1.0, 0.0, 0.0], false),
+            named([2.0, 1.0, 1.0, 0.0, 0.0], Cosine::Clamped),
             Some(vec!["ambient_per_light"])
         );
         assert_eq!(
-            named([1.0, 2.0, 1.0, 0.0, 1.0], true),
+            named([1.0, 2.0, 1.0, 0.0, 1.0], Cosine::Absolute),
             Some(vec!["cosine_twice", "shade_back_abs", "normal_length"])
         );
-        assert_eq!(named([0.7, 1.0, 1.0, 0.0, 0.0], false), None);
-        assert_eq!(named([1.0, 1.5, 1.0, 0.0, 0.0], false), None);
+        assert_eq!(
+            named([1.0, 1.0, 1.0, 0.0, 0.0], Cosine::Signed),
+            Some(vec!["diffuse_unclamped"])
+        );
+        assert_eq!(named([0.7, 1.0, 1.0, 0.0, 0.0], Cosine::Clamped), None);
+        assert_eq!(named([1.0, 1.5, 1.0, 0.0, 0.0], Cosine::Clamped), None);
     }
 
     #[test]
     fn highlight_forms_land_on_names() {
         let course = [1.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
         let named = |highlight: HighlightForm| {
-            name(course, false, highlight, 1, [1.0, 0.0, 0.0]).map(|(_, (faults, numbers))| {
-                let faults: Vec<&str> = faults.iter().map(|f| f.name).collect();
-                (faults, numbers)
-            })
+            name(course, Cosine::Clamped, highlight, 1, [1.0, 0.0, 0.0]).map(
+                |(_, (faults, numbers))| {
+                    let faults: Vec<&str> = faults.iter().map(|f| f.name).collect();
+                    (faults, numbers)
+                },
+            )
         };
         let form = HighlightForm::default();
         let absolute = HighlightForm {
