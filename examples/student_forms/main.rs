@@ -120,6 +120,11 @@ enum Form {
     /// Two mistakes at once: the ambient term inside the loop over the lights, and each
     /// light's diffuse term never clamped (`kd * light * N.L`).
     AmbientInLoopNeverClamped,
+    /// traceRay intersects first and only then returns black for `bounces > max_bounces`: a
+    /// mirror or glass ray one past the limit that meets nothing returns the background.
+    BouncesTestedAfterTheHit,
+    /// traceRay intersects first, then tests `bounces > max_bounces` and `weight < cutoff`.
+    LimitsTestedAfterTheHit,
     /// The shading sum started with `color = ambientLight`, the diffuse colour forgotten.
     AmbientLightAlone,
     /// Each light's diffuse term `kd * light * N.L`, the `max(0, ...)` forgotten: a light
@@ -481,6 +486,8 @@ impl Form {
             "sphere_minus_root_only" => Form::SphereMinusRootOnly,
             "diffuse_never_clamped" => Form::DiffuseNeverClamped,
             "ambient_light_alone" => Form::AmbientLightAlone,
+            "bounces_tested_after_the_hit" => Form::BouncesTestedAfterTheHit,
+            "limits_tested_after_the_hit" => Form::LimitsTestedAfterTheHit,
             "ambient_in_loop_never_clamped" => Form::AmbientInLoopNeverClamped,
             "mirrors_in_the_light_loop" => Form::MirrorsInTheLightLoop,
             "shadow_from_the_light" => Form::ShadowFromTheLight,

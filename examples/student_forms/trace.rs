@@ -179,6 +179,14 @@ impl TraceSeam for Form {
         }
     }
 
+    fn cast_past_limits(&self) -> Option<bool> {
+        match self {
+            Form::BouncesTestedAfterTheHit => Some(false),
+            Form::LimitsTestedAfterTheHit => Some(true),
+            _ => None,
+        }
+    }
+
     fn shadow_direction(&self, light: &Illumination) -> Vec3A {
         match self {
             Form::ShadowFromTheLight => -light.to_light,

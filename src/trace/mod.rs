@@ -155,6 +155,15 @@ pub trait TraceSeam: Copy + Send + Sync {
         bounces
     }
 
+    /// Which mirror and glass rays past the course's limits are still cast, each bringing the
+    /// background where it meets nothing and nothing where it meets something (a tracer that
+    /// tests its limits after the ray's intersection): `None`, the course's, casts none;
+    /// `Some(false)` those one bounce past `-bounces`; `Some(true)` those below `-weight` too.
+    #[inline(always)]
+    fn cast_past_limits(&self) -> Option<bool> {
+        None
+    }
+
     /// The weight of a mirror or glass ray spawned with `colour` (the material's reflective
     /// or transparent colour) from a ray of `weight`.
     #[inline(always)]
@@ -333,6 +342,9 @@ struct Pending {
     branch: Branch,
     /// A glass ray, not a mirror ray.
     transparent: bool,
+    /// Cast past the limits (see [`TraceSeam::cast_past_limits`]): it brings the background
+    /// or nothing.
+    past_limits: bool,
 }
 
 /// Where a ray stands in the ray tree.
@@ -599,6 +611,7 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                 None => self
                     .variant
                     .escaped(self.scene.background, next.transparent),
+                Some(_) if next.past_limits => Vec3A::ZERO,
                 Some(hit) => self.visit(&next.ray, next.branch, Some(&hit), scratch, None),
             };
             colour += next.branch.throughput * seen;
@@ -703,7 +716,8 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             }
             colour += shaded;
         }
-        if branch.bounces_left > 0 {
+        let past_limits = self.variant.cast_past_limits();
+        if branch.bounces_left > 0 || past_limits.is_some() {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, transparent: bool, direction: Vec3A| {
                 let weight = self.variant.ray_weight(branch.weight, colour);
@@ -711,16 +725,20 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
                     * self.variant.secondary_times(scene.lights.len());
                 let throughput = branch.throughput * carried;
                 let cutoff = self.variant.cutoff_weight(self.settings.cutoff_weight);
-                if worth_tracing(cutoff, weight, throughput) {
+                let worth = worth_tracing(cutoff, weight, throughput);
+                let within = branch.bounces_left > 0 && worth;
+                let past = !within && past_limits.is_some_and(|weight_too| worth || weight_too);
+                if within || past {
                     scratch.pending.push(Pending {
                         ray: Ray::new(point, direction),
                         t_min: self.variant.secondary_start_t(clearance, direction, normal),
                         branch: Branch {
-                            bounces_left: branch.bounces_left - 1,
+                            bounces_left: branch.bounces_left.saturating_sub(1),
                             weight,
                             throughput,
                         },
                         transparent,
+                        past_limits: past,
                     });
                 }
             };

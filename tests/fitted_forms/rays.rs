@@ -560,3 +560,30 @@ fn mirrors_added_inside_the_loop_over_the_lights_are_the_secondary_per_light() {
         3
     );
 }
+
+#[test]
+fn limits_tested_after_the_intersection_are_the_limits_tested_late() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // One bounce past -bounces: mirror and glass rays that miss bring the background.
+    assert_eq!(
+        later_named(
+            "bounces_tested_after_the_hit",
+            &["output4_04a", "output4_04b", "output4_06a", "output4_06c"],
+            "limits_tested_late",
+            "form 0)"
+        ),
+        4
+    );
+    // The weight too: the bars' rays below -weight 0.01 bring the background as well.
+    assert_eq!(
+        later_named(
+            "limits_tested_after_the_hit",
+            &["output4_06c", "output4_06f"],
+            "limits_tested_late",
+            ""
+        ),
+        2
+    );
+}

@@ -215,6 +215,7 @@ pub static FAULTS: &[Fault] = &[
     rays::REFRACTION_FORMULA,
     rays::BOUNCES_OFF_BY_ONE,
     rays::WEIGHT_CUTOFF,
+    rays::LIMITS_TESTED_LATE,
     rays::SECONDARY_RAYS_MISSING,
     rays::SECONDARY_COLOUR,
     rays::SECONDARY_PER_LIGHT,
@@ -574,6 +575,13 @@ impl TraceSeam for Plant {
 
     fn cutoff_weight(&self, weight: f32) -> f32 {
         self.rays().fold(weight, |w, r| r.cutoff_weight(w))
+    }
+
+    fn cast_past_limits(&self) -> Option<bool> {
+        self.rays().find_map(|r| match r {
+            RayFault::LimitsTestedLate { weight_too } => Some(weight_too),
+            _ => None,
+        })
     }
 
     fn secondary_times(&self, lights: usize) -> f32 {

@@ -24,6 +24,13 @@ pub enum RayFault {
         /// Only the shadow rays toward point lights.
         points_only: bool,
     },
+    /// The limits tested after the ray's intersection: mirror and glass rays one bounce past
+    /// `-bounces` (and, with `weight_too`, below `-weight`) still cast, bringing the background
+    /// where they meet nothing.
+    LimitsTestedLate {
+        /// `-weight` tested late too.
+        weight_too: bool,
+    },
     /// The colours of a hit's mirror and glass rays added inside the loop over the lights:
     /// once for each light.
     SecondaryPerLight,
@@ -705,6 +712,27 @@ pub(super) const WEIGHT_CUTOFF: Fault = Fault {
         } else {
             Vec::new()
         }
+    },
+};
+
+pub(super) const LIMITS_TESTED_LATE: Fault = Fault {
+    name: "limits_tested_late",
+    assignment: 4,
+    sentence: "My traceRay tests -bounces (form 1: and -weight) only after the ray's \
+               intersection: a mirror or glass ray past the limit is still cast, and brings the \
+               background where it meets nothing (black where it meets something).",
+    look_for: "traceRay: test the limits before the intersection (or do not cast the ray): a \
+               ray past -bounces or below -weight brings nothing, black, whether or not it \
+               would meet anything.",
+    candidates: |line: &LineScene| {
+        let secondary = has_material(line, false) || has_material(line, true);
+        if !line.has_image() || !secondary {
+            return Vec::new();
+        }
+        Candidate::forms_shown(
+            [false, true].map(|weight_too| Planted::Ray(RayFault::LimitsTestedLate { weight_too })),
+            [true, line.options.trace.cutoff_weight > 0.0],
+        )
     },
 };
 
