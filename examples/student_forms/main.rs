@@ -330,6 +330,11 @@ enum Form {
     /// Grid: every object entered in the cells from its box's lowest corner's up to, and not
     /// including, its highest corner's (a loop's bound written with `<`).
     GridCellsUpperLeftOut,
+    /// Grid: the student's own march, each step along an axis the ray runs down written
+    /// `dt = size / d`, the absolute value forgotten.
+    GridStepNotAbsolute,
+    /// Grid: the student's own march, the first crossing on every axis at `(i + 1) * size`.
+    GridUpperFaceAlways,
     /// Grid: a ray whose origin falls in one of the grid's cells left out of the march.
     GridOriginCellLeftOut,
     /// Grid: a ray whose origin lies within the grid's box left out of the march.
@@ -572,6 +577,8 @@ impl Form {
             "grid_origin_cell_left_out" => Form::GridOriginCellLeftOut,
             "grid_origin_inside_left_out" => Form::GridOriginInsideLeftOut,
             "grid_origin_in_slabs_left_out" => Form::GridOriginInSlabsLeftOut,
+            "grid_step_not_absolute" => Form::GridStepNotAbsolute,
+            "grid_upper_face_always" => Form::GridUpperFaceAlways,
             "grid_without_planes" => Form::GridWithoutPlanes,
             "plane_plus_offset" => Form::PlanePlusOffset,
             "light_colour_left_out" => Form::LightColourLeftOut,

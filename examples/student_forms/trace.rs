@@ -43,6 +43,8 @@ impl TraceSeam for Form {
             | Form::GridOriginCellLeftOut
             | Form::GridOriginInsideLeftOut
             | Form::GridOriginInSlabsLeftOut
+            | Form::GridStepNotAbsolute
+            | Form::GridUpperFaceAlways
             | Form::SphereMinusRootOnly
             | Form::SpherePlusRootOnly
             | Form::DirectionCarriedAsPoint
@@ -476,6 +478,9 @@ impl TraceSeam for Form {
                 return walk_own_grid(scene, listed_grid(scene, self), ray, t_min)
                     .unwrap_or(Some(hit));
             }
+            Form::GridStepNotAbsolute | Form::GridUpperFaceAlways => {
+                return own_march(scene, ray, t_min, self).unwrap_or(Some(hit));
+            }
             Form::GridTrustsFirstHit | Form::GridMailbox => {
                 return walk_grid(scene, ray, t_min, matches!(self, Form::GridMailbox))
                     .unwrap_or(Some(hit));
@@ -692,6 +697,87 @@ fn walk_grid(scene: &Scene, ray: &Ray, t_min: f32, mailbox: bool) -> Option<Opti
             ControlFlow::Continue(())
         }
     });
+    Some(match nearest {
+        Some((t, p)) if t < beyond => Some(scene.world.primitive_hit(ray, t, &p)),
+        _ => plane,
+    })
+}
+
+/// The student's own 3D-DDA through the course's grid, with its mistake (`form`): cell by
+/// cell from where the ray enters the grid's box, stopping at the first cell whose nearest hit
+/// lies within it; the nearer of that and the planes' hit. `None` without a grid.
+fn own_march(scene: &Scene, ray: &Ray, t_min: f32, form: &Form) -> Option<Option<Hit>> {
+    let grid = scene.world.grid()?;
+    let plane = scene.world.plane_hit(ray, t_min);
+    let beyond = plane.map_or(f32::INFINITY, |h| h.t);
+    let (low, high) = (grid.bounds().min, grid.bounds().max);
+    let cells = grid.cells();
+    let (mut enter, mut leave) = (t_min, beyond);
+    for axis in 0..3 {
+        let a = (low[axis] - ray.origin[axis]) / ray.direction[axis];
+        let b = (high[axis] - ray.origin[axis]) / ray.direction[axis];
+        if a.is_nan() || b.is_nan() {
+            continue;
+        }
+        enter = enter.max(a.min(b));
+        leave = leave.min(a.max(b));
+    }
+    if enter > leave {
+        return Some(plane);
+    }
+    let start = ray.origin + ray.direction * enter;
+    let mut index = [0i64; 3];
+    let mut step = [0i64; 3];
+    let mut next = [f32::INFINITY; 3];
+    let mut delta = [f32::INFINITY; 3];
+    for axis in 0..3 {
+        let size = (high[axis] - low[axis]) / cells[axis] as f32;
+        let last = i64::from(cells[axis]) - 1;
+        let i = (((start[axis] - low[axis]) / size).floor() as i64).clamp(0, last);
+        index[axis] = i;
+        let d = ray.direction[axis];
+        if d == 0.0 {
+            continue;
+        }
+        step[axis] = if d > 0.0 { 1 } else { -1 };
+        let face = if d > 0.0 || matches!(form, Form::GridUpperFaceAlways) {
+            i + 1
+        } else {
+            i
+        };
+        next[axis] = (low[axis] + face as f32 * size - ray.origin[axis]) / d;
+        delta[axis] = if matches!(form, Form::GridStepNotAbsolute) {
+            size / d
+        } else {
+            (size / d).abs()
+        };
+    }
+    let mut nearest: Option<(f32, Primitive)> = None;
+    loop {
+        let axis = if next[0] < next[1] && next[0] < next[2] {
+            0
+        } else if next[1] < next[2] {
+            1
+        } else {
+            2
+        };
+        let here = raycast::UVec3::new(index[0] as u32, index[1] as u32, index[2] as u32);
+        for p in grid.primitives(here) {
+            let reach = nearest.map_or(beyond, |(t, _)| t);
+            if let Some(t) = scene.world.primitive_t(p, ray, t_min, reach) {
+                nearest = Some((t, *p));
+            }
+        }
+        let exit = next[axis].min(leave);
+        if nearest.is_some_and(|(t, _)| t <= exit) || next[axis] > leave {
+            break;
+        }
+        index[axis] += step[axis];
+        if index[axis] < 0 || index[axis] >= i64::from(cells[axis]) {
+            break;
+        }
+        next[axis] += delta[axis];
+    }
     Some(match nearest {
         Some((t, p)) if t < beyond => Some(scene.world.primitive_hit(ray, t, &p)),
         _ => plane,

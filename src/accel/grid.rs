@@ -106,6 +106,18 @@ pub struct Grid {
     entries: Vec<Primitive>,
 }
 
+/// How a grid's march sets up its steps along an axis the ray runs down (the way it steps
+/// along an axis it runs up is the same in each).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum March {
+    /// The handout's: the first crossing at the cell's lower face, each step's t positive.
+    Course,
+    /// The first crossing taken at the cell's upper face, as for an axis the ray runs up.
+    UpperFaceFirst,
+    /// Each step's t left as size / d, without its absolute value: negative.
+    SignedStep,
+}
+
 /// A cell the walk has reached.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cell<'a> {
@@ -241,18 +253,38 @@ impl Grid {
         grid_fill(&self.bounds, self.cells, self.cell_size, extent, margin, f);
     }
 
+    /// The primitives cell `index` lists.
+    pub fn primitives(&self, index: UVec3) -> &[Primitive] {
+        let c = self.cell_number(index);
+        &self.entries[self.starts[c] as usize..self.starts[c + 1] as usize]
+    }
+
     /// Walks the cells `ray` crosses with t in [t_min, t_max], nearest first (3D-DDA), until
     /// `visit` breaks or the ray leaves the grid.
-    ///
-    /// One function, long: the 3D-DDA's setup and its stepping loop share a dozen per-axis
-    /// values, and the course's cell-by-cell order (and `-stats`' count of cells) depends on
-    /// them staying exactly as the handout's algorithm states them, in one place.
     #[inline]
     pub fn walk<'a>(
         &'a self,
         ray: &Ray,
         t_min: f32,
         t_max: f32,
+        visit: impl FnMut(Cell<'a>) -> ControlFlow<()>,
+    ) {
+        self.walk_marching(ray, t_min, t_max, March::Course, visit);
+    }
+
+    /// [`Grid::walk`] with the march's steps set up as `march` says (a student's march; the
+    /// course's inlined into [`Grid::walk`], where its tests fold away).
+    ///
+    /// One function, long: the 3D-DDA's setup and its stepping loop share a dozen per-axis
+    /// values, and the course's cell-by-cell order (and `-stats`' count of cells) depends on
+    /// them staying exactly as the handout's algorithm states them, in one place.
+    #[inline(always)]
+    pub fn walk_marching<'a>(
+        &'a self,
+        ray: &Ray,
+        t_min: f32,
+        t_max: f32,
+        march: March,
         mut visit: impl FnMut(Cell<'a>) -> ControlFlow<()>,
     ) {
         // A ray of no direction (a student's square root of a negative number, a zero vector)
@@ -303,9 +335,18 @@ impl Grid {
                 t_delta[axis] = size * ray.inv_direction[axis];
             } else if d < 0.0 {
                 step[axis] = -1;
-                let boundary = self.bounds.min[axis] + i as f32 * size;
+                let face = if march == March::UpperFaceFirst {
+                    i + 1
+                } else {
+                    i
+                };
+                let boundary = self.bounds.min[axis] + face as f32 * size;
                 t_next[axis] = (boundary - ray.origin[axis]) * ray.inv_direction[axis];
-                t_delta[axis] = -size * ray.inv_direction[axis];
+                t_delta[axis] = if march == March::SignedStep {
+                    size * ray.inv_direction[axis]
+                } else {
+                    -size * ray.inv_direction[axis]
+                };
             }
         }
         let mut entered_sign = if ray.direction[entered_axis] > 0.0 {
@@ -592,5 +633,34 @@ mod tests {
             ControlFlow::Continue(())
         });
         assert!(!any);
+    }
+
+    #[test]
+    fn students_marches_down_an_axis_by_hand() {
+        let grid = empty_grid();
+        // From x = 5 down the x axis through the row of cells at y = 1, z = 2: the course
+        // enters cell 3 at t = 1 and leaves each cell a unit of t later.
+        let ray = Ray::new(Vec3A::new(5.0, 1.5, 2.5), -Vec3A::X);
+        let cells = |march: March| {
+            let mut cells = Vec::new();
+            grid.walk_marching(&ray, 0.0, f32::INFINITY, march, |cell| {
+                cells.push((cell.index.x, cell.t_enter, cell.t_exit));
+                ControlFlow::Continue(())
+            });
+            cells
+        };
+        let course = [(3, 1.0, 2.0), (2, 2.0, 3.0), (1, 3.0, 4.0), (0, 4.0, 5.0)];
+        assert_eq!(cells(March::Course), course);
+        // The first crossing at the upper face, x = 4, already behind: the march is a cell
+        // ahead of the ray, and leaves the grid a cell early.
+        assert_eq!(
+            cells(March::UpperFaceFirst),
+            [(3, 1.0, 1.0), (2, 1.0, 2.0), (1, 2.0, 3.0), (0, 3.0, 4.0)]
+        );
+        // Each step's t negative: every crossing after the first is taken at once.
+        assert_eq!(
+            cells(March::SignedStep),
+            [(3, 1.0, 2.0), (2, 2.0, 1.0), (1, 1.0, 0.0), (0, 0.0, -1.0)]
+        );
     }
 }

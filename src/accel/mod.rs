@@ -17,7 +17,7 @@ pub(crate) fn test_uniform(state: &mut u64) -> f32 {
 }
 
 pub use bvh::{Bvh, LeafSize, PACKET, PacketBounds, PartLanes, ray_meets_box};
-pub use grid::{Grid, GridError};
+pub use grid::{Grid, GridError, March};
 pub use mesh::{ASKS_NOTHING, TriangleMesh};
 pub use world::{Carry, Hit, Item, Listing, Struck, World, WorldStats};
 

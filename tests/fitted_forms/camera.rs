@@ -802,3 +802,31 @@ fn a_transform_that_carries_the_ray_another_way_is_the_ray_transform() {
         3
     );
 }
+
+#[test]
+fn a_march_of_the_students_own_that_steps_wrongly_down_an_axis_is_the_grid_march() {
+    if common::later_dir("the fitted forms of assignment 5").is_none() {
+        return;
+    }
+    // Each step along an axis the ray runs down negative: once it first steps that way, it
+    // keeps stepping that way out of the grid.
+    assert_eq!(
+        later_named(
+            "grid_step_not_absolute",
+            &["output6_02b", "output6_08b", "output6_11b"],
+            "grid_march",
+            "form 1)"
+        ),
+        3
+    );
+    // The first crossing at the cell's upper face: that axis one cell ahead of the ray.
+    assert_eq!(
+        later_named(
+            "grid_upper_face_always",
+            &["output6_02b", "output6_05", "output6_14"],
+            "grid_march",
+            "form 0)"
+        ),
+        3
+    );
+}

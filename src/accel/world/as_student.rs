@@ -8,7 +8,7 @@ use glam::{Vec3, Vec3A};
 
 use super::{Found, Hit, Item, Listing, Nearest, World, search_limit};
 use crate::accel::grid::Primitive;
-use crate::accel::{Grid, TriangleMesh};
+use crate::accel::{Grid, March, TriangleMesh};
 use crate::geometry::{Plane, Ray, Sphere, Transform, intersect_sphere};
 
 /// What a hit lies on, in its object's own space, for [`World::intersect_noting`].
@@ -169,6 +169,31 @@ impl World {
                 }
             }
             if hit_here {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+        nearest.map(|n| self.hit(ray, n.t, n.found))
+    }
+
+    /// The grid's search with the march's steps set up as `march` says (a tracer whose march
+    /// steps wrongly along an axis the ray runs down: cells skipped, objects in them missed).
+    /// Without a grid, the course's search.
+    pub fn intersect_marched(&self, ray: &Ray, t_min: f32, march: March) -> Option<Hit> {
+        let Some(grid) = &self.grid else {
+            return self.intersect(ray, t_min);
+        };
+        let mut nearest = self.nearest_plane(ray, t_min);
+        let mut local = None;
+        grid.walk_marching(ray, t_min, search_limit(&nearest), march, |cell| {
+            for p in cell.primitives {
+                let limit = search_limit(&nearest);
+                if let Some(t) = self.intersect_primitive(p, ray, t_min, limit, &mut local) {
+                    Nearest::item(t, p.item, p.triangle).replaces(&mut nearest);
+                }
+            }
+            if nearest.is_some_and(|n| n.t <= cell.t_exit) {
                 ControlFlow::Break(())
             } else {
                 ControlFlow::Continue(())

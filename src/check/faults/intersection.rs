@@ -1,7 +1,7 @@
 //! Faults of the search for the nearest hit: the range of t it accepts.
 
 use super::{Candidate, Fault, LineScene, Planted};
-use crate::accel::{Carry, Hit, Listing, Struck};
+use crate::accel::{Carry, Hit, Listing, March, Struck};
 use crate::camera::Camera;
 use crate::geometry::{Plane, Ray, Transform, intersect_plane, sphere_roots};
 use crate::parse::description::{Projection, Shape};
@@ -68,6 +68,8 @@ pub enum HitFault {
     /// Each object under a Transform meets the ray carried into its space another way than
     /// the course's.
     RayCarried(Carry),
+    /// With a grid, the march's steps set up another way along an axis the ray runs down.
+    Marched(March),
 }
 
 /// The length of a normal of unit direction `normal` on an object placed by `transform`, as a
@@ -139,6 +141,7 @@ impl HitFault {
                 | HitFault::WalkedFromOutside
                 | HitFault::SphereRoot { .. }
                 | HitFault::RayCarried(_)
+                | HitFault::Marched(_)
         )
     }
 
@@ -165,6 +168,7 @@ impl HitFault {
                     })
             }
             HitFault::RayCarried(carry) => scene.world.intersect_carried(ray, t_min, carry),
+            HitFault::Marched(march) => scene.world.intersect_marched(ray, t_min, march),
             HitFault::Mailboxed => scene.world.intersect_mailboxed(ray, t_min),
             HitFault::ListedBy(listed) => scene.world.intersect_listed_by(listed, ray, t_min),
             HitFault::WalkedFromOutside => scene.world.intersect_walked_from_outside(ray, t_min),
@@ -732,6 +736,28 @@ pub(super) const RAY_TRANSFORM: Fault = Fault {
             .map(|carry| Planted::Hit(HitFault::RayCarried(carry))),
             [moved, moved, true],
         )
+    },
+};
+
+pub(super) const GRID_MARCH: Fault = Fault {
+    name: "grid_march",
+    assignment: 5,
+    sentence: "My grid march steps wrongly along an axis the ray runs down: its first crossing \
+               taken at the cell's upper face, as for an axis it runs up (form 0), or each \
+               step's t left as size / d, negative (form 1): cells are skipped, and the objects \
+               in them missed.",
+    look_for: "initializeRayMarch: along an axis with d < 0, the first crossing is at the \
+               current cell's lower face, min + i × size, the index steps by −1, and each step \
+               adds |size / d| to that axis's next t.",
+    candidates: |line: &LineScene| {
+        if grid_searched(line) && line.has_traced_picture() {
+            Candidate::forms(
+                [March::UpperFaceFirst, March::SignedStep]
+                    .map(|march| Planted::Hit(HitFault::Marched(march))),
+            )
+        } else {
+            Vec::new()
+        }
     },
 };
 

@@ -244,6 +244,7 @@ pub static FAULTS: &[Fault] = &[
     intersection::SPHERE_ROOT,
     intersection::RAY_TRANSFORM,
     intersection::GRID_FIRST_HIT,
+    intersection::GRID_MARCH,
     intersection::GRID_TRANSFORMED_BOX,
     intersection::GRID_CELLS_MISSED,
     intersection::GRID_RAYS_FROM_INSIDE,
