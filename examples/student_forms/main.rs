@@ -123,6 +123,9 @@ enum Form {
     /// traceRay intersects first and only then returns black for `bounces > max_bounces`: a
     /// mirror or glass ray one past the limit that meets nothing returns the background.
     BouncesTestedAfterTheHit,
+    /// Each mirror and glass ray traced with `traceRay(..., bounces, ...)`: the depth never
+    /// counted, so only the weight stops the recursion.
+    BouncesNeverCounted,
     /// traceRay intersects first, then tests `bounces > max_bounces` and `weight < cutoff`.
     LimitsTestedAfterTheHit,
     /// The shading sum started with `color = ambientLight`, the diffuse colour forgotten.
@@ -492,6 +495,7 @@ impl Form {
             "diffuse_never_clamped" => Form::DiffuseNeverClamped,
             "ambient_light_alone" => Form::AmbientLightAlone,
             "bounces_tested_after_the_hit" => Form::BouncesTestedAfterTheHit,
+            "bounces_never_counted" => Form::BouncesNeverCounted,
             "limits_tested_after_the_hit" => Form::LimitsTestedAfterTheHit,
             "ambient_in_loop_never_clamped" => Form::AmbientInLoopNeverClamped,
             "mirrors_in_the_light_loop" => Form::MirrorsInTheLightLoop,

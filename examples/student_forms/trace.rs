@@ -202,6 +202,7 @@ impl TraceSeam for Form {
         match self {
             Form::DepthCountedFromOne => bounces.saturating_sub(1),
             Form::OneBounceMore => bounces + 1,
+            Form::BouncesNeverCounted => u32::MAX,
             _ => bounces,
         }
     }

@@ -587,3 +587,21 @@ fn limits_tested_after_the_intersection_are_the_limits_tested_late() {
         2
     );
 }
+
+#[test]
+fn a_recursion_that_never_counts_its_bounces_is_the_bounces_uncounted() {
+    if common::later_dir("the fitted forms of assignment 4").is_none() {
+        return;
+    }
+    // traceRay(..., bounces, ...) for each mirror and glass ray: only -weight 0.01 stops the
+    // recursion, whatever -bounces says.
+    assert_eq!(
+        later_named(
+            "bounces_never_counted",
+            &["output4_04a", "output4_04b", "output4_06a", "output4_14a"],
+            "bounces_uncounted",
+            ""
+        ),
+        4
+    );
+}

@@ -214,6 +214,7 @@ pub static FAULTS: &[Fault] = &[
     rays::TOTAL_INTERNAL_REFLECTION,
     rays::REFRACTION_FORMULA,
     rays::BOUNCES_OFF_BY_ONE,
+    rays::BOUNCES_UNCOUNTED,
     rays::WEIGHT_CUTOFF,
     rays::LIMITS_TESTED_LATE,
     rays::SECONDARY_RAYS_MISSING,

@@ -671,6 +671,24 @@ pub(super) const REFRACTION_FORMULA: Fault = Fault {
     },
 };
 
+pub(super) const BOUNCES_UNCOUNTED: Fault = Fault {
+    name: "bounces_uncounted",
+    assignment: 4,
+    sentence: "My recursion never counts its bounces (each mirror and glass ray is traced with \
+               the depth it was spawned at): only -weight stops it.",
+    look_for: "traceRay: pass bounces + 1 to the traceRay of each mirror and glass ray, and stop \
+               once it passes -bounces.",
+    candidates: |line: &LineScene| {
+        // Without a cut-off weight such a recursion never ends: no picture to match.
+        let secondary = has_material(line, false) || has_material(line, true);
+        if line.has_image() && secondary && line.options.trace.cutoff_weight > 0.0 {
+            only(RayFault::Bounces(i32::MAX))
+        } else {
+            Vec::new()
+        }
+    },
+};
+
 pub(super) const BOUNCES_OFF_BY_ONE: Fault = Fault {
     name: "bounces_off_by_one",
     assignment: 4,
