@@ -253,7 +253,9 @@ impl Grid {
         grid_fill(&self.bounds, self.cells, self.cell_size, extent, margin, f);
     }
 
-    /// The primitives cell `index` lists.
+    /// The primitives cell `index` lists (`index` within [`Grid::cells`]: one outside the grid
+    /// panics).
+    #[inline]
     pub fn primitives(&self, index: UVec3) -> &[Primitive] {
         let c = self.cell_number(index);
         &self.entries[self.starts[c] as usize..self.starts[c + 1] as usize]
@@ -366,10 +368,9 @@ impl Grid {
                 2
             };
             let t_exit = t_next[axis].min(t_leave);
-            let c = self.cell_number(index);
             let cell = Cell {
                 index,
-                primitives: &self.entries[self.starts[c] as usize..self.starts[c + 1] as usize],
+                primitives: self.primitives(index),
                 t_enter: t_cell,
                 t_exit,
                 entered_axis,

@@ -189,6 +189,117 @@ fn what_an_escaped_mirror_ray_brings_is_the_seams_and_a_camera_miss_stays_the_ba
     );
 }
 
+/// A tracer's seams as check's faults set them, one at a time.
+#[derive(Clone, Copy, Default)]
+struct Seams {
+    past_limits: Option<bool>,
+    secondary_times: Option<f32>,
+    shadow_reversed: bool,
+}
+
+impl TraceSeam for Seams {
+    fn cast_past_limits(&self) -> Option<bool> {
+        self.past_limits
+    }
+
+    fn secondary_times(&self, _lights: usize) -> f32 {
+        self.secondary_times.unwrap_or(1.0)
+    }
+
+    fn shadow_direction(&self, light: &Illumination) -> Vec3A {
+        if self.shadow_reversed {
+            -light.to_light
+        } else {
+            light.to_light
+        }
+    }
+}
+
+#[test]
+fn rays_past_the_limits_bring_the_background_or_nothing() {
+    let trace = |text: &str, bounces, cutoff_weight, past_limits| {
+        let scene = scene(text);
+        let settings = TraceSettings {
+            bounces,
+            cutoff_weight,
+            ..TraceSettings::default()
+        };
+        let seams = Seams {
+            past_limits,
+            ..Seams::default()
+        };
+        let ray = Ray::new(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z);
+        Tracer::with_variant(&scene, settings, seams).trace(&ray, 0.0, &mut Scratch::default())
+    };
+    // A mirror under the open sky (reflective 1 0.5 0, |c| = 1.118): a ray one bounce past
+    // -bounces 0 brings the background, 0.5 0.25 1, times the mirror's colour.
+    let sky = "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 2 }
+         Background { color 0.5 0.25 1 ambientLight 1 1 1 }
+         Materials { numMaterials 1 Material { diffuseColor 0 0 0 reflectiveColor 1 0.5 0 } }
+         Group { numObjects 1 MaterialIndex 0 Plane { normal 0 0 1 offset 0 } }";
+    let background = Vec3A::new(0.5, 0.125, 0.0);
+    assert_eq!(trace(sky, 0, 0.0, None), Vec3A::ZERO);
+    assert_eq!(trace(sky, 0, 0.0, Some(false)), background);
+    // Below -weight: cast only where the weight is tested late too.
+    assert_eq!(trace(sky, 1, 2.0, Some(false)), Vec3A::ZERO);
+    assert_eq!(trace(sky, 1, 2.0, Some(true)), background);
+    // A ray past the limit that meets something (the red wall behind the camera) brings
+    // nothing: the mirror's own colour alone.
+    assert_eq!(
+        trace(MIRRORS, 0, 0.0, Some(false)),
+        Vec3A::new(0.1, 0.2, 0.3)
+    );
+}
+
+#[test]
+fn the_mirror_counted_per_light_and_the_shadow_ray_turned_around() {
+    // The mirror's reflection of the red wall, counted three times.
+    let scene_of_mirrors = scene(MIRRORS);
+    let settings = TraceSettings {
+        bounces: 1,
+        ..TraceSettings::default()
+    };
+    let thrice = Seams {
+        secondary_times: Some(3.0),
+        ..Seams::default()
+    };
+    let down = Ray::new(Vec3A::new(0.0, 0.0, 10.0), -Vec3A::Z);
+    let c = Tracer::with_variant(&scene_of_mirrors, settings, thrice).trace(
+        &down,
+        0.0,
+        &mut Scratch::default(),
+    );
+    assert!(
+        (c - Vec3A::new(0.7, 0.2, 0.3)).abs().max_element() < 1e-6,
+        "{c}"
+    );
+    // A white floor under a ball, lit from straight above: the point under the ball is in
+    // its shadow, unless the shadow ray looks down, away from the light.
+    let shadowed = scene(
+        "OrthographicCamera { center 0 10 0 direction 0 -1 0 up 0 0 1 size 2 }
+         Lights { numLights 1 DirectionalLight { direction 0 -1 0 color 1 1 1 } }
+         Background { color 0 0 0 ambientLight 0 0 0 }
+         Materials { numMaterials 1 Material { diffuseColor 1 1 1 } }
+         Group { numObjects 2 MaterialIndex 0
+             Plane { normal 0 1 0 offset 0 }
+             Sphere { center 0 2 0 radius 1 } }",
+    );
+    let settings = TraceSettings {
+        shadows: true,
+        ..TraceSettings::default()
+    };
+    let under = Ray::new(Vec3A::new(0.0, 0.5, 5.0), Vec3A::new(0.0, -0.5, -5.0));
+    let lit = |shadow_reversed| {
+        let seams = Seams {
+            shadow_reversed,
+            ..Seams::default()
+        };
+        Tracer::with_variant(&shadowed, settings, seams).trace(&under, 0.0, &mut Scratch::default())
+    };
+    assert_eq!(lit(false), Vec3A::ZERO);
+    assert_eq!(lit(true), Vec3A::ONE);
+}
+
 #[test]
 fn glass_without_shade_back_is_dark_inside() {
     // A clear glass slab seen head on in front of a white wall: the glass ray meets the

@@ -41,7 +41,9 @@ pub enum Carry {
     DirectionAsPoint,
     /// The origin carried as a direction, (o, 0): the inverse's translation left out.
     OriginAsDirection,
-    /// Both carried by the object's matrix, not by its inverse.
+    /// Both carried by the object's matrix, not by its inverse: the whole matrix, outer
+    /// Transforms times inner (a student's Transform that carries the ray by its own matrix at
+    /// each level of nested Transforms multiplies them the other way round).
     ByMatrix,
 }
 

@@ -18,10 +18,10 @@ pub enum RayFault {
     },
     /// Shadow rays toward a point light go on past the light.
     PastLight,
-    /// Shadow rays cast away from the light, along the way its light travels: toward every
-    /// light, or toward point lights alone.
+    /// Shadow rays cast away from the light, along the way its light travels: for every
+    /// light, or for point lights alone.
     ShadowReversed {
-        /// Only the shadow rays toward point lights.
+        /// Only the shadow rays of point lights.
         points_only: bool,
     },
     /// The limits tested after the ray's intersection: mirror and glass rays one bounce past
@@ -503,14 +503,14 @@ pub(super) const SHADOW_DIRECTION: Fault = Fault {
     sentence: "My shadow rays go away from the light, along the way its light travels (from the \
                light to the point, or a directional light's direction as the file gives it): \
                what lies behind the point casts the shadows, and a lit side shadows itself \
-               (form 0: toward every light; form 1: toward point lights alone).",
+               (form 0: for every light; form 1: for point lights alone).",
     look_for: "The shadow ray starts at the point and heads toward the light: the same unit \
                vector L as the diffuse term's (for a directional light, minus its direction).",
     candidates: |line: &LineScene| {
         if !line.has_image() || !line.options.trace.shadows || line.scene.lights.is_empty() {
             return Vec::new();
         }
-        // Toward point lights alone differs from every light only where both kinds shine.
+        // For point lights alone differs from every light only where both kinds shine.
         let directional = line
             .description
             .lights
@@ -675,11 +675,15 @@ pub(super) const BOUNCES_UNCOUNTED: Fault = Fault {
     name: "bounces_uncounted",
     assignment: 4,
     sentence: "My recursion never counts its bounces (each mirror and glass ray is traced with \
-               the depth it was spawned at): only -weight stops it.",
+               the depth it was spawned at): only -weight, or a ray's leaving the scene, stops \
+               it.",
     look_for: "traceRay: pass bounces + 1 to the traceRay of each mirror and glass ray, and stop \
                once it passes -bounces.",
     candidates: |line: &LineScene| {
-        // Without a cut-off weight such a recursion never ends: no picture to match.
+        // Without a cut-off weight such a recursion ends only where its rays leave the scene.
+        // (A ray trapped between surfaces whose colours are 1 or longer, so that its weight
+        // never shrinks, is cut where the tracer cuts every ray tree, at
+        // MAX_RAYS_PER_CAMERA_RAY; the student's program would not end: no picture matches.)
         let secondary = has_material(line, false) || has_material(line, true);
         if line.has_image() && secondary && line.options.trace.cutoff_weight > 0.0 {
             only(RayFault::Bounces(i32::MAX))

@@ -3,12 +3,12 @@
 //! specular terms with its shadow, and what mirrors and glass bring), so how the student's
 //! colours depend on those terms can be found without a render per guess. The family: the
 //! ambient term's weight, the power of each light's N·L, N·L clamped, taken whole (|N·L|) or as
-//! it is (a light behind the surface takes its light away), and
-//! the normal's length as a function over each object's surface (see
-//! [`crate::check::faults::normal_length`]). The fitted numbers name the faults: an ambient
-//! weight of 0 is `ambient_missing`, one of the number of lights `ambient_per_light`, a power of
-//! 2 `cosine_twice`, |N·L| `shade_back_abs`, N·L as it is `diffuse_unclamped`, a normal of any other length `normal_length`; a
-//! number that lands nowhere named names nothing.
+//! it is (a light behind the surface takes its light away), and the normal's length as a
+//! function over each object's surface (see [`crate::check::faults::normal_length`]). The
+//! fitted numbers name the faults: an ambient weight of 0 is `ambient_missing`, one of the
+//! number of lights `ambient_per_light`, a power of 2 `cosine_twice`, |N·L| `shade_back_abs`,
+//! N·L as it is `diffuse_unclamped`, a normal of any other length `normal_length`; a number
+//! that lands nowhere named names nothing.
 
 use glam::Vec3A;
 
@@ -595,8 +595,8 @@ fn name(
     let [ambient, power, a, b, n, x, y, z] = at;
     let divided = [x, y, z] != [c, l, q];
     let highlighted = highlight != HighlightForm::default();
-    let turned = cosine != Cosine::Clamped;
-    if ambient != 1.0 || power != 1.0 || turned || divided || highlighted {
+    let unclamped = cosine != Cosine::Clamped;
+    if ambient != 1.0 || power != 1.0 || unclamped || divided || highlighted {
         if ambient == 0.0 {
             faults.push(fault("ambient_missing")?);
         } else if ambient == lights as f64 && lights > 1 {
@@ -665,7 +665,7 @@ fn name(
                 numbers.push(("H scaled by", f64::from(highlight.half_scale)));
             }
         }
-        if ambient != 1.0 || power != 1.0 || turned {
+        if ambient != 1.0 || power != 1.0 || unclamped {
             numbers.push(("ambient weight", ambient));
             numbers.push(("power of N·L", power));
         }
