@@ -643,9 +643,6 @@ static ROUNDED: AtomicBool = AtomicBool::new(false);
 /// The line's samples a pixel (the student divides by it).
 static PIXEL_SAMPLES: AtomicU32 = AtomicU32::new(1);
 
-/// The scene's lights (the student's loop over them runs this many times).
-static LIGHTS: AtomicU32 = AtomicU32::new(0);
-
 fn run(args: Vec<String>) -> Result<(), String> {
     let (form, course) = args
         .split_first()
@@ -682,7 +679,6 @@ fn run(args: Vec<String>) -> Result<(), String> {
     let form = Form::named(form, camera.up.into(), raw_direction, hits, depth_near)
         .ok_or_else(|| format!("unknown form '{form}'"))?;
     PIXEL_SAMPLES.store(options.sampling.sampler.samples(), Ordering::Relaxed);
-    LIGHTS.store(scene.lights.len() as u32, Ordering::Relaxed);
     let pending = reserve_outputs(&options).map_err(|e| e.to_string())?;
     render_to_files(&options, &scene, form, pending).map_err(|e| e.to_string())?;
     Ok(())

@@ -290,14 +290,18 @@ impl TraceSeam for Form {
         }
     }
 
-    fn carried(&self, colour: Vec3A, transparent: bool, _surface: &Surface<'_>) -> Vec3A {
+    fn carried(
+        &self,
+        colour: Vec3A,
+        transparent: bool,
+        _surface: &Surface<'_>,
+        lights: usize,
+    ) -> Vec3A {
         match self {
             Form::MirrorColourTwice if !transparent => colour * colour,
             Form::GlassColourIgnored if transparent => Vec3A::ONE,
             Form::GlassNeverTraced if transparent => Vec3A::ZERO,
-            Form::MirrorsInTheLightLoop => {
-                colour * crate::LIGHTS.load(std::sync::atomic::Ordering::Relaxed) as f32
-            }
+            Form::MirrorsInTheLightLoop => colour * lights as f32,
             _ => colour,
         }
     }

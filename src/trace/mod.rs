@@ -179,17 +179,17 @@ pub trait TraceSeam: Copy + Send + Sync {
 
     /// What the colour a mirror ray (or, with `transparent`, a glass ray) brings back is
     /// multiplied by, the material's reflective (or transparent) colour being `colour`; its
-    /// other colours are `surface`'s, asked for only by a seam that needs them.
+    /// other colours are `surface`'s, and the scene's lights are `lights` (a tracer that adds
+    /// the ray's colour inside its loop over them), asked for only by a seam that needs them.
     #[inline(always)]
-    fn carried(&self, colour: Vec3A, _transparent: bool, _surface: &Surface<'_>) -> Vec3A {
+    fn carried(
+        &self,
+        colour: Vec3A,
+        _transparent: bool,
+        _surface: &Surface<'_>,
+        _lights: usize,
+    ) -> Vec3A {
         colour
-    }
-
-    /// How many times the colours of a hit's mirror and glass rays are added, the scene
-    /// having `lights` lights.
-    #[inline(always)]
-    fn secondary_times(&self, _lights: usize) -> f32 {
-        1.0
     }
 
     /// What a mirror ray (or, with `transparent`, a glass ray) that meets nothing brings back,
@@ -721,8 +721,9 @@ impl<'a, V: TraceSeam> Tracer<'a, V> {
             let unit = direction.normalize();
             let mut spawn = |colour: Vec3A, transparent: bool, direction: Vec3A| {
                 let weight = self.variant.ray_weight(branch.weight, colour);
-                let carried = self.variant.carried(colour, transparent, &surface)
-                    * self.variant.secondary_times(scene.lights.len());
+                let carried =
+                    self.variant
+                        .carried(colour, transparent, &surface, scene.lights.len());
                 let throughput = branch.throughput * carried;
                 let cutoff = self.variant.cutoff_weight(self.settings.cutoff_weight);
                 let worth = worth_tracing(cutoff, weight, throughput);

@@ -202,8 +202,14 @@ impl TraceSeam for Seams {
         self.past_limits
     }
 
-    fn secondary_times(&self, _lights: usize) -> f32 {
-        self.secondary_times.unwrap_or(1.0)
+    fn carried(
+        &self,
+        colour: Vec3A,
+        _transparent: bool,
+        _surface: &Surface<'_>,
+        _lights: usize,
+    ) -> Vec3A {
+        colour * self.secondary_times.unwrap_or(1.0)
     }
 
     fn shadow_direction(&self, light: &Illumination) -> Vec3A {

@@ -586,18 +586,22 @@ impl TraceSeam for Plant {
         })
     }
 
-    fn secondary_times(&self, lights: usize) -> f32 {
-        if self.rays().any(|r| r == RayFault::SecondaryPerLight) {
-            lights as f32
-        } else {
-            1.0
-        }
-    }
-
-    fn carried(&self, colour: Vec3A, transparent: bool, surface: &Surface<'_>) -> Vec3A {
-        self.rays()
+    fn carried(
+        &self,
+        colour: Vec3A,
+        transparent: bool,
+        surface: &Surface<'_>,
+        lights: usize,
+    ) -> Vec3A {
+        let carried = self
+            .rays()
             .find_map(|r| r.carried(colour, transparent, surface))
-            .unwrap_or(colour)
+            .unwrap_or(colour);
+        if self.rays().any(|r| r == RayFault::SecondaryPerLight) {
+            carried * lights as f32
+        } else {
+            carried
+        }
     }
 
     fn local_weight(&self, surface: &Surface<'_>) -> Vec3A {
