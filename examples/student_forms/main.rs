@@ -264,6 +264,9 @@ enum Form {
     FilterFromTopCorner,
     /// Noise's and Marble's values taken as the weight itself, not mapped by (1 + x) / 2.
     NoiseUnmapped,
+    /// Noise and Marble interpolated as `N * first + (1 - N) * second`: the materials'
+    /// places exchanged.
+    NoiseBlendedTheOtherWay,
     /// The Gaussian written `exp(-d² / σ²)`, the 2 left out, still cut at 2σ.
     GaussianWithoutTwo,
     /// The Gaussian written `exp(-d² / (2σ))`, σ not squared, still cut at 2σ.
@@ -533,6 +536,7 @@ impl Form {
             "filter_from_top_corner" => Form::FilterFromTopCorner,
             "gaussian_without_two" => Form::GaussianWithoutTwo,
             "noise_unmapped" => Form::NoiseUnmapped,
+            "noise_blended_the_other_way" => Form::NoiseBlendedTheOtherWay,
             "gaussian_sigma_unsquared" => Form::GaussianSigmaUnsquared,
             "texture_matrix_inverted" => Form::TextureMatrixInverted,
             "shadow_to_distance_squared" => Form::ShadowToDistanceSquared,

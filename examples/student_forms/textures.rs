@@ -101,6 +101,24 @@ pub(crate) fn noise_unmapped(texture: &Texture, point: Vec3A) -> f32 {
     weight.clamp(0.0, 1.0) as f32
 }
 
+/// The weight of the second material, the student's `N * first + (1 - N) * second` read as
+/// the course's `(1 - w) * first + w * second`: w = (1 - N) with N mapped onto 0…1 as the
+/// course maps it.
+pub(crate) fn noise_blended_the_other_way(texture: &Texture, point: Vec3A) -> f32 {
+    let p = texture.to_texture.transform_point3(point.as_dvec3());
+    let value = match texture.pattern {
+        Pattern::Noise { octaves } => octave_noise(p.x, p.y, p.z, octaves),
+        Pattern::Marble {
+            octaves,
+            frequency,
+            amplitude,
+        } => (frequency * p.x + amplitude * octave_noise(p.x, p.y, p.z, octaves)).sin(),
+        _ => return texture.weight(point),
+    };
+    let n = (value + 1.0) / 2.0;
+    (1.0 - n) as f32
+}
+
 /// A checkerboard whose cell along each axis is `cell(x)` (1 or 0), their parities added.
 pub(crate) fn checker(texture: &Texture, point: Vec3A, cell: impl Fn(f64) -> f64) -> f32 {
     let Pattern::Checkerboard = texture.pattern else {

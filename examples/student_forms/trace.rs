@@ -20,8 +20,8 @@ use raycast::trace::{BackFace, LightPlace, ThroughGlass, TraceSeam};
 
 use crate::Form;
 use crate::textures::{
-    checker, marble_along_y, marble_in_turns, noise_from_second_octave, noise_octaves_unweighed,
-    noise_unmapped,
+    checker, marble_along_y, marble_in_turns, noise_blended_the_other_way,
+    noise_from_second_octave, noise_octaves_unweighed, noise_unmapped,
 };
 
 impl TraceSeam for Form {
@@ -100,6 +100,7 @@ impl TraceSeam for Form {
             Form::NoiseFromSecondOctave => surface.weigh(point, noise_from_second_octave),
             Form::NoiseOctavesUnweighed => surface.weigh(point, noise_octaves_unweighed),
             Form::NoiseUnmapped => surface.weigh(point, noise_unmapped),
+            Form::NoiseBlendedTheOtherWay => surface.weigh(point, noise_blended_the_other_way),
             Form::TextureMatrixInverted => {
                 surface.weigh(point, |texture, point| {
                     let inverse = texture.to_texture.inverse();

@@ -343,3 +343,20 @@ fn an_ambient_term_that_asks_a_texture_for_one_colour_is_the_texture_ambient() {
         2
     );
 }
+
+#[test]
+fn noise_interpolated_the_other_way_round_is_the_blend_swapped() {
+    if common::later_dir("the fitted forms of assignment 6").is_none() {
+        return;
+    }
+    // N·first + (1 − N)·second, written out with the sine: the marble cubes and the vase.
+    assert_eq!(
+        later_named(
+            "noise_blended_the_other_way",
+            &["output6_15.tga", "output6_17a.tga"],
+            "texture_blend_swapped",
+            ""
+        ),
+        2
+    );
+}

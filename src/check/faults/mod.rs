@@ -232,6 +232,7 @@ pub static FAULTS: &[Fault] = &[
     textures::CHECKER_TRUNCATION,
     textures::TEXTURE_TRANSFORM,
     textures::NOISE_CONSTANTS,
+    textures::TEXTURE_BLEND_SWAPPED,
     textures::TEXTURE_AMBIENT,
     pictures::DEPTH_RANGE,
     intersection::NORMAL_TRANSFORM,

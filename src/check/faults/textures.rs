@@ -35,6 +35,9 @@ pub enum TextureFault {
     /// its materials' diffuse colours interpolated at the point: black (`None`), or its first
     /// material's (`Some(false)`) or second's (`Some(true)`).
     AmbientOfOneSide(Option<bool>),
+    /// Noise's, Marble's and Wood's two materials exchanged: the first where the pattern is 1,
+    /// the second where it is 0.
+    BlendSwapped,
     /// Noise, Marble and Wood with other numbers than the file's.
     Constants {
         /// How many octaves more (or fewer) are summed.
@@ -178,6 +181,10 @@ impl TextureFault {
                     },
                 )
             }
+            TextureFault::BlendSwapped => match texture.pattern {
+                Pattern::Checkerboard => texture.weight(point),
+                _ => 1.0 - texture.weight(point),
+            },
             TextureFault::AmbientOfOneSide(_) => texture.weight(point),
             TextureFault::MatrixIgnored => texture.pattern.weight(world),
             TextureFault::MatrixInverted => texture
@@ -296,6 +303,26 @@ pub(super) const NOISE_CONSTANTS: Fault = Fault {
                 )
             })
             .collect()
+    },
+};
+
+pub(super) const TEXTURE_BLEND_SWAPPED: Fault = Fault {
+    name: "texture_blend_swapped",
+    assignment: 6,
+    sentence: "My Noise and Marble put their two materials the other way round: the first \
+               material where the pattern's value is 1 and the second where it is 0 \
+               (interpolated as N·first + (1 − N)·second).",
+    look_for: "The interpolation of a noise texture: (1 − N)·first + N·second, N the pattern's \
+               value mapped onto 0…1, so that the first material of the file shows where N is \
+               0 (the checkerboard, whose parity the course leaves open, is not this).",
+    candidates: |line: &LineScene| {
+        if shows_noise(line) {
+            vec![Candidate::plain(Planted::Texture(
+                TextureFault::BlendSwapped,
+            ))]
+        } else {
+            Vec::new()
+        }
     },
 };
 
