@@ -25,6 +25,7 @@ pub(super) fn diagnose_line(
     graded: &mut [Graded],
     stop: &'static StopFlag,
     spent: Option<Duration>,
+    likely: &[&'static str],
 ) {
     if let Some(budget) = spent {
         let why = format!("the --budget of {} s was spent", budget.as_secs_f64());
@@ -35,7 +36,8 @@ pub(super) fn diagnose_line(
         find_original_pictures(variation, options, line, graded, stop);
     }
     accept_allowed_answers(options, suite, line, graded, stop);
-    explain_by_simulation(options, suite, line, graded, stop);
+    let search = simulate::Search::Whole { likely };
+    explain_by_simulation(options, suite, line, graded, stop, search);
     for g in graded.iter_mut().filter(|g| open_failure(g)) {
         let (Some(actual), Some(reference)) = (&g.actual, &g.reference) else {
             continue;
@@ -52,6 +54,28 @@ pub(super) fn diagnose_line(
             });
         }
     }
+}
+
+/// Looks again at a diagnosed line's pictures that no fault explained, with the run's likely
+/// faults as they are once every line is diagnosed (`now`; the line's diagnosis had `before`):
+/// the pairs among them it did not try. See [`simulate::Search::LikelyPairs`].
+pub(super) fn pair_again(
+    options: &CheckOptions,
+    suite: &Suite,
+    line: &Line,
+    graded: &mut [Graded],
+    stop: &'static StopFlag,
+    (before, now): (&[&'static str], &[&'static str]),
+) {
+    if graded.iter().any(|g| open_failure(g) && unexplained(g)) {
+        let search = simulate::Search::LikelyPairs { before, now };
+        explain_by_simulation(options, suite, line, graded, stop, search);
+    }
+}
+
+/// Whether a failing picture's diagnosis names no fault: what it says are guesses.
+pub(super) fn unexplained(g: &Graded) -> bool {
+    g.actual.is_some() && !matches!(g.findings.first(), Some(Finding::Fault(_)))
 }
 
 /// Whether a picture fails for a cause still to be found: not one found to be the original
@@ -196,11 +220,13 @@ fn explain_by_simulation(
     line: &Line,
     graded: &mut [Graded],
     stop: &'static StopFlag,
+    search: simulate::Search<'_>,
 ) {
+    let again = matches!(search, simulate::Search::LikelyPairs { .. });
     let failing: Vec<(usize, &Image, Option<&Image>)> = graded
         .iter()
         .enumerate()
-        .filter(|(_, g)| open_failure(g))
+        .filter(|(_, g)| open_failure(g) && (!again || unexplained(g)))
         .filter_map(|(k, g)| {
             g.actual
                 .as_ref()
@@ -211,10 +237,13 @@ fn explain_by_simulation(
         return;
     }
     let indices: Vec<usize> = failing.iter().map(|&(k, _, _)| k).collect();
-    let simulated = match simulate::simulate(line, &suite.scenes, &failing, options.rule, stop) {
+    let rule = options.rule;
+    let simulated = match simulate::simulate(line, &suite.scenes, &failing, rule, stop, search) {
         Ok(simulated) => simulated,
-        // A line raycast cannot render itself leaves the guesses as they are.
+        // A line raycast cannot render itself leaves the guesses as they are; so does a stop
+        // during the pairs' second look, which only adds to a finished diagnosis.
         Err(simulate::Unfinished::Failed(_)) => return,
+        Err(simulate::Unfinished::Stopped) if again => return,
         // Asked to stop: the pixels' guesses stand, said to be no more than that.
         Err(simulate::Unfinished::Stopped) => {
             let why = if stop.is_out_of_time() {

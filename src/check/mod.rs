@@ -688,22 +688,43 @@ pub fn grade_renderer(
     let lines: Vec<std::sync::Mutex<Vec<Graded>>> =
         lines.into_iter().map(std::sync::Mutex::new).collect();
     progress.diagnosing(order.len());
-    in_suite_order(&prepared.pool, order.len(), |k| {
+    let spent = || {
+        caged
+            .budget
+            .and_then(|(start, budget)| (start.elapsed() >= budget).then_some(budget))
+    };
+    // Each line's diagnosis tries the run's likely faults as they are when it begins, kept:
+    // a line left with pictures no fault explains is looked at again below.
+    let likely_before = in_suite_order(&prepared.pool, order.len(), |k| {
         let number = order[k];
         let mut graded = lines[number].lock().unwrap_or_else(|e| e.into_inner());
-        let spent = caged
-            .budget
-            .and_then(|(start, budget)| (start.elapsed() >= budget).then_some(budget));
-        diagnosis::diagnose_line(
-            options,
-            suite,
-            &suite.lines[number],
-            &mut graded,
-            stop,
-            spent,
-        );
-        keep_pictures(&mut graded);
+        let likely = likely::faults();
+        let line = &suite.lines[number];
+        diagnosis::diagnose_line(options, suite, line, &mut graded, stop, spent(), &likely);
+        let unexplained = graded
+            .iter()
+            .any(|g| g.status == Status::Fail && diagnosis::unexplained(g));
+        if !unexplained {
+            keep_pictures(&mut graded);
+        }
         progress.diagnosed();
+        unexplained.then_some(likely)
+    });
+    // The likely pairs once more, with the likely faults of every line: a pair that explained
+    // a line diagnosed late is tried on the lines diagnosed before it.
+    let likely_now = likely::faults();
+    in_suite_order(&prepared.pool, order.len(), |k| {
+        let Some(before) = &likely_before[k] else {
+            return;
+        };
+        let number = order[k];
+        let mut graded = lines[number].lock().unwrap_or_else(|e| e.into_inner());
+        if !stop.is_set() && spent().is_none() {
+            let line = &suite.lines[number];
+            let likely = (&before[..], &likely_now[..]);
+            diagnosis::pair_again(options, suite, line, &mut graded, stop, likely);
+        }
+        keep_pictures(&mut graded);
     });
     let graded: Vec<(Vec<Graded>, Option<Confinement>)> = lines
         .into_iter()

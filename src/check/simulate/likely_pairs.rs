@@ -15,8 +15,23 @@ const LIKELY_FAULTS: usize = 3;
 /// ...each at its renders nearest the picture, this many.
 const NEAREST: usize = 2;
 
-/// For each picture no single fault explains (`explained` false), the pairs of the run's likely
-/// faults, each at its renders of the line nearest the picture (`singles`, in the order of
+/// The run's `likely` faults (commonest first) that can change the line's pictures (have
+/// `candidates`), the first [`LIKELY_FAULTS`].
+pub(super) fn likely_faults(
+    candidates: &[(&'static Fault, Candidate)],
+    likely: &[&'static str],
+) -> Vec<&'static str> {
+    likely
+        .iter()
+        .copied()
+        .filter(|&name| candidates.iter().any(|(fault, _)| fault.name == name))
+        .take(LIKELY_FAULTS)
+        .collect()
+}
+
+/// For each picture no single fault explains (`explained` false), the pairs of the line's
+/// `likely` faults (of [`likely_faults`]) but those of two faults both among `tried_before`,
+/// each at its renders of the line nearest the picture (`singles`, in the order of
 /// `candidates`), tried with `look` until one matches under `rule`; the pictures they match are
 /// marked explained. Returns every pair tried.
 pub(super) fn likely_pairs(
@@ -31,12 +46,8 @@ pub(super) fn likely_pairs(
         &[(&'static str, f64)],
         Option<&Screen>,
     ) -> Result<Look, Unfinished>,
+    (likely, tried_before): (&[&'static str], &[&'static str]),
 ) -> Result<Vec<Tried>, Unfinished> {
-    let likely: Vec<&'static str> = crate::check::likely::faults()
-        .into_iter()
-        .filter(|&name| candidates.iter().any(|(fault, _)| fault.name == name))
-        .take(LIKELY_FAULTS)
-        .collect();
     let mut tried: Vec<Tried> = Vec::new();
     for k in 0..explained.len() {
         if explained[k] {
@@ -53,6 +64,9 @@ pub(super) fn likely_pairs(
         };
         'pairs: for (rank, &first) in likely.iter().enumerate() {
             for &second in &likely[rank + 1..] {
+                if tried_before.contains(&first) && tried_before.contains(&second) {
+                    continue;
+                }
                 for a in nearest(first) {
                     for b in nearest(second) {
                         let (plant, faults, parameters) =

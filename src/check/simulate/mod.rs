@@ -70,6 +70,27 @@ pub struct Simulated {
     pub near: Option<FaultMatch>,
 }
 
+/// Which search a line's diagnosis runs.
+#[derive(Debug, Clone, Copy)]
+pub enum Search<'a> {
+    /// The whole search, the run's `likely` faults so far (commonest first, as
+    /// [`super::likely::faults`] gave them when the line's diagnosis began) tried first.
+    Whole {
+        /// The likely faults.
+        likely: &'a [&'static str],
+    },
+    /// Once every line is diagnosed: only the pairs of the run's `likely` faults now, for the
+    /// pictures the whole search left unexplained, and only those it did not try (its own
+    /// likely faults were `before`). Which line finished first then decides nothing: a pair
+    /// found on a later line is tried on the earlier ones too.
+    LikelyPairs {
+        /// The likely faults when the whole search ran.
+        before: &'a [&'static str],
+        /// The likely faults once every line is diagnosed.
+        now: &'a [&'static str],
+    },
+}
+
 /// The share of the pixels by which a picture differs from its reference that the nearest
 /// fault's render must account for to be named as a guess where no render passes.
 pub const NEAR_SHARE: f64 = 0.9;
@@ -633,8 +654,21 @@ pub fn simulate(
     failing: &[(usize, &Image, Option<&Image>)],
     rule: Rule,
     stop: &'static StopFlag,
+    search: Search<'_>,
 ) -> Result<Vec<Simulated>, Unfinished> {
-    let kept = cache::LineRenders::of(line, scenes).diagnosis("faults", &[], failing, rule);
+    // The whole search's record stands for the line whatever the likely faults were: the
+    // pairs' search that may follow it is kept apart, by the faults it pairs.
+    let asked = match search {
+        Search::Whole { .. } => "faults".to_string(),
+        Search::LikelyPairs { before, now } => {
+            format!(
+                "likely pairs of {} after {}",
+                now.join(","),
+                before.join(",")
+            )
+        }
+    };
+    let kept = cache::LineRenders::of(line, scenes).diagnosis(&asked, &[], failing, rule);
     if let Some(simulated) = kept
         .read()
         .and_then(|text| remembered::simulated_from(&text, failing.len()))
@@ -642,7 +676,7 @@ pub fn simulate(
         simulated.iter().for_each(count_explained);
         return Ok(simulated);
     }
-    let simulated = on_every_core(|| simulate_here(line, scenes, failing, rule, stop))?;
+    let simulated = on_every_core(|| simulate_here(line, scenes, failing, rule, stop, search))?;
     kept.keep(&remembered::simulated_text(&simulated));
     Ok(simulated)
 }
@@ -653,6 +687,7 @@ fn simulate_here(
     failing: &[(usize, &Image, Option<&Image>)],
     rule: Rule,
     stop: &'static StopFlag,
+    search: Search<'_>,
 ) -> Result<Vec<Simulated>, Unfinished> {
     let prepared = prepare(line, scenes).map_err(Unfinished::Failed)?;
     // Each failing picture, and each undone by a fault that only moves its pixels (a flip, the
@@ -814,15 +849,18 @@ fn simulate_here(
                 .map(move |candidate| (fault, candidate))
         })
         .collect();
+    let likely = match search {
+        Search::Whole { likely } => likely,
+        Search::LikelyPairs { before, now } => {
+            return likely_pairs_again(&candidates, before, now, &renders, failing, rule, &look);
+        }
+    };
     // The likely first: where a fault that explained pictures before in this run draws each
     // failing picture itself, and the line's kept record says which faults draw a picture
     // alike to it, those are compared and nothing else is rendered.
     let planted = |index: usize| format!("{:?}", Plant::one(candidates[index].1.planted));
     let mut exact: Vec<Option<Vec<FaultMatch>>> = vec![None; failing.len()];
-    for name in super::likely::faults()
-        .into_iter()
-        .filter(|_| !renders.by_chance())
-    {
+    for &name in likely.iter().filter(|_| !renders.by_chance()) {
         for index in (0..candidates.len()).filter(|&i| candidates[i].0.name == name) {
             if exact.iter().all(Option::is_some) {
                 break;
@@ -921,6 +959,7 @@ fn simulate_here(
         rule,
         renders.screen.as_ref(),
         &look,
+        (&likely_pairs::likely_faults(&candidates, likely), &[]),
     )?;
     // The fits, for the pictures no listed fault explains: a mistake written in a form the
     // library does not list is named by where the fit's numbers land.
@@ -1174,6 +1213,77 @@ fn simulate_here(
         tried.extend(pairs);
     }
     account(&mut results, failing, &renders);
+    Ok(results)
+}
+
+/// [`Search::LikelyPairs`]: the likely faults' renders of the line, and the pairs among them
+/// the whole search did not try, for each picture (every one left unexplained by it).
+fn likely_pairs_again(
+    candidates: &[(&'static Fault, Candidate)],
+    before: &[&'static str],
+    now: &[&'static str],
+    renders: &Renders<'_>,
+    failing: &[(usize, &Image, Option<&Image>)],
+    rule: Rule,
+    look: &(
+         impl Fn(
+        Plant,
+        &[&'static Fault],
+        &[(&'static str, f64)],
+        Option<&Screen>,
+    ) -> Result<Look, Unfinished>
+         + Sync
+     ),
+) -> Result<Vec<Simulated>, Unfinished> {
+    let before = likely_pairs::likely_faults(candidates, before);
+    let now = likely_pairs::likely_faults(candidates, now);
+    let mut results = vec![Simulated::default(); failing.len()];
+    let new_pair = now.iter().enumerate().any(|(rank, first)| {
+        now[rank + 1..]
+            .iter()
+            .any(|second| !before.contains(first) || !before.contains(second))
+    });
+    if !new_pair {
+        return Ok(results);
+    }
+    let candidates: Vec<(&'static Fault, Candidate)> = candidates
+        .iter()
+        .copied()
+        .filter(|(fault, _)| now.contains(&fault.name))
+        .collect();
+    let singles: Vec<Look> = candidates
+        .par_iter()
+        .map(|&(fault, candidate)| {
+            let parameters: Vec<_> = candidate.parameter.into_iter().collect();
+            look(
+                Plant::one(candidate.planted),
+                &[fault],
+                &parameters,
+                renders.screen.as_ref(),
+            )
+        })
+        .collect::<Result<_, _>>()?;
+    let mut explained = vec![false; failing.len()];
+    let pairs = likely_pairs::likely_pairs(
+        &candidates,
+        &singles,
+        &mut explained,
+        rule,
+        renders.screen.as_ref(),
+        look,
+        (&now, &before),
+    )?;
+    let tried: Vec<Tried> = singles
+        .into_iter()
+        .map(|single| single.tried)
+        .chain(pairs)
+        .collect();
+    for (k, result) in results.iter_mut().enumerate() {
+        if explained[k] {
+            result.matches = matches(&tried, k, rule);
+        }
+    }
+    account(&mut results, failing, renders);
     Ok(results)
 }
 
