@@ -95,3 +95,74 @@ fn named_alike(out: &str) {
         );
     }
 }
+
+#[test]
+fn a_difference_on_one_material_alone_is_said_to_lie_there() {
+    let Some(later) = common::later_dir("the simulation tests") else {
+        return;
+    };
+    // A tracer that reads the sphere's material (the first of two) wrong: no fault of the
+    // library draws it.
+    let line = read_wrong(&later, "diffuseColor 1 0 0", "diffuseColor 1 0.4 0");
+    assert!(
+        line.ends_with(
+            "Where it differs: 100% of the differing pixels show the scene's material 1 of 2 \
+             (counted in the file's order), and the other materials' pixels nearly all match: \
+             look first at what your tracer does otherwise for the objects of that material: the \
+             material's terms, or the objects' shapes."
+        ),
+        "{line}"
+    );
+    // The light read wrong: both materials differ, and nothing is said of where.
+    let line = read_wrong(&later, "color 0.8 0.8 0.8", "color 0.6 0.6 0.6");
+    assert!(!line.contains("Where it differs"), "{line}");
+}
+
+/// The line check prints for 4_01 drawn by raycast from the scene with `from` replaced by
+/// `to`: a tracer that reads the scene wrong.
+fn read_wrong(later: &Path, from: &str, to: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    // Open to the renderer's user: the renderer reads the scene changed from here.
+    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+    let suite = suite(
+        dir.path(),
+        later,
+        &[
+            "raytracer -input scene4_01_sphere_shadow.txt -size 200 200 -output output4_01.tga -shadows",
+        ],
+    );
+    let scene = std::fs::read_to_string(later.join("scenes/scene4_01_sphere_shadow.txt")).unwrap();
+    assert!(scene.contains(from));
+    let changed = dir.path().join("changed.txt");
+    std::fs::write(&changed, scene.replace(from, to)).unwrap();
+    std::fs::set_permissions(&changed, std::fs::Permissions::from_mode(0o644)).unwrap();
+    let renderer = dir.path().join("reads_wrong.sh");
+    std::fs::write(
+        &renderer,
+        format!(
+            "#!/bin/sh\nfor a do shift; case \"$a\" in *scene4_01_sphere_shadow.txt) a={}; \
+             esac; set -- \"$@\" \"$a\"; done\nexec {} \"$@\"\n",
+            changed.display(),
+            common::open_raycast()
+        ),
+    )
+    .unwrap();
+    std::fs::set_permissions(&renderer, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let output = Command::new(RAYCAST)
+        .args(["check", suite.to_str().unwrap(), "--renderer"])
+        .arg(&renderer)
+        .args([
+            "--allow-read",
+            common::open_raycast_folder(),
+            "--allow-read",
+        ])
+        .arg(&changed)
+        .env("RAYCAST_CACHE_DIR", dir.path().join("cache"))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&output.stdout);
+    out.lines()
+        .find(|l| l.starts_with("FAIL   output4_01, "))
+        .unwrap_or_else(|| panic!("{out}"))
+        .to_string()
+}

@@ -262,11 +262,22 @@ fn explain_by_simulation(
     };
     for (k, result) in indices.into_iter().zip(simulated) {
         if result.matches.is_empty() {
+            let g = &mut graded[k];
             // The nearest fault leads the pixels' guesses, itself a guess.
             if let Some(near) = result.near {
-                let g = &mut graded[k];
                 g.findings.insert(0, Finding::Near(near));
                 g.explanation = finding::explain(&g.findings, g.picture);
+            }
+            // Where the difference lies, when one material holds it.
+            // (Said once: by the whole search, not by the pairs' second look.)
+            let shaded = g.picture == PictureKind::Image && !again;
+            if let (true, Some(actual), Some(reference)) = (shaded, &g.actual, &g.reference) {
+                let tolerance = options.rule.tolerance;
+                if let Some(located) =
+                    simulate::locate(line, &suite.scenes, actual, reference, tolerance)
+                {
+                    g.explanation = format!("{} {}", g.explanation, located.sentence());
+                }
             }
             continue;
         }
