@@ -103,7 +103,12 @@ fn a_difference_on_one_material_alone_is_said_to_lie_there() {
     };
     // A tracer that reads the sphere's material (the first of two) wrong: no fault of the
     // library draws it.
-    let line = read_wrong(&later, "diffuseColor 1 0 0", "diffuseColor 1 0.4 0");
+    let line = read_wrong(
+        &later,
+        SPHERE_SHADOW,
+        "diffuseColor 1 0 0",
+        "diffuseColor 1 0.4 0",
+    );
     assert!(
         line.ends_with(
             "Where it differs: 100% of the differing pixels show the scene's material 1 of 2 \
@@ -114,34 +119,53 @@ fn a_difference_on_one_material_alone_is_said_to_lie_there() {
         "{line}"
     );
     // The light read wrong: both materials differ, and nothing is said of where.
-    let line = read_wrong(&later, "color 0.8 0.8 0.8", "color 0.6 0.6 0.6");
+    let line = read_wrong(
+        &later,
+        SPHERE_SHADOW,
+        "color 0.8 0.8 0.8",
+        "color 0.6 0.6 0.6",
+    );
     assert!(!line.contains("Where it differs"), "{line}");
+    // One light of three read wrong (the red one dimmer): where it reaches.
+    let line = read_wrong(&later, COLOURED_SHADOWS, "color 0.9 0 0", "color 0.6 0 0");
+    assert!(
+        line.ends_with(
+            "Where it differs: 100% of the differing pixels are reached by the scene's light 1 \
+             of 3 (counted in the file's order; a directional light), and the pixels it does not \
+             reach nearly all match: look first at what your tracer does with that light: its \
+             direction, its colour, its dimming, its shadow rays."
+        ),
+        "{line}"
+    );
 }
 
-/// The line check prints for 4_01 drawn by raycast from the scene with `from` replaced by
-/// `to`: a tracer that reads the scene wrong.
-fn read_wrong(later: &Path, from: &str, to: &str) -> String {
+const SPHERE_SHADOW: (&str, &str) = (
+    "scene4_01_sphere_shadow.txt",
+    "raytracer -input scene4_01_sphere_shadow.txt -size 200 200 -output output4_01.tga -shadows",
+);
+const COLOURED_SHADOWS: (&str, &str) = (
+    "scene4_02_colored_shadows.txt",
+    "raytracer -input scene4_02_colored_shadows.txt -size 200 200 -output output4_02.tga -shadows",
+);
+
+/// The line check prints for the picture of `(scene, line)` drawn by raycast from the scene
+/// with `from` replaced by `to`: a tracer that reads the scene wrong.
+fn read_wrong(later: &Path, (scene, line): (&str, &str), from: &str, to: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     // Open to the renderer's user: the renderer reads the scene changed from here.
     std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
-    let suite = suite(
-        dir.path(),
-        later,
-        &[
-            "raytracer -input scene4_01_sphere_shadow.txt -size 200 200 -output output4_01.tga -shadows",
-        ],
-    );
-    let scene = std::fs::read_to_string(later.join("scenes/scene4_01_sphere_shadow.txt")).unwrap();
-    assert!(scene.contains(from));
+    let suite = suite(dir.path(), later, &[line]);
+    let text = std::fs::read_to_string(later.join("scenes").join(scene)).unwrap();
+    assert!(text.contains(from));
     let changed = dir.path().join("changed.txt");
-    std::fs::write(&changed, scene.replace(from, to)).unwrap();
+    std::fs::write(&changed, text.replacen(from, to, 1)).unwrap();
     std::fs::set_permissions(&changed, std::fs::Permissions::from_mode(0o644)).unwrap();
     let renderer = dir.path().join("reads_wrong.sh");
     std::fs::write(
         &renderer,
         format!(
-            "#!/bin/sh\nfor a do shift; case \"$a\" in *scene4_01_sphere_shadow.txt) a={}; \
-             esac; set -- \"$@\" \"$a\"; done\nexec {} \"$@\"\n",
+            "#!/bin/sh\nfor a do shift; case \"$a\" in *{scene}) a={}; esac; set -- \"$@\" \
+             \"$a\"; done\nexec {} \"$@\"\n",
             changed.display(),
             common::open_raycast()
         ),
@@ -161,8 +185,14 @@ fn read_wrong(later: &Path, from: &str, to: &str) -> String {
         .output()
         .unwrap();
     let out = String::from_utf8_lossy(&output.stdout);
+    let picture = line
+        .split(' ')
+        .skip_while(|&w| w != "-output")
+        .nth(1)
+        .unwrap();
+    let picture = picture.trim_end_matches(".tga");
     out.lines()
-        .find(|l| l.starts_with("FAIL   output4_01, "))
+        .find(|l| l.starts_with(&format!("FAIL   {picture}, ")))
         .unwrap_or_else(|| panic!("{out}"))
         .to_string()
 }
