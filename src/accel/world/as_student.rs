@@ -187,20 +187,7 @@ impl World {
             return self.intersect(ray, t_min);
         };
         let mut nearest = self.nearest_plane(ray, t_min);
-        let mut local = None;
-        grid.walk_marching(ray, t_min, search_limit(&nearest), march, |cell| {
-            for p in cell.primitives {
-                let limit = search_limit(&nearest);
-                if let Some(t) = self.intersect_primitive(p, ray, t_min, limit, &mut local) {
-                    Nearest::item(t, p.item, p.triangle).replaces(&mut nearest);
-                }
-            }
-            if nearest.is_some_and(|n| n.t <= cell.t_exit) {
-                ControlFlow::Break(())
-            } else {
-                ControlFlow::Continue(())
-            }
-        });
+        self.grid_nearest(grid, ray, t_min, &mut nearest, &mut (), march);
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 
@@ -223,7 +210,7 @@ impl World {
             return self.intersect(ray, t_min);
         };
         let mut nearest = self.nearest_plane(ray, t_min);
-        self.grid_nearest(grid, ray, t_min, &mut nearest, &mut ());
+        self.grid_nearest(grid, ray, t_min, &mut nearest, &mut (), March::Course);
         nearest.map(|n| self.hit(ray, n.t, n.found))
     }
 

@@ -2,7 +2,7 @@
 //! through its own tree.
 
 use super::{Hit, Nearest, World, search_limit};
-use crate::accel::Tally;
+use crate::accel::{March, Tally};
 use crate::geometry::{Ray, intersect_plane};
 use crate::simd::Portable;
 
@@ -33,7 +33,7 @@ impl World {
         tally: &mut T,
     ) {
         match &self.grid {
-            Some(grid) => self.grid_nearest(grid, ray, t_min, nearest, tally),
+            Some(grid) => self.grid_nearest(grid, ray, t_min, nearest, tally, March::Course),
             None => self.nearest_item(ray, t_min, nearest, tally),
         }
     }
