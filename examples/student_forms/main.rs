@@ -8,6 +8,7 @@
 //! FORM is one of the names in [`Form::named`]; the rest is the course's command line.
 
 mod camera;
+mod highlight;
 mod picture;
 mod reading;
 mod sample;
@@ -267,6 +268,8 @@ enum Form {
     /// Noise and Marble interpolated as `N * first + (1 - N) * second`: the materials'
     /// places exchanged.
     NoiseBlendedTheOtherWay,
+    /// The highlight `ks * (N.H)^q` added as it is, never times the light's colour.
+    HighlightWithoutLightColour,
     /// The Gaussian written `exp(-d² / σ²)`, the 2 left out, still cut at 2σ.
     GaussianWithoutTwo,
     /// The Gaussian written `exp(-d² / (2σ))`, σ not squared, still cut at 2σ.
@@ -537,6 +540,7 @@ impl Form {
             "gaussian_without_two" => Form::GaussianWithoutTwo,
             "noise_unmapped" => Form::NoiseUnmapped,
             "noise_blended_the_other_way" => Form::NoiseBlendedTheOtherWay,
+            "highlight_without_light_colour" => Form::HighlightWithoutLightColour,
             "gaussian_sigma_unsquared" => Form::GaussianSigmaUnsquared,
             "texture_matrix_inverted" => Form::TextureMatrixInverted,
             "shadow_to_distance_squared" => Form::ShadowToDistanceSquared,

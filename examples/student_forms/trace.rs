@@ -19,6 +19,7 @@ use raycast::scene::{
 use raycast::trace::{BackFace, LightPlace, ThroughGlass, TraceSeam};
 
 use crate::Form;
+use crate::highlight::{keep_specular, unlit_highlight};
 use crate::textures::{
     checker, marble_along_y, marble_in_turns, noise_blended_the_other_way,
     noise_from_second_octave, noise_octaves_unweighed, noise_unmapped,
@@ -120,6 +121,10 @@ impl TraceSeam for Form {
             Form::CheckerAbsolute => surface.weigh(point, |texture, point| {
                 checker(texture, point, |x| 1.0 - x.abs().floor().rem_euclid(2.0))
             }),
+            Form::HighlightWithoutLightColour => {
+                surface.weigh(point, Texture::weight);
+                keep_specular(surface);
+            }
             _ => surface.weigh(point, Texture::weight),
         }
     }
@@ -245,6 +250,9 @@ impl TraceSeam for Form {
         };
         if !highlighted {
             return shade(normal, falloff, Highlight::Own(|_| 0.0));
+        }
+        if let Form::HighlightWithoutLightColour = self {
+            return unlit_highlight(shade, normal, falloff);
         }
         if let Form::NormalTurnedToTheLight = self {
             let towards = if normal.dot(to_light) < 0.0 {

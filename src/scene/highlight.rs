@@ -75,27 +75,41 @@ pub enum HighlightColour {
     Diffuse,
     /// White: the light's colour alone.
     White,
+    /// The material's `specularColor`, but not times the light's colour: every light's
+    /// highlight as a white light's at full strength.
+    Unlit,
 }
 
 impl HighlightColour {
     /// Every colour, the course's first.
-    pub const ALL: [HighlightColour; 3] = [
+    pub const ALL: [HighlightColour; 4] = [
         HighlightColour::Specular,
         HighlightColour::Diffuse,
         HighlightColour::White,
+        HighlightColour::Unlit,
     ];
 
     /// The other colours, in the order of `specular_colour`'s forms.
-    pub const OTHERS: [HighlightColour; 2] = [HighlightColour::Diffuse, HighlightColour::White];
+    pub const OTHERS: [HighlightColour; 3] = [
+        HighlightColour::Diffuse,
+        HighlightColour::White,
+        HighlightColour::Unlit,
+    ];
 
     /// The colour it takes on a material of these `diffuse` and `specular` colours.
     #[inline]
     pub fn of(self, diffuse: Vec3A, specular: Vec3A) -> Vec3A {
         match self {
-            HighlightColour::Specular => specular,
+            HighlightColour::Specular | HighlightColour::Unlit => specular,
             HighlightColour::Diffuse => diffuse,
             HighlightColour::White => Vec3A::ONE,
         }
+    }
+
+    /// Whether the highlight is multiplied by the light's colour, as the course's is.
+    #[inline]
+    pub fn lit(self) -> bool {
+        self != HighlightColour::Unlit
     }
 
     /// Its form of `specular_colour` (none for the course's).

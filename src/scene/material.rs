@@ -369,7 +369,13 @@ impl Phong {
             if falloff == SpecularFalloff::Fade {
                 term *= n_dot_l;
             }
-            colour += highlight.colour().of(self.diffuse, self.specular) * term;
+            let highlight_colour = highlight.colour();
+            let highlight = highlight_colour.of(self.diffuse, self.specular) * term;
+            if !highlight_colour.lit() {
+                // A student's highlight, left out of the light's colour (check's fault).
+                return colour * light + highlight;
+            }
+            colour += highlight;
         }
         colour * light
     }

@@ -507,6 +507,23 @@ fn a_highlight_of_another_colour_is_the_specular_colour() {
         later_named("highlight_left_white", &lines, "specular_colour", "form 1)"),
         9
     );
+    // ks (N·H)^q added as it is, the light's colour left out (the student's own Blinn term):
+    // under grey, coloured and point lights.
+    assert_eq!(
+        later_named(
+            "highlight_without_light_colour",
+            &[
+                "scene3_09",
+                "scene3_12",
+                "scene4_07",
+                "scene6_12",
+                "scene6_14"
+            ],
+            "specular_colour",
+            "form 2)"
+        ),
+        6
+    );
 }
 
 #[test]

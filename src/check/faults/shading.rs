@@ -536,19 +536,28 @@ pub(super) const SPECULAR_COLOUR: Fault = Fault {
     name: "specular_colour",
     assignment: 3,
     sentence: "My highlight takes the wrong colour: the material's diffuse colour (form 0), or \
-               white, the light's colour alone (form 1), not its specularColor.",
-    look_for: "The specular term: k_s (N·H)^q times the light's colour, k_s being the \
+               white, the light's colour alone (form 1), not its specularColor; or its \
+               specularColor not times the light's colour (form 2: k_s (N·H)^q added as it is, \
+               so a dim, coloured or distant light makes a full highlight).",
+    look_for: "The specular term: k_s (N·H)^q times the light's colour (the `col` \
+               getIllumination returns, a point light's dimming in it), k_s being the \
                material's specularColor.",
     candidates: |line: &LineScene| {
         if !highlights_show(line) {
             return Vec::new();
         }
         // A form shows only where a material with a highlight takes another colour with it.
+        // Form 2 only where a light is not white at full strength.
+        let unlit_shows = line.scene.lights.iter().any(|light| match light {
+            Light::Directional { colour, .. } => *colour != Vec3A::ONE,
+            Light::Point { .. } => true,
+        });
         let shows = |colour: HighlightColour| {
             line.description.materials.iter().any(|m| match m {
                 MaterialSpec::Phong(p) if p.specular != glam::Vec3::ZERO => {
                     let specular = p.specular.into();
                     colour.of(p.diffuse.into(), specular) != specular
+                        || (!colour.lit() && unlit_shows)
                 }
                 _ => false,
             })
