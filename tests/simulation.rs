@@ -103,11 +103,15 @@ fn a_difference_on_one_material_alone_is_said_to_lie_there() {
     };
     // A tracer that reads the sphere's material (the first of two) wrong: no fault of the
     // library draws it.
-    let line = read_wrong(
+    let (line, place) = read_wrong(
         &later,
         SPHERE_SHADOW,
         "diffuseColor 1 0 0",
         "diffuseColor 1 0.4 0",
+    );
+    assert_eq!(
+        place,
+        serde_json::json!({"place": "material", "number": 1, "of": 2, "share": 1.0, "has": []})
     );
     assert!(
         line.ends_with(
@@ -119,15 +123,20 @@ fn a_difference_on_one_material_alone_is_said_to_lie_there() {
         "{line}"
     );
     // The light read wrong: both materials differ, and nothing is said of where.
-    let line = read_wrong(
+    let (line, place) = read_wrong(
         &later,
         SPHERE_SHADOW,
         "color 0.8 0.8 0.8",
         "color 0.6 0.6 0.6",
     );
     assert!(!line.contains("Where it differs"), "{line}");
+    assert_eq!(place, serde_json::Value::Null);
     // One light of three read wrong (the red one dimmer): where it reaches.
-    let line = read_wrong(&later, COLOURED_SHADOWS, "color 0.9 0 0", "color 0.6 0 0");
+    let (line, place) = read_wrong(&later, COLOURED_SHADOWS, "color 0.9 0 0", "color 0.6 0 0");
+    assert_eq!(
+        place,
+        serde_json::json!({"place": "light", "number": 1, "of": 3, "share": 1.0, "point": false})
+    );
     assert!(
         line.ends_with(
             "Where it differs: 100% of the differing pixels are reached by the scene's light 1 \
@@ -149,8 +158,14 @@ const COLOURED_SHADOWS: (&str, &str) = (
 );
 
 /// The line check prints for the picture of `(scene, line)` drawn by raycast from the scene
-/// with `from` replaced by `to`: a tracer that reads the scene wrong.
-fn read_wrong(later: &Path, (scene, line): (&str, &str), from: &str, to: &str) -> String {
+/// with `from` replaced by `to` (a tracer that reads the scene wrong), and the picture's
+/// `where` in `summary.json`.
+fn read_wrong(
+    later: &Path,
+    (scene, line): (&str, &str),
+    from: &str,
+    to: &str,
+) -> (String, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
     // Open to the renderer's user: the renderer reads the scene changed from here.
     std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
@@ -181,6 +196,8 @@ fn read_wrong(later: &Path, (scene, line): (&str, &str), from: &str, to: &str) -
             "--allow-read",
         ])
         .arg(&changed)
+        .arg("--report")
+        .arg(dir.path().join("report"))
         .env("RAYCAST_CACHE_DIR", dir.path().join("cache"))
         .output()
         .unwrap();
@@ -191,8 +208,11 @@ fn read_wrong(later: &Path, (scene, line): (&str, &str), from: &str, to: &str) -
         .nth(1)
         .unwrap();
     let picture = picture.trim_end_matches(".tga");
-    out.lines()
+    let said = out
+        .lines()
         .find(|l| l.starts_with(&format!("FAIL   {picture}, ")))
         .unwrap_or_else(|| panic!("{out}"))
-        .to_string()
+        .to_string();
+    let summary = common::summary_of(&dir.path().join("report"));
+    (said, summary["images"][0]["where"].clone())
 }

@@ -273,15 +273,16 @@ fn explain_by_simulation(
             let shaded = g.picture == PictureKind::Image && !again;
             if let (true, Some(actual), Some(reference)) = (shaded, &g.actual, &g.reference) {
                 let tolerance = options.rule.tolerance;
-                if let Some(located) =
-                    simulate::locate(line, &suite.scenes, actual, reference, tolerance)
-                {
+                g.located = simulate::locate(line, &suite.scenes, actual, reference, tolerance);
+                if let Some(located) = &g.located {
                     g.explanation = format!("{} {}", g.explanation, located.sentence());
                 }
             }
             continue;
         }
         let g = &mut graded[k];
+        // Explained (by the pairs' second look, where the first said where it differs).
+        g.located = None;
         g.findings = result.matches.into_iter().map(Finding::Fault).collect();
         g.explanation = finding::explain(&g.findings, g.picture);
     }

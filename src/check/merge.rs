@@ -69,6 +69,7 @@ fn graded_of(value: &Value) -> Option<Graded> {
             value["output"].as_u64()? as usize,
         ),
         moved_from: None,
+        located: super::Located::from_json(&value["where"]),
         accepted: super::choices::Acceptance::from_json(&value["accepted"]),
     })
 }

@@ -57,6 +57,7 @@ pub use report::{Pictures, Staging, write_report};
 pub use rule::{Comparison, Rule, compare};
 pub use scratch::{Scratch, remove_all_now as remove_scratch_now};
 pub use simulate::FaultMatch;
+pub use simulate::{Located, Place};
 pub use suite::{Line, PictureKind, Suite};
 pub use untrusted::visible;
 pub use vary::{Variation, VariedSuite, student_seed};
@@ -204,6 +205,9 @@ pub struct Graded {
     /// explains the most pictures), so that shards' findings can be put back in the order
     /// simulation found them.
     pub moved_from: Option<usize>,
+    /// Where a failing picture no fault explains differs: the material or light its
+    /// difference lies on, where one holds it.
+    pub located: Option<Located>,
     /// A picture that differs from raycast's answer to a question the course leaves open, and
     /// passes because the course allows the tracer's (or leaves it free).
     pub accepted: Option<choices::Acceptance>,
@@ -232,6 +236,7 @@ impl Graded {
             points: 1.0,
             line: (line.number, k),
             moved_from: None,
+            located: None,
             accepted: None,
         }
     }
@@ -1301,6 +1306,7 @@ pub fn summary_json(checked: &Checked, groups: &[Group], rule: Rule) -> serde_js
                 "diff": g.pictures.diff,
             },
             "verdict_moved_from": g.moved_from,
+            "where": g.located.as_ref().map(Located::json),
             "accepted": g.accepted.as_ref().map(choices::Acceptance::json),
             "worst_pixel": g.worst_pixel.as_ref().map(|w| serde_json::json!({
                 "x": w.x, "y": w.y, "difference": w.difference, "ray_tree": w.ray_tree,

@@ -279,6 +279,7 @@ mod tests {
             points: 1.0,
             line: (0, 0),
             moved_from: None,
+            located: None,
             accepted: None,
         }
     }

@@ -58,6 +58,51 @@ pub struct Located {
 }
 
 impl Located {
+    /// As `summary.json` carries it (`where`): `place` (`material` or `light`), its `number`
+    /// in the file (from 1) and how many the file lists (`of`), the `share` of the differing
+    /// pixels it holds, and what a material `has` or whether a light is a `point` light.
+    pub fn json(&self) -> serde_json::Value {
+        match &self.place {
+            Place::Material { number, of, has } => serde_json::json!({
+                "place": "material", "number": number, "of": of, "share": self.share,
+                "has": has,
+            }),
+            Place::Light { number, of, point } => serde_json::json!({
+                "place": "light", "number": number, "of": of, "share": self.share,
+                "point": point,
+            }),
+        }
+    }
+
+    /// A place as [`Located::json`] wrote it (a shard's `summary.json`); `None` for what it
+    /// does not read as one.
+    pub fn from_json(value: &serde_json::Value) -> Option<Located> {
+        let count = |key: &str| value[key].as_u64().map(|n| n as usize);
+        let (number, of) = (count("number")?, count("of")?);
+        let place = match value["place"].as_str()? {
+            "material" => Place::Material {
+                number,
+                of,
+                // What a material has is one of a few phrases of this file's own.
+                has: value["has"]
+                    .as_array()?
+                    .iter()
+                    .map(|said| HAS.iter().copied().find(|&h| Some(h) == said.as_str()))
+                    .collect::<Option<_>>()?,
+            },
+            "light" => Place::Light {
+                number,
+                of,
+                point: value["point"].as_bool()?,
+            },
+            _ => return None,
+        };
+        Some(Located {
+            place,
+            share: value["share"].as_f64()?,
+        })
+    }
+
     /// The sentence the explanation ends with.
     pub fn sentence(&self) -> String {
         let share = self.share * 100.0;
@@ -212,23 +257,32 @@ fn reaches(
         .occluded(&shadow, near, shadow_end(lit.distance))
 }
 
-/// What a material has that a plain diffuse one does not, as the file names it.
+/// What a material may have that a plain diffuse one does not, as the file names it: a
+/// highlight, a mirror, glass, then each texture.
+const HAS: [&str; 7] = [
+    "a highlight (specularColor)",
+    "a mirror (reflectiveColor)",
+    "glass (transparentColor)",
+    "a texture (Checkerboard)",
+    "a texture (Noise)",
+    "a texture (Marble)",
+    "a texture (Wood)",
+];
+
+/// What `material` has of [`HAS`].
 fn what_it_has(material: &MaterialSpec) -> Vec<&'static str> {
     match material {
-        MaterialSpec::Phong(phong) => [
-            (phong.specular, "a highlight (specularColor)"),
-            (phong.reflective, "a mirror (reflectiveColor)"),
-            (phong.transparent, "glass (transparentColor)"),
-        ]
-        .into_iter()
-        .filter(|(colour, _)| *colour != glam::Vec3::ZERO)
-        .map(|(_, said)| said)
-        .collect(),
+        MaterialSpec::Phong(phong) => [phong.specular, phong.reflective, phong.transparent]
+            .into_iter()
+            .zip(HAS)
+            .filter(|(colour, _)| *colour != glam::Vec3::ZERO)
+            .map(|(_, said)| said)
+            .collect(),
         MaterialSpec::Texture(texture) => vec![match texture.pattern {
-            Pattern::Checkerboard => "a texture (Checkerboard)",
-            Pattern::Noise { .. } => "a texture (Noise)",
-            Pattern::Marble { .. } => "a texture (Marble)",
-            Pattern::Wood { .. } => "a texture (Wood)",
+            Pattern::Checkerboard => HAS[3],
+            Pattern::Noise { .. } => HAS[4],
+            Pattern::Marble { .. } => HAS[5],
+            Pattern::Wood { .. } => HAS[6],
         }],
     }
 }
@@ -263,6 +317,9 @@ mod tests {
             },
             share: 1.0,
         };
+        for located in [&material, &light] {
+            assert_eq!(Located::from_json(&located.json()).as_ref(), Some(located));
+        }
         assert_eq!(
             light.sentence(),
             "Where it differs: 100% of the differing pixels are reached by the scene's light 2 \

@@ -34,7 +34,7 @@ use draws::{
     drawn_alike, plant_spreads, plant_spreads_kept, plant_spreads_of_rows, seeded_spreads, slots_of,
 };
 pub use draws::{drawn_by_chance, spreads};
-pub use located::locate;
+pub use located::{Located, Place, locate};
 pub use matches::FaultMatch;
 use matches::{matches, reproduced};
 use undone::PERMUTATIONS;
