@@ -18,6 +18,8 @@ use crate::shade::Image;
 /// faults whose render matches, and raycast's account of the pixel that differs most. Once
 /// `stop` is set, or `spent` says the renderer's budget is, the pictures not yet diagnosed say
 /// so and keep their guesses from the pixels.
+/// Returns whether the faults were read from the cache's record of an earlier run (whose
+/// search tried that run's likely faults, not `likely`).
 pub(super) fn diagnose_line(
     options: &CheckOptions,
     suite: &Suite,
@@ -26,18 +28,18 @@ pub(super) fn diagnose_line(
     stop: &'static StopFlag,
     spent: Option<Duration>,
     likely: &[&'static str],
-) {
+) -> bool {
     if let Some(budget) = spent {
         let why = format!("the --budget of {} s was spent", budget.as_secs_f64());
         not_finished(graded.iter_mut().filter(|g| g.status == Status::Fail), &why);
-        return;
+        return false;
     }
     if let Some(variation) = &options.varied {
         find_original_pictures(variation, options, line, graded, stop);
     }
     accept_allowed_answers(options, suite, line, graded, stop);
     let search = simulate::Search::Whole { likely };
-    explain_by_simulation(options, suite, line, graded, stop, search);
+    let remembered = explain_by_simulation(options, suite, line, graded, stop, search);
     for g in graded.iter_mut().filter(|g| open_failure(g)) {
         let (Some(actual), Some(reference)) = (&g.actual, &g.reference) else {
             continue;
@@ -54,6 +56,7 @@ pub(super) fn diagnose_line(
             });
         }
     }
+    remembered
 }
 
 /// Looks again at a diagnosed line's pictures that no fault explained, with the run's likely
@@ -67,15 +70,16 @@ pub(super) fn pair_again(
     stop: &'static StopFlag,
     (before, now): (&[&'static str], &[&'static str]),
 ) {
-    if graded.iter().any(|g| open_failure(g) && unexplained(g)) {
+    if before != now && graded.iter().any(|g| open_failure(g) && unexplained(g)) {
         let search = simulate::Search::LikelyPairs { before, now };
         explain_by_simulation(options, suite, line, graded, stop, search);
     }
 }
 
-/// Whether a failing picture's diagnosis names no fault: what it says are guesses.
+/// Whether a failing picture's diagnosis names no fault and no fact of the run: what it says
+/// are guesses.
 pub(super) fn unexplained(g: &Graded) -> bool {
-    g.actual.is_some() && !matches!(g.findings.first(), Some(Finding::Fault(_)))
+    g.actual.is_some() && g.findings.first().is_none_or(Finding::is_guess)
 }
 
 /// Whether a picture fails for a cause still to be found: not one found to be the original
@@ -221,7 +225,7 @@ fn explain_by_simulation(
     graded: &mut [Graded],
     stop: &'static StopFlag,
     search: simulate::Search<'_>,
-) {
+) -> bool {
     let again = matches!(search, simulate::Search::LikelyPairs { .. });
     let failing: Vec<(usize, &Image, Option<&Image>)> = graded
         .iter()
@@ -234,32 +238,33 @@ fn explain_by_simulation(
         })
         .collect();
     if failing.is_empty() {
-        return;
+        return false;
     }
     let indices: Vec<usize> = failing.iter().map(|&(k, _, _)| k).collect();
     let rule = options.rule;
-    let simulated = match simulate::simulate(line, &suite.scenes, &failing, rule, stop, search) {
-        Ok(simulated) => simulated,
-        // A line raycast cannot render itself leaves the guesses as they are; so does a stop
-        // during the pairs' second look, which only adds to a finished diagnosis.
-        Err(simulate::Unfinished::Failed(_)) => return,
-        Err(simulate::Unfinished::Stopped) if again => return,
-        // Asked to stop: the pixels' guesses stand, said to be no more than that.
-        Err(simulate::Unfinished::Stopped) => {
-            let why = if stop.is_out_of_time() {
-                "check's --deadline came"
-            } else {
-                "check was interrupted"
-            };
-            let cut_short = graded
-                .iter_mut()
-                .enumerate()
-                .filter(|(k, _)| indices.contains(k))
-                .map(|(_, g)| g);
-            not_finished(cut_short, why);
-            return;
-        }
-    };
+    let (simulated, remembered) =
+        match simulate::simulate(line, &suite.scenes, &failing, rule, stop, search) {
+            Ok(simulated) => simulated,
+            // A line raycast cannot render itself leaves the guesses as they are; so does a
+            // stop during the pairs' second look, which only adds to a finished diagnosis.
+            Err(simulate::Unfinished::Failed(_)) => return false,
+            Err(simulate::Unfinished::Stopped) if again => return false,
+            // Asked to stop: the pixels' guesses stand, said to be no more than that.
+            Err(simulate::Unfinished::Stopped) => {
+                let why = if stop.is_out_of_time() {
+                    "check's --deadline came"
+                } else {
+                    "check was interrupted"
+                };
+                let cut_short = graded
+                    .iter_mut()
+                    .enumerate()
+                    .filter(|(k, _)| indices.contains(k))
+                    .map(|(_, g)| g);
+                not_finished(cut_short, why);
+                return false;
+            }
+        };
     for (k, result) in indices.into_iter().zip(simulated) {
         if result.matches.is_empty() {
             let g = &mut graded[k];
@@ -268,9 +273,9 @@ fn explain_by_simulation(
                 g.findings.insert(0, Finding::Near(near));
                 g.explanation = finding::explain(&g.findings, g.picture);
             }
-            // Where the difference lies, when one material holds it.
-            // (Said once: by the whole search, not by the pairs' second look.)
-            let shaded = g.picture == PictureKind::Image && !again;
+            // Where the difference lies, when one material or light holds it. (Said once: by
+            // the whole search, not by the pairs' second look; not once asked to stop.)
+            let shaded = g.picture == PictureKind::Image && !again && !stop.is_set();
             if let (true, Some(actual), Some(reference)) = (shaded, &g.actual, &g.reference) {
                 let tolerance = options.rule.tolerance;
                 g.located = simulate::locate(line, &suite.scenes, actual, reference, tolerance);
@@ -286,4 +291,5 @@ fn explain_by_simulation(
         g.findings = result.matches.into_iter().map(Finding::Fault).collect();
         g.explanation = finding::explain(&g.findings, g.picture);
     }
+    remembered
 }

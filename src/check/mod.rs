@@ -705,7 +705,8 @@ pub fn grade_renderer(
         let mut graded = lines[number].lock().unwrap_or_else(|e| e.into_inner());
         let likely = likely::faults();
         let line = &suite.lines[number];
-        diagnosis::diagnose_line(options, suite, line, &mut graded, stop, spent(), &likely);
+        let remembered =
+            diagnosis::diagnose_line(options, suite, line, &mut graded, stop, spent(), &likely);
         let unexplained = graded
             .iter()
             .any(|g| g.status == Status::Fail && diagnosis::unexplained(g));
@@ -713,7 +714,8 @@ pub fn grade_renderer(
             keep_pictures(&mut graded);
         }
         progress.diagnosed();
-        unexplained.then_some(likely)
+        // A record of an earlier run tried that run's likely pairs: which, it does not say.
+        unexplained.then(|| if remembered { Vec::new() } else { likely })
     });
     // The likely pairs once more, with the likely faults of every line: a pair that explained
     // a line diagnosed late is tried on the lines diagnosed before it.

@@ -550,7 +550,11 @@ pub(super) const SPECULAR_COLOUR: Fault = Fault {
         // Form 2 only where a light is not white at full strength.
         let unlit_shows = line.scene.lights.iter().any(|light| match light {
             Light::Directional { colour, .. } => *colour != Vec3A::ONE,
-            Light::Point { .. } => true,
+            Light::Point {
+                colour,
+                attenuation,
+                ..
+            } => *colour != Vec3A::ONE || *attenuation != [1.0, 0.0, 0.0],
         });
         let shows = |colour: HighlightColour| {
             line.description.materials.iter().any(|m| match m {

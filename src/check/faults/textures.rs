@@ -309,7 +309,7 @@ pub(super) const NOISE_CONSTANTS: Fault = Fault {
 pub(super) const TEXTURE_BLEND_SWAPPED: Fault = Fault {
     name: "texture_blend_swapped",
     assignment: 6,
-    sentence: "My Noise and Marble put their two materials the other way round: the first \
+    sentence: "My Noise, Marble or Wood puts its two materials the other way round: the first \
                material where the pattern's value is 1 and the second where it is 0 \
                (interpolated as N·first + (1 − N)·second).",
     look_for: "The interpolation of a noise texture: (1 − N)·first + N·second, N the pattern's \

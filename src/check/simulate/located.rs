@@ -139,9 +139,10 @@ impl Located {
     }
 }
 
-/// Where the shaded picture `actual` of `line` (its image `image`) differs from `reference`
-/// by more than `tolerance`, when that is the objects of one material (see [`CONFINED`]);
-/// `None` otherwise, or where the line cannot be read.
+/// Where the shaded picture `actual` of `line` differs from `reference` by more than
+/// `tolerance`, when that is the objects of one material or, where the scene has two lights or
+/// more, the points one light reaches (see [`CONFINED`]); `None` otherwise, or where the line
+/// cannot be read.
 pub fn locate(
     line: &Line,
     scenes: &Path,

@@ -83,8 +83,10 @@ pub enum Search<'a> {
     },
     /// Once every line is diagnosed: only the pairs of the run's `likely` faults now, for the
     /// pictures the whole search left unexplained, and only those it did not try (its own
-    /// likely faults were `before`). Which line finished first then decides nothing: a pair
-    /// found on a later line is tried on the earlier ones too.
+    /// likely faults were `before`; none where its record was read from the cache). Which
+    /// line finished first then decides less: a pair found on a later line is tried on the
+    /// earlier ones too (not on pictures drawn by chance, whose faults that place samples
+    /// are compared otherwise).
     LikelyPairs {
         /// The likely faults when the whole search ran.
         before: &'a [&'static str],
@@ -648,8 +650,9 @@ impl Tried {
 type Parameters = Vec<(&'static str, f64)>;
 
 /// For each of `failing` (the index of an image among the line's outputs, and the student's
-/// picture of it), the faults whose render matches it. Ends between renders, and within one,
-/// once `stop` is set.
+/// picture of it), the faults whose render matches it, and whether that was read from the
+/// cache's record of an earlier run (whose search tried the likely faults of that run, not
+/// `search`'s). Ends between renders, and within one, once `stop` is set.
 pub fn simulate(
     line: &Line,
     scenes: &Path,
@@ -657,7 +660,7 @@ pub fn simulate(
     rule: Rule,
     stop: &'static StopFlag,
     search: Search<'_>,
-) -> Result<Vec<Simulated>, Unfinished> {
+) -> Result<(Vec<Simulated>, bool), Unfinished> {
     // The whole search's record stands for the line whatever the likely faults were: the
     // pairs' search that may follow it is kept apart, by the faults it pairs.
     let asked = match search {
@@ -676,11 +679,11 @@ pub fn simulate(
         .and_then(|text| remembered::simulated_from(&text, failing.len()))
     {
         simulated.iter().for_each(count_explained);
-        return Ok(simulated);
+        return Ok((simulated, true));
     }
     let simulated = on_every_core(|| simulate_here(line, scenes, failing, rule, stop, search))?;
     kept.keep(&remembered::simulated_text(&simulated));
-    Ok(simulated)
+    Ok((simulated, false))
 }
 
 fn simulate_here(
@@ -1240,6 +1243,9 @@ fn likely_pairs_again(
     let before = likely_pairs::likely_faults(candidates, before);
     let now = likely_pairs::likely_faults(candidates, now);
     let mut results = vec![Simulated::default(); failing.len()];
+    if renders.by_chance() {
+        return Ok(results);
+    }
     let new_pair = now.iter().enumerate().any(|(rank, first)| {
         now[rank + 1..]
             .iter()
