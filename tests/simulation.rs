@@ -25,17 +25,31 @@ fn suite(dir: &Path, later: &Path, lines: &[&str]) -> std::path::PathBuf {
 }
 
 fn planted(dir: &Path, faults: &str) -> std::path::PathBuf {
-    let path = dir.join("planted.sh");
-    std::fs::write(
-        &path,
-        format!(
-            "#!/bin/sh\nexec {} \"$@\" -fault {faults}\n",
-            common::open_raycast()
-        ),
-    )
-    .unwrap();
-    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
-    path
+    let script = format!(
+        "#!/bin/sh\nexec {} \"$@\" -fault {faults}\n",
+        common::open_raycast()
+    );
+    executable(&dir.join("planted.sh"), &script)
+}
+
+/// `script` written to `path`, which every user may run.
+fn executable(path: &Path, script: &str) -> std::path::PathBuf {
+    std::fs::write(path, script).unwrap();
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path.to_path_buf()
+}
+
+/// What `raycast check SUITE --renderer RENDERER` prints with `args` after, its cache in `dir`.
+fn check(suite: &Path, renderer: &Path, args: &[&std::ffi::OsStr], dir: &Path) -> String {
+    let output = Command::new(RAYCAST)
+        .args(["check", suite.to_str().unwrap(), "--renderer"])
+        .arg(renderer)
+        .args(["--allow-read", common::open_raycast_folder()])
+        .args(args)
+        .env("RAYCAST_CACHE_DIR", dir.join("cache"))
+        .output()
+        .unwrap();
+    String::from_utf8_lossy(&output.stdout).into_owned()
 }
 
 #[test]
@@ -60,19 +74,12 @@ fn a_pair_late_in_the_library_is_found_and_named_alike_on_every_picture() {
         // Twice on one cache: the second run reads the first's records of each line's
         // search, which tried the first run's likely faults.
         for _ in 0..2 {
-            let output = Command::new(RAYCAST)
-                .args(["check", suite.to_str().unwrap(), "--renderer"])
-                .arg(&renderer)
-                .args([
-                    "--allow-read",
-                    common::open_raycast_folder(),
-                    "--jobs",
-                    jobs,
-                ])
-                .env("RAYCAST_CACHE_DIR", dir.path().join("cache"))
-                .output()
-                .unwrap();
-            let out = String::from_utf8_lossy(&output.stdout);
+            let out = check(
+                &suite,
+                &renderer,
+                &["--jobs".as_ref(), jobs.as_ref()],
+                dir.path(),
+            );
             named_alike(&out);
         }
     }
@@ -179,33 +186,21 @@ fn read_wrong(
     let changed = dir.path().join("changed.txt");
     std::fs::write(&changed, text.replacen(from, to, 1)).unwrap();
     std::fs::set_permissions(&changed, std::fs::Permissions::from_mode(0o644)).unwrap();
-    let renderer = dir.path().join("reads_wrong.sh");
-    std::fs::write(
-        &renderer,
-        format!(
-            "#!/bin/sh\nfor a do shift; case \"$a\" in *{scene}) a={}; esac; set -- \"$@\" \
-             \"$a\"; done\nexec {} \"$@\"\n",
-            changed.display(),
-            common::open_raycast()
-        ),
-    )
-    .unwrap();
-    std::fs::set_permissions(&renderer, std::fs::Permissions::from_mode(0o755)).unwrap();
-    let output = Command::new(RAYCAST)
-        .args(["check", suite.to_str().unwrap(), "--renderer"])
-        .arg(&renderer)
-        .args([
-            "--allow-read",
-            common::open_raycast_folder(),
-            "--allow-read",
-        ])
-        .arg(&changed)
-        .arg("--report")
-        .arg(dir.path().join("report"))
-        .env("RAYCAST_CACHE_DIR", dir.path().join("cache"))
-        .output()
-        .unwrap();
-    let out = String::from_utf8_lossy(&output.stdout);
+    let script = format!(
+        "#!/bin/sh\nfor a do shift; case \"$a\" in *{scene}) a={}; esac; set -- \"$@\" \
+         \"$a\"; done\nexec {} \"$@\"\n",
+        changed.display(),
+        common::open_raycast()
+    );
+    let renderer = executable(&dir.path().join("reads_wrong.sh"), &script);
+    let report = dir.path().join("report");
+    let args = [
+        "--allow-read".as_ref(),
+        changed.as_os_str(),
+        "--report".as_ref(),
+        report.as_os_str(),
+    ];
+    let out = check(&suite, &renderer, &args, dir.path());
     let picture = line
         .split(' ')
         .skip_while(|&w| w != "-output")
@@ -217,6 +212,6 @@ fn read_wrong(
         .find(|l| l.starts_with(&format!("FAIL   {picture}, ")))
         .unwrap_or_else(|| panic!("{out}"))
         .to_string();
-    let summary = common::summary_of(&dir.path().join("report"));
+    let summary = common::summary_of(&report);
     (said, summary["images"][0]["where"].clone())
 }

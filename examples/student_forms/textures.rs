@@ -88,35 +88,35 @@ fn with_noise(texture: &Texture, point: Vec3A, noise: impl Fn(DVec3, u32) -> f64
 /// Where `point` falls between a texture's materials, its noise and marble sine taken as the
 /// weight itself, not mapped from [-1, 1] onto [0, 1] by (1 + x) / 2 (clamped as a weight is).
 pub(crate) fn noise_unmapped(texture: &Texture, point: Vec3A) -> f32 {
+    match noise_or_sine(texture, point) {
+        Some(value) => value.clamp(0.0, 1.0) as f32,
+        None => texture.weight(point),
+    }
+}
+
+/// Noise's sum, or Marble's sine, at `point`, before it is mapped onto a weight; `None` for
+/// the other textures.
+fn noise_or_sine(texture: &Texture, point: Vec3A) -> Option<f64> {
     let p = texture.to_texture.transform_point3(point.as_dvec3());
-    let weight = match texture.pattern {
-        Pattern::Noise { octaves } => octave_noise(p.x, p.y, p.z, octaves),
+    match texture.pattern {
+        Pattern::Noise { octaves } => Some(octave_noise(p.x, p.y, p.z, octaves)),
         Pattern::Marble {
             octaves,
             frequency,
             amplitude,
-        } => (frequency * p.x + amplitude * octave_noise(p.x, p.y, p.z, octaves)).sin(),
-        _ => return texture.weight(point),
-    };
-    weight.clamp(0.0, 1.0) as f32
+        } => Some((frequency * p.x + amplitude * octave_noise(p.x, p.y, p.z, octaves)).sin()),
+        _ => None,
+    }
 }
 
 /// The weight of the second material, the student's `N * first + (1 - N) * second` read as
 /// the course's `(1 - w) * first + w * second`: w = (1 - N) with N mapped onto 0…1 as the
 /// course maps it.
 pub(crate) fn noise_blended_the_other_way(texture: &Texture, point: Vec3A) -> f32 {
-    let p = texture.to_texture.transform_point3(point.as_dvec3());
-    let value = match texture.pattern {
-        Pattern::Noise { octaves } => octave_noise(p.x, p.y, p.z, octaves),
-        Pattern::Marble {
-            octaves,
-            frequency,
-            amplitude,
-        } => (frequency * p.x + amplitude * octave_noise(p.x, p.y, p.z, octaves)).sin(),
-        _ => return texture.weight(point),
-    };
-    let n = (value + 1.0) / 2.0;
-    (1.0 - n) as f32
+    match noise_or_sine(texture, point) {
+        Some(value) => (1.0 - (value + 1.0) / 2.0) as f32,
+        None => texture.weight(point),
+    }
 }
 
 /// A checkerboard whose cell along each axis is `cell(x)` (1 or 0), their parities added.

@@ -923,17 +923,7 @@ fn simulate_here(
         account(&mut results, failing, &renders);
         return Ok(results);
     }
-    // Side by side: a screen's render of a few rows leaves most of the machine's threads idle
-    // (three rows on two threads), so the candidates share the threads instead. Each look is
-    // its own render; their order in `singles` is the candidates'.
-    let mut singles: Vec<Look> = candidates
-        .par_iter()
-        .map(|&(fault, candidate)| {
-            let parameters: Vec<_> = candidate.parameter.into_iter().collect();
-            let plant = Plant::one(candidate.planted);
-            look(plant, &[fault], &parameters, renders.screen.as_ref())
-        })
-        .collect::<Result<_, _>>()?;
+    let mut singles = singles_of(&candidates, &look, renders.screen.as_ref())?;
     let explained_by = |singles: &[Look]| -> Vec<bool> {
         (0..failing.len())
             .map(|k| {
@@ -1221,6 +1211,31 @@ fn simulate_here(
     Ok(results)
 }
 
+/// Each of `candidates` alone, seen with `look` (by `screen`'s rows first, where there is one),
+/// side by side: a screen's render of a few rows leaves most of the machine's threads idle, so
+/// the candidates share the threads instead. In the order of `candidates`.
+fn singles_of(
+    candidates: &[(&'static Fault, Candidate)],
+    look: &(
+         impl Fn(
+        Plant,
+        &[&'static Fault],
+        &[(&'static str, f64)],
+        Option<&Screen>,
+    ) -> Result<Look, Unfinished>
+         + Sync
+     ),
+    screen: Option<&Screen>,
+) -> Result<Vec<Look>, Unfinished> {
+    candidates
+        .par_iter()
+        .map(|&(fault, candidate)| {
+            let parameters: Vec<_> = candidate.parameter.into_iter().collect();
+            look(Plant::one(candidate.planted), &[fault], &parameters, screen)
+        })
+        .collect()
+}
+
 /// [`Search::LikelyPairs`]: the likely faults' renders of the line, and the pairs among them
 /// the whole search did not try, for each picture (every one left unexplained by it).
 fn likely_pairs_again(
@@ -1259,18 +1274,7 @@ fn likely_pairs_again(
         .copied()
         .filter(|(fault, _)| now.contains(&fault.name))
         .collect();
-    let singles: Vec<Look> = candidates
-        .par_iter()
-        .map(|&(fault, candidate)| {
-            let parameters: Vec<_> = candidate.parameter.into_iter().collect();
-            look(
-                Plant::one(candidate.planted),
-                &[fault],
-                &parameters,
-                renders.screen.as_ref(),
-            )
-        })
-        .collect::<Result<_, _>>()?;
+    let singles = singles_of(&candidates, look, renders.screen.as_ref())?;
     let mut explained = vec![false; failing.len()];
     let pairs = likely_pairs::likely_pairs(
         &candidates,
